@@ -1,0 +1,41 @@
+/* config.h: compile-time limits of fovsim.
+ *
+ * Each limit is guarded with #ifndef so a build can override it with -D. Runtime choices do not
+ * belong here; they go in the *_desc structs of the module that uses them.
+ */
+#ifndef FOVSIM_CONFIG_H
+#define FOVSIM_CONFIG_H
+
+#define FOVSIM_VERSION "0.1.0"
+
+/* Most assets one scene may reference (glTF files or generators). */
+#ifndef MAX_SCENE_ASSETS
+#define MAX_SCENE_ASSETS 64
+#endif
+
+/* Most camera keyframes in a scene's camera path. */
+#ifndef MAX_CAMERA_KEYS
+#define MAX_CAMERA_KEYS 256
+#endif
+
+/* Largest texture edge accepted from an asset, in texels (GL 4.5 guarantees 16384). */
+#ifndef MAX_TEXTURE_SIZE
+#define MAX_TEXTURE_SIZE 16384
+#endif
+
+/* Largest display edge accepted, in pixels. */
+#ifndef MAX_DISPLAY_SIZE
+#define MAX_DISPLAY_SIZE 8192
+#endif
+
+/* Most frames one render may ask for (about 15 minutes at 120 fps). */
+#ifndef MAX_FRAMES
+#define MAX_FRAMES 100000
+#endif
+
+/* Frames the EXR writer thread may hold queued before rendering waits for it. */
+#ifndef EXR_QUEUE_DEPTH
+#define EXR_QUEUE_DEPTH 4
+#endif
+
+#endif

@@ -1,0 +1,50 @@
+/* fmath.h: the small vector and matrix kit fovsim needs (no GL).
+ *
+ * Matrices are 4x4, column-major (m[col*4 + row]) as OpenGL expects, and act on column vectors:
+ * p' = M p. Angles are radians unless a name says _deg. Does not do quaternion slerp, SIMD or
+ * anything not used by fovsim.
+ */
+#ifndef FOVSIM_FMATH_H
+#define FOVSIM_FMATH_H
+
+#include <stdbool.h>
+
+#define FS_PI 3.14159265358979323846
+
+typedef struct { float x, y, z; } vec3;
+typedef struct { float m[16]; } mat4;
+
+static inline vec3 v3(float x, float y, float z) { return (vec3){x, y, z}; }
+vec3 v3_add(vec3 a, vec3 b);
+vec3 v3_sub(vec3 a, vec3 b);
+vec3 v3_scale(vec3 a, float s);
+vec3 v3_lerp(vec3 a, vec3 b, float t);
+float v3_dot(vec3 a, vec3 b);
+vec3 v3_cross(vec3 a, vec3 b);
+float v3_len(vec3 a);
+/* Unit vector along a; returns `fallback` when a is zero or not finite. */
+vec3 v3_norm_or(vec3 a, vec3 fallback);
+vec3 v3_min(vec3 a, vec3 b);
+vec3 v3_max(vec3 a, vec3 b);
+
+mat4 m4_identity(void);
+mat4 m4_mul(mat4 a, mat4 b); /* a * b: b applies first */
+mat4 m4_translate(vec3 t);
+mat4 m4_scale(vec3 s);
+/* Rotation from a unit quaternion (x, y, z, w), as glTF stores it. */
+mat4 m4_quat(const float q[4]);
+mat4 m4_rotate_y(float radians);
+/* glTF node transform: T * R * S. */
+mat4 m4_trs(const float t[3], const float q[4], const float s[3]);
+/* Right-handed view matrix looking from eye at target; up is +Y unless the view is vertical. */
+mat4 m4_look_at(vec3 eye, vec3 target, vec3 up);
+/* OpenGL perspective projection, depth to [-1,1]; hfov in radians, aspect = width / height. */
+mat4 m4_perspective_hfov(float hfov, float aspect, float znear, float zfar);
+/* General inverse; returns false (and identity) for a singular matrix. */
+bool m4_invert(mat4 a, mat4 *out);
+vec3 m4_point(mat4 a, vec3 p);  /* transforms a point (w = 1) */
+vec3 m4_dir(mat4 a, vec3 d);    /* transforms a direction (w = 0) */
+/* Inverse transpose of the upper 3x3 (for normals), returned in a mat4. */
+mat4 m4_normal_matrix(mat4 a);
+
+#endif

@@ -1,0 +1,39 @@
+/* log.h: one-line diagnostics on stderr.
+ *
+ * Every line starts with an upper-case module tag, as in `SCENE: [forest.json] 3 assets`.
+ * Errors are always printed; info lines only with --verbose (log_set_verbose). Errors go through
+ * log_error so tests can silence them (log_set_quiet_errors) when they feed bad input on purpose.
+ * Does not format paths or know about files; callers put file:line in the message.
+ */
+#ifndef FOVSIM_LOG_H
+#define FOVSIM_LOG_H
+
+#include <stdbool.h>
+
+#if defined(__GNUC__)
+#define FS_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define FS_PRINTF(a, b)
+#endif
+
+void log_set_verbose(bool on);
+bool log_is_verbose(void);
+/* Tests that feed bad input on purpose can silence the expected error lines. */
+void log_set_quiet_errors(bool on);
+
+/* `fovsim: error: <msg>` on stderr, one line (a newline is appended). */
+void log_error(const char *fmt, ...) FS_PRINTF(1, 2);
+/* `fovsim: warning: <msg>` on stderr, always shown. */
+void log_warn(const char *fmt, ...) FS_PRINTF(1, 2);
+/* `<msg>` on stderr, only when verbose. */
+void log_info(const char *fmt, ...) FS_PRINTF(1, 2);
+
+/* Programmer errors (broken preconditions): abort with file:line in debug builds. */
+#ifdef NDEBUG
+#define FS_ASSERT(c) ((void)0)
+#else
+void fs_assert_fail(const char *expr, const char *file, int line);
+#define FS_ASSERT(c) ((c) ? (void)0 : fs_assert_fail(#c, __FILE__, __LINE__))
+#endif
+
+#endif

@@ -1,0 +1,101 @@
+/* exr_write.h: OpenEXR output through the Core C API (openexr.h), and a reader for tests.
+ *
+ * An exr_image is a set of named float planes (one per channel, rows top first) plus header
+ * attributes. exr_write_file stores it as a scanline EXR with half-float pixels and ZIP
+ * compression (default) — values beyond ±65504 are clamped and NaN becomes 0, so a file never
+ * holds Inf or NaN. The file is written to a temporary name in the same directory
+ * (`.<name>.tmp.<pid>`) and renamed over the final name only when complete: an interrupted or
+ * failed write (a full disk) never leaves a truncated frame under the final name.
+ *
+ * exr_writer runs exr_write_file on a background thread with a bounded queue (EXR_QUEUE_DEPTH),
+ * so rendering does not wait on compression. The first failure is kept and returned by
+ * exr_writer_finish (and by later submits).
+ *
+ * What it does NOT do: tiled or deep files, mip levels, choosing file names (callers do:
+ * `<name>.<frame:04d>.exr`).
+ */
+#ifndef FOVSIM_EXR_WRITE_H
+#define FOVSIM_EXR_WRITE_H
+
+#include <stdbool.h>
+
+#include "core/status.h"
+
+#ifndef EXR_MAX_CHANNELS
+#define EXR_MAX_CHANNELS 64 /* channels in one file (multi-layer comparison frames) */
+#endif
+#ifndef EXR_MAX_ATTRS
+#define EXR_MAX_ATTRS 32 /* custom header attributes in one file */
+#endif
+
+typedef enum exr_attr_type {
+    EXR_ATTR_STRING = 0,
+    EXR_ATTR_INT,
+    EXR_ATTR_FLOAT,
+    EXR_ATTR_V2F,
+} exr_attr_type;
+
+typedef struct exr_attr {
+    char name[64];
+    exr_attr_type type;
+    char s[512];  /* EXR_ATTR_STRING */
+    int i;        /* EXR_ATTR_INT */
+    float f[2];   /* EXR_ATTR_FLOAT uses f[0]; EXR_ATTR_V2F uses both */
+} exr_attr;
+
+typedef struct exr_image {
+    int width, height;
+    int channel_count;
+    char channel_names[EXR_MAX_CHANNELS][64]; /* e.g. "R", "coverage", "hashed.R" */
+    float *planes[EXR_MAX_CHANNELS];          /* width * height floats each, owned */
+    int attr_count;
+    exr_attr attrs[EXR_MAX_ATTRS];
+} exr_image;
+
+typedef enum exr_compression_kind {
+    EXR_COMPRESS_ZIP = 0, /* default */
+    EXR_COMPRESS_NONE,
+    EXR_COMPRESS_PIZ,
+} exr_compression_kind;
+
+/* Allocates an image with no channels. Returns false on bad size or no memory. */
+bool exr_image_init(exr_image *img, int width, int height);
+/* Adds a zero-filled channel; returns its plane, or NULL (no memory / too many / duplicate name). */
+float *exr_image_add_channel(exr_image *img, const char *name);
+/* The plane of a channel by name, or NULL. Borrowed: valid until exr_image_free. */
+float *exr_image_channel(const exr_image *img, const char *name);
+void exr_image_set_string(exr_image *img, const char *name, const char *value);
+void exr_image_set_int(exr_image *img, const char *name, int value);
+void exr_image_set_float(exr_image *img, const char *name, float value);
+void exr_image_set_v2f(exr_image *img, const char *name, float x, float y);
+/* An attribute by name, or NULL. */
+const exr_attr *exr_image_attr(const exr_image *img, const char *name);
+/* Frees planes; no-op on a zeroed image. */
+void exr_image_free(exr_image *img);
+
+/* Writes `img` to `path` atomically (see above). Prints `<path>: <what>` on failure and returns
+ * FS_ERR_IO; nothing is left at `path` or at the temporary name. */
+fs_status exr_write_file(const char *path, const exr_image *img, exr_compression_kind compression);
+/* Reads every channel as float and every string/int/float/v2f attribute into *out (for tests
+ * and for golden comparisons). FS_ERR_IO with a message on failure. */
+fs_status exr_read_file(const char *path, exr_image *out);
+
+/* >>writer thread */
+
+typedef struct exr_writer exr_writer;
+
+typedef struct exr_writer_desc {
+    exr_compression_kind compression; /* default ZIP */
+    int queue_depth;                  /* default EXR_QUEUE_DEPTH */
+} exr_writer_desc;
+
+/* Starts the writer thread; NULL when out of memory or the thread cannot start. */
+exr_writer *exr_writer_create(const exr_writer_desc *desc);
+/* Queues `img` for `path`; the writer takes ownership of img's planes (img is zeroed). Blocks
+ * while the queue is full. Returns the first error of an earlier write, if any (then img is freed
+ * and nothing is queued). */
+fs_status exr_writer_submit(exr_writer *w, const char *path, exr_image *img);
+/* Waits for all queued writes, stops the thread, frees the writer; returns the first error. */
+fs_status exr_writer_finish(exr_writer *w);
+
+#endif

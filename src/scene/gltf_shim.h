@@ -1,0 +1,31 @@
+/* gltf_shim.h: the C interface to the one C++ file that uses tinygltf.
+ *
+ * Loads a glTF 2.0 file (.gltf with its .bin and images, or .glb) into a plain C `asset`:
+ * the default scene's node hierarchy is flattened (node transforms baked into vertices and
+ * normals), every primitive becomes a `prim` with 32-bit indices, materials keep baseColorFactor,
+ * baseColorTexture + sampler, alphaMode, alphaCutoff and doubleSided, and COLOR_0 is kept per
+ * vertex. The first perspective camera found in the node tree is returned in asset space.
+ *
+ * What it does NOT do: upload, mipmaps, scene placement, and it never throws: every C++ exception
+ * is caught at the boundary and reported as FS_ERR_ASSET. Assets that require an extension fovsim
+ * cannot honour (Draco, meshopt, KTX2/Basis, ...) are refused with a message naming it.
+ */
+#ifndef FOVSIM_GLTF_SHIM_H
+#define FOVSIM_GLTF_SHIM_H
+
+#include "core/status.h"
+#include "scene/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Loads `path` into *out (zeroed first). On failure prints one line
+ * `<path>: <where>: <what>` via log_error, leaves *out zeroed, returns FS_ERR_ASSET or FS_ERR_IO. */
+fs_status gltf_load(const char *path, asset *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

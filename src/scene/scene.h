@@ -1,0 +1,207 @@
+/* scene.h: everything fovsim draws, as plain C data (no GL, no C++).
+ *
+ * A scene is a list of assets (each one glTF file or one procedural generator), instances of those
+ * assets with transforms, a camera path, a display and a light. An asset owns its primitives,
+ * materials and images. Node hierarchies are flattened at load: every primitive's vertices are in
+ * the asset's own space, which is also the "object space" hashed alpha anchors to (one tree = one
+ * object, seed 000 §5).
+ *
+ * What it does NOT do: GPU upload (src/gl, src/passes), rendering decisions (plan.h), gaze.
+ *
+ * Usage:
+ *   scene sc;
+ *   fs_status s = scene_load_file("scenes/forest.json", &sc);   // or scene_load_builtin / glTF path
+ *   if (s == FS_OK) s = scene_validate(&sc);
+ *   ...
+ *   scene_free(&sc);
+ */
+#ifndef FOVSIM_SCENE_H
+#define FOVSIM_SCENE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/config.h"
+#include "core/fmath.h"
+#include "core/status.h"
+
+/* >>materials */
+
+/* How a material's alpha is meant to be used (glTF alphaMode). */
+typedef enum alpha_kind {
+    ALPHA_KIND_OPAQUE = 0,
+    ALPHA_KIND_MASK,
+    ALPHA_KIND_BLEND,
+} alpha_kind;
+
+/* Alpha-test strategy for MASK materials (DESIGN.md "Alpha-test strategies"). Only
+ * ALPHA_MODE_TRADITIONAL is drawn so far; the others are parsed so scenes can name them. */
+typedef enum alpha_mode {
+    ALPHA_MODE_DEFAULT = 0, /* "not set": inherit the scene's or CLI's mode */
+    ALPHA_MODE_TRADITIONAL,
+    ALPHA_MODE_STOCHASTIC,
+    ALPHA_MODE_HASHED,
+    ALPHA_MODE_A2C,
+    ALPHA_MODE_HASHED_A2C,
+    ALPHA_MODE_CASTANO,
+    ALPHA_MODE_MIPSCALE,
+    ALPHA_MODE_COUNT
+} alpha_mode;
+
+/* "traditional" etc.; NULL for an out-of-range value. */
+const char *alpha_mode_name(alpha_mode m);
+/* Parses a mode name; returns ALPHA_MODE_DEFAULT for an unknown name. */
+alpha_mode alpha_mode_parse(const char *name);
+/* Comma-separated list of every mode name, for error messages and --help. */
+const char *alpha_mode_list(void);
+
+typedef enum tex_wrap { TEX_WRAP_REPEAT = 0, TEX_WRAP_CLAMP, TEX_WRAP_MIRROR } tex_wrap;
+typedef enum tex_filter { TEX_FILTER_LINEAR = 0, TEX_FILTER_NEAREST } tex_filter;
+
+/* An RGBA8 image, rows top to bottom, colour sRGB-encoded, alpha linear and straight (not
+ * premultiplied), exactly as stored in PNG/JPEG. An image without an alpha channel has a = 255. */
+typedef struct image_rgba8 {
+    int width, height; /* texels, >= 1 */
+    uint8_t *rgba;     /* width * height * 4 bytes, owned */
+    char name[64];     /* for messages, may be empty */
+} image_rgba8;
+
+typedef struct material {
+    char name[64];
+    float base_color[4];     /* linear RGBA factor, default (1,1,1,1) */
+    int base_color_image;    /* index into asset.images, -1 = none */
+    tex_wrap wrap_s, wrap_t; /* default REPEAT (glTF sampler default) */
+    tex_filter mag_filter;   /* default LINEAR; minification is always trilinear */
+    alpha_kind alpha_kind;   /* glTF alphaMode, default OPAQUE */
+    float alpha_cutoff;      /* glTF alphaCutoff, default 0.5 */
+    bool double_sided;       /* glTF doubleSided, default false */
+    alpha_mode alpha_mode;   /* per-material override from the scene file, DEFAULT = none */
+} material;
+
+/* >>geometry */
+
+/* One drawable primitive: triangles, one material. Vertices are in asset space (node transforms
+ * already applied). Every attribute array is always present: loaders fill missing normals with
+ * computed ones, missing UVs with 0, missing colours with 1. */
+typedef struct prim {
+    uint32_t vertex_count;
+    uint32_t index_count; /* multiple of 3 */
+    float *positions;     /* 3 per vertex */
+    float *normals;       /* 3 per vertex, unit length */
+    float *uvs;           /* 2 per vertex, glTF convention: (0,0) = top-left of the image */
+    float *colors;        /* 4 per vertex, linear (COLOR_0, default 1) */
+    uint32_t *indices;    /* index_count */
+    int material;         /* index into asset.materials */
+} prim;
+
+/* A camera found in an asset (glTF perspective camera), in asset space. */
+typedef struct asset_camera {
+    bool present;
+    vec3 position, target;
+    float hfov_deg;
+} asset_camera;
+
+typedef enum asset_source { ASSET_SOURCE_GLTF = 0, ASSET_SOURCE_GENERATOR } asset_source;
+
+typedef struct asset {
+    char name[128]; /* file name or generator name, for messages */
+    asset_source source;
+    prim *prims;
+    int prim_count;
+    material *materials;
+    int material_count;
+    image_rgba8 *images;
+    int image_count;
+    vec3 bounds_min, bounds_max; /* asset-space AABB of all prims */
+    asset_camera camera;
+} asset;
+
+/* Frees everything an asset owns and zeroes it. No-op on a zeroed asset. */
+void asset_free(asset *a);
+/* Recomputes bounds_min/bounds_max from the prims. */
+void asset_compute_bounds(asset *a);
+/* Fills normals (area-weighted face normals) for a prim whose normals are all zero. */
+void prim_compute_normals(prim *p);
+/* True if the material's alpha matters: MASK or BLEND. */
+bool material_is_alpha_mapped(const material *m);
+
+/* >>scene */
+
+typedef struct instance {
+    int asset;       /* index into scene.assets */
+    mat4 transform;  /* asset space -> world space */
+} instance;
+
+/* A camera keyframe. The path between keys is a Catmull-Rom spline through positions and
+ * targets, linear in fov (camera_path_eval). */
+typedef struct camera_key {
+    float time;     /* seconds, strictly increasing along the path */
+    vec3 position;  /* world units */
+    vec3 target;    /* world point looked at */
+    float hfov_deg; /* horizontal field of view, 0 = the display's */
+    bool cut;       /* a camera cut starts at this key (no interpolation from the previous one) */
+} camera_key;
+
+typedef struct camera_path {
+    camera_key keys[MAX_CAMERA_KEYS];
+    int count; /* >= 1 after load */
+} camera_path;
+
+/* Evaluated camera at one time. */
+typedef struct camera_state {
+    vec3 position, target;
+    float hfov_deg;
+    bool cut; /* true on the first frame at or after a cut key */
+} camera_state;
+
+typedef struct display_desc {
+    int width, height; /* pixels, default 1280 x 720 */
+    float hfov_deg;    /* horizontal field of view, default 90 */
+} display_desc;
+
+typedef struct light_desc {
+    vec3 direction;   /* world direction the light travels (towards the ground), normalised */
+    vec3 color;       /* linear radiance scale, default (1, 0.97, 0.9) */
+    vec3 ambient;     /* linear ambient, default (0.25, 0.28, 0.32) */
+    vec3 sky;         /* background colour, linear, default (0.45, 0.6, 0.8) */
+} light_desc;
+
+typedef struct scene {
+    char path[512];   /* the scene file, or "builtin:<name>" */
+    asset *assets;
+    int asset_count;
+    instance *instances;
+    int instance_count;
+    camera_path camera;
+    display_desc display;
+    light_desc light;
+    alpha_mode alpha_mode; /* the scene's default mode, DEFAULT = traditional unless the CLI says */
+    float duration;        /* seconds: the last camera key's time (0 for a still camera) */
+} scene;
+
+/* Fills display, light, camera and mode defaults. Leaves assets and instances empty. */
+void scene_init_defaults(scene *sc);
+/* Loads a scene from a JSON scene file or, for a .gltf/.glb path, an asset-as-scene. */
+fs_status scene_load_file(const char *path, scene *out);
+/* Builds a built-in scene by name ("forest", "fence", "grass", "tree"). */
+fs_status scene_load_builtin(const char *name, scene *out);
+/* Space-separated names of the built-in scenes. */
+const char *scene_builtin_list(void);
+/* Bounds-checks everything (indices < vertex_count, material and image indices, finite
+ * positions and transforms); prints the first problem with its location. */
+fs_status scene_validate(const scene *sc);
+/* Frees everything the scene owns. No-op on a zeroed scene. */
+void scene_free(scene *sc);
+/* Adds an asset (moved in: the scene owns it afterwards); returns its index or -1. */
+int scene_add_asset(scene *sc, asset *a);
+/* Adds an instance of asset `asset_index`; returns false when out of memory. */
+bool scene_add_instance(scene *sc, int asset_index, mat4 transform);
+/* World-space AABB over all instances. */
+void scene_bounds(const scene *sc, vec3 *min, vec3 *max);
+/* A camera path that frames the whole scene from the front (used for glTF-as-scene). */
+void scene_fit_camera(scene *sc);
+
+/* Camera at time t (seconds; clamped to the path). */
+camera_state camera_path_eval(const camera_path *path, float t);
+
+#endif
