@@ -19,7 +19,8 @@
     X(FS_ERR_GL,        7, "no usable OpenGL 4.5 context")                  \
     X(FS_ERR_SHADER,    8, "shader failed to compile or link")              \
     X(FS_ERR_NOMEM,     9, "out of memory")                                 \
-    X(FS_ERR_INTERNAL, 10, "internal error (a bug in fovsim)")
+    X(FS_ERR_INTERNAL, 10, "internal error (a bug in fovsim)")            \
+    X(FS_ERR_INTERRUPTED, 130, "interrupted")
 
 typedef enum fs_status {
 #define FS_STATUS_ENUM(name, code, text) name,

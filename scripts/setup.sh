@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian packages fovsim needs (only the missing ones; idempotent, no prompts),
+# then configures and builds. Usage:
+#   scripts/setup.sh               # build/ (RelWithDebInfo)
+#   scripts/setup.sh --sanitize    # build-asan/ (ASan + UBSan, Debug)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake pkg-config
+  libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev libepoxy-dev   # headless GL: EGL + llvmpipe
+  libglfw3-dev                                                      # the interactive viewer
+  libopenexr-dev openexr openimageio-tools                          # EXR output + external readers for tests
+  libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
+  libcjson-dev                                                      # scene files
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if [ "${1:-}" = "--sanitize" ]; then
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFOVSIM_SANITIZE=ON -DFOVSIM_WERROR=ON >/dev/null
+  cmake --build build-asan -j"$(nproc)"
+else
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVSIM_WERROR=ON >/dev/null
+  cmake --build build -j"$(nproc)"
+fi

@@ -1,0 +1,60 @@
+// forward.frag: shading of one primitive in one of three passes, chosen by the plan:
+//   PASS_OPAQUE  opaque materials: no alpha lookup matters, no test;
+//   PASS_MASK    alpha-tested materials (ALPHA_MODE picks the test);
+//   PASS_BLEND   alpha-blended materials, premultiplied output, no depth writes.
+// Outputs: colour (linear, premultiplied, A = opacity) and coverage (DESIGN.md: opacity contributed
+// by alpha-mapped surfaces; 0 for opaque geometry and background).
+#include "common/shared_defs.h"
+#include "common/lighting.glsl"
+
+#if !defined(PASS_OPAQUE) && !defined(PASS_MASK) && !defined(PASS_BLEND)
+#error "forward.frag needs one of PASS_OPAQUE, PASS_MASK, PASS_BLEND"
+#endif
+#ifdef PASS_MASK
+#include "common/alpha_test.glsl"
+#endif
+
+in vec3 v_world_pos;
+in vec3 v_world_normal;
+in vec3 v_object_pos;
+in vec2 v_uv;
+in vec4 v_color;
+
+layout(binding = TEX_UNIT_BASE_COLOR) uniform sampler2D u_base_tex; // linear, premultiplied
+uniform bool u_has_base_tex;
+uniform vec4 u_base_color;   // linear factor
+uniform float u_alpha_cutoff;
+uniform bool u_double_sided;
+uniform float u_mip_bias;    // log2 units, added to every lookup
+uniform vec3 u_eye;
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_coverage; // .r stored; .a drives blending of the coverage target
+
+void main()
+{
+    vec4 tex = u_has_base_tex ? texture(u_base_tex, v_uv, u_mip_bias) : vec4(1.0);
+    float alpha = tex.a * u_base_color.a * v_color.a;
+    vec3 albedo = tex.rgb / max(tex.a, PREMUL_ALPHA_EPS) * u_base_color.rgb * v_color.rgb;
+
+#ifdef PASS_MASK
+    if (!alpha_test_passes(alpha, u_alpha_cutoff))
+        discard;
+#endif
+
+    vec3 n = normalize(v_world_normal);
+    if (u_double_sided && !gl_FrontFacing)
+        n = -n;
+    vec3 rgb = shade_lambert(albedo, n);
+
+#if defined(PASS_BLEND)
+    o_color = vec4(rgb * alpha, alpha);
+    o_coverage = vec4(alpha, 0.0, 0.0, alpha);
+#elif defined(PASS_MASK)
+    o_color = vec4(rgb, 1.0);
+    o_coverage = vec4(1.0, 0.0, 0.0, 1.0);
+#else
+    o_color = vec4(rgb, 1.0);
+    o_coverage = vec4(0.0, 0.0, 0.0, 1.0);
+#endif
+}

@@ -1,0 +1,252 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/config.h"
+#include "core/log.h"
+
+static const struct {
+    const char *name;
+    command cmd;
+    const char *summary;
+} k_commands[] = {
+    {"render", CMD_RENDER, "render a scene to an EXR sequence"},
+    {"plan", CMD_PLAN, "print the passes and shader variants a scene needs"},
+    {"demo", CMD_DEMO, "render the built-in forest to ./out/demo/ (no arguments needed)"},
+    {"bench", CMD_BENCH, "time a scene: median and spread of frame and pass times"},
+};
+
+void cli_print_help(command cmd)
+{
+    switch (cmd) {
+    case CMD_RENDER:
+        printf("usage: fovsim render [--scene FILE | --builtin NAME] [options]\n\n"
+               "Renders the scene's camera path to DIR/<name>.<frame:04d>.exr (half RGBA + coverage, ZIP).\n\n");
+        break;
+    case CMD_PLAN:
+        printf("usage: fovsim plan [--scene FILE | --builtin NAME] [--alpha MODE] [--width W --height H]\n\n"
+               "Prints which passes, shader variants and targets the scene needs, without drawing.\n\n");
+        break;
+    case CMD_DEMO:
+        printf("usage: fovsim demo [options]\n\n"
+               "Renders the built-in forest (camera dollying back through trees and a fence) to ./out/demo/\n"
+               "and prints how to look at the frames. Accepts the render options below.\n\n");
+        break;
+    case CMD_BENCH:
+        printf("usage: fovsim bench [--scene FILE | --builtin NAME] [--frames N] [--warmup W] [--markdown FILE]\n\n"
+               "Draws N frames spread over the camera path after W warm-up frames and reports median and\n"
+               "spread of the frame time (wall clock, glFinish), GL time per pass and fragment-shader\n"
+               "invocations per frame. Defaults: N = 30, W = 5, the scene's display size.\n\n");
+        break;
+    default:
+        printf("fovsim %s: foveated rendering simulator for alpha-mapped foliage\n\n"
+               "usage: fovsim <command> [options]\n       fovsim <command> --help\n\ncommands:\n",
+               FOVSIM_VERSION);
+        for (size_t i = 0; i < sizeof k_commands / sizeof k_commands[0]; i++)
+            printf("  %-8s %s\n", k_commands[i].name, k_commands[i].summary);
+        printf("\nglobal options: --help, --version, --list-gpus\n\n");
+        break;
+    }
+    if (cmd == CMD_NONE)
+        return;
+    printf("options:\n"
+           "  --scene FILE        scene JSON, or a .gltf/.glb asset to view on its own\n"
+           "  --builtin NAME      built-in scene: %s (default forest)\n"
+           "  --frames N          frames to draw (default: the camera path at --fps)\n"
+           "  --fps F             frames per second of the sequence (default 24)\n"
+           "  --width W, --height H   output size in pixels (default: the scene's display, 1280x720)\n"
+           "  --alpha MODE        alpha test for MASK materials: %s\n"
+           "                      (implemented so far: traditional)\n"
+           "  --out DIR           output directory (default out/<command>)\n"
+           "  --name NAME         file prefix (default frame)\n"
+           "  --compression C     zip (default), none or piz\n"
+           "  --gpu N             EGL device index (default: first hardware device, else llvmpipe)\n"
+           "  --gl-debug          GL debug output on stderr (always on in debug builds)\n"
+           "  --quiet             no progress line\n"
+           "  --verbose           print the renderer and what is loaded\n",
+           scene_builtin_list(), alpha_mode_list());
+    if (cmd == CMD_BENCH)
+        printf("  --warmup W          frames drawn before timing (default 5)\n"
+               "  --markdown FILE     append the result as a Markdown section to FILE\n");
+    printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 6 I/O error,\n"
+           "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 130 interrupted\n");
+}
+
+static bool parse_int(const char *opt, const char *v, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long x = strtol(v, &end, 10);
+    if (errno || end == v || *end || x < lo || x > hi) {
+        log_error("%s: expected an integer in [%d, %d], got '%s'", opt, lo, hi, v);
+        return false;
+    }
+    *out = (int)x;
+    return true;
+}
+
+static bool parse_float(const char *opt, const char *v, float lo, float hi, float *out)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    if (errno || end == v || *end || !isfinite(x) || x <= lo || x > hi) {
+        log_error("%s: expected a number in (%g, %g], got '%s'", opt, lo, hi, v);
+        return false;
+    }
+    *out = (float)x;
+    return true;
+}
+
+fs_status cli_parse(int argc, char **argv, run_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->gpu = -1;
+    d->fps = 24.0f;
+    d->warmup = 5;
+    if (argc < 2) {
+        d->cmd = CMD_HELP;
+        return FS_OK;
+    }
+    int i = 1;
+    const char *c = argv[1];
+    if (!strcmp(c, "--help") || !strcmp(c, "-h") || !strcmp(c, "help")) {
+        d->cmd = CMD_HELP;
+        if (argc > 2)
+            for (size_t k = 0; k < sizeof k_commands / sizeof k_commands[0]; k++)
+                if (!strcmp(argv[2], k_commands[k].name))
+                    d->help_for = k_commands[k].cmd;
+        return FS_OK;
+    }
+    if (!strcmp(c, "--version")) {
+        d->cmd = CMD_VERSION;
+        return FS_OK;
+    }
+    if (!strcmp(c, "--list-gpus")) {
+        d->cmd = CMD_LIST_GPUS;
+        return FS_OK;
+    }
+    for (size_t k = 0; k < sizeof k_commands / sizeof k_commands[0]; k++)
+        if (!strcmp(c, k_commands[k].name))
+            d->cmd = k_commands[k].cmd;
+    if (d->cmd == CMD_NONE) {
+        log_error("unknown command '%s' (commands: render, plan, demo, bench; see fovsim --help)", c);
+        return FS_ERR_USAGE;
+    }
+    for (i = 2; i < argc; i++) {
+        char opt[64];
+        const char *a = argv[i], *val = NULL, *eq = strchr(a, '=');
+        if (strncmp(a, "--", 2) != 0) {
+            log_error("fovsim %s: unexpected argument '%s' (options start with --; see fovsim %s --help)", c, a, c);
+            return FS_ERR_USAGE;
+        }
+        snprintf(opt, sizeof opt, "%.*s", eq ? (int)(eq - a) : (int)strlen(a), a);
+        if (eq)
+            val = eq + 1;
+        /* flags */
+        if (!strcmp(opt, "--help")) {
+            d->help_for = d->cmd;
+            d->cmd = CMD_HELP;
+            return FS_OK;
+        }
+        bool *flag = !strcmp(opt, "--verbose") ? &d->verbose
+                     : !strcmp(opt, "--quiet")  ? &d->quiet
+                     : !strcmp(opt, "--gl-debug") ? &d->gl_debug
+                                                 : NULL;
+        if (flag) {
+            if (val) {
+                log_error("%s takes no value", opt);
+                return FS_ERR_USAGE;
+            }
+            *flag = true;
+            continue;
+        }
+        static const char *const with_value[] = {"--scene", "--builtin", "--frames", "--fps", "--out",
+                                                 "--name", "--width", "--height", "--alpha", "--gpu",
+                                                 "--warmup", "--markdown", "--compression"};
+        bool known = false;
+        for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
+            known |= !strcmp(opt, with_value[k]);
+        if (!known) {
+            log_error("fovsim %s: unknown option '%s' (see fovsim %s --help)", c, opt, c);
+            return FS_ERR_USAGE;
+        }
+        if (!val) {
+            if (i + 1 >= argc) {
+                log_error("%s: expected a value", opt);
+                return FS_ERR_USAGE;
+            }
+            val = argv[++i];
+        }
+        bool ok = true;
+        if (!strcmp(opt, "--scene"))
+            d->scene_path = val;
+        else if (!strcmp(opt, "--builtin"))
+            d->builtin = val;
+        else if (!strcmp(opt, "--out"))
+            d->out_dir = val;
+        else if (!strcmp(opt, "--markdown"))
+            d->markdown = val;
+        else if (!strcmp(opt, "--name")) {
+            d->name = val;
+            ok = *val && !strchr(val, '/');
+            if (!ok)
+                log_error("--name: expected a file prefix without '/', got '%s'", val);
+        } else if (!strcmp(opt, "--frames"))
+            ok = parse_int(opt, val, 1, MAX_FRAMES, &d->frames);
+        else if (!strcmp(opt, "--warmup"))
+            ok = parse_int(opt, val, 0, 10000, &d->warmup);
+        else if (!strcmp(opt, "--width"))
+            ok = parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->width);
+        else if (!strcmp(opt, "--height"))
+            ok = parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->height);
+        else if (!strcmp(opt, "--gpu"))
+            ok = parse_int(opt, val, 0, 15, &d->gpu);
+        else if (!strcmp(opt, "--fps"))
+            ok = parse_float(opt, val, 0.0f, 1000.0f, &d->fps);
+        else if (!strcmp(opt, "--alpha")) {
+            d->alpha = alpha_mode_parse(val);
+            ok = d->alpha != ALPHA_MODE_DEFAULT;
+            if (!ok)
+                log_error("--alpha: unknown mode '%s' (modes: %s)", val, alpha_mode_list());
+        } else if (!strcmp(opt, "--compression")) {
+            if (!strcmp(val, "zip"))
+                d->compression = EXR_COMPRESS_ZIP;
+            else if (!strcmp(val, "none"))
+                d->compression = EXR_COMPRESS_NONE;
+            else if (!strcmp(val, "piz"))
+                d->compression = EXR_COMPRESS_PIZ;
+            else {
+                log_error("--compression: expected zip, none or piz, got '%s'", val);
+                ok = false;
+            }
+        }
+        if (!ok)
+            return FS_ERR_USAGE;
+    }
+    if (d->scene_path && d->builtin) {
+        log_error("--scene and --builtin: give one of them, not both");
+        return FS_ERR_USAGE;
+    }
+    if (d->cmd == CMD_DEMO && (d->scene_path || d->builtin)) {
+        log_error("fovsim demo always renders the built-in forest; use fovsim render --scene/--builtin for others");
+        return FS_ERR_USAGE;
+    }
+    if ((d->width > 0) != (d->height > 0)) {
+        log_error("--width and --height: give both or neither");
+        return FS_ERR_USAGE;
+    }
+    if (d->quiet && d->verbose) {
+        log_error("--quiet and --verbose: give one of them, not both");
+        return FS_ERR_USAGE;
+    }
+    if (!d->builtin && !d->scene_path)
+        d->builtin = "forest";
+    if (!d->name)
+        d->name = "frame";
+    return FS_OK;
+}

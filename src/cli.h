@@ -1,0 +1,46 @@
+/* cli.h: argv -> run_desc (STYLE.md: parse, then run). No side effects beyond printing usage
+ * errors; all range checks happen here so a bad argument never reaches the renderer. */
+#ifndef FOVSIM_CLI_H
+#define FOVSIM_CLI_H
+
+#include <stdbool.h>
+
+#include "core/status.h"
+#include "output/exr_write.h"
+#include "scene/scene.h"
+
+typedef enum command {
+    CMD_NONE = 0,
+    CMD_RENDER,
+    CMD_PLAN,
+    CMD_DEMO,
+    CMD_BENCH,
+    CMD_HELP,
+    CMD_VERSION,
+    CMD_LIST_GPUS,
+} command;
+
+typedef struct run_desc {
+    command cmd;
+    command help_for;        /* CMD_HELP: which command's help (CMD_NONE = general) */
+    const char *scene_path;  /* --scene FILE (.json, .gltf, .glb) */
+    const char *builtin;     /* --builtin NAME; default "forest" when no --scene */
+    int frames;              /* --frames, default: the camera path at --fps (min 1) */
+    float fps;               /* --fps, default 24 */
+    const char *out_dir;     /* --out, default out/<command> */
+    const char *name;        /* --name: file prefix, default "frame" */
+    int width, height;       /* --width/--height, 0 = the scene's display */
+    alpha_mode alpha;        /* --alpha, DEFAULT = the scene's */
+    int gpu;                 /* --gpu N, -1 = auto */
+    bool verbose, quiet, gl_debug;
+    int warmup;              /* bench: --warmup, default 5 */
+    const char *markdown;    /* bench: --markdown FILE, append a result table */
+    exr_compression_kind compression; /* --compression zip|none|piz */
+} run_desc;
+
+/* Parses argv; on error prints one line and returns FS_ERR_USAGE. */
+fs_status cli_parse(int argc, char **argv, run_desc *out);
+/* Prints the help text of a command (CMD_NONE: overview) on stdout. */
+void cli_print_help(command cmd);
+
+#endif

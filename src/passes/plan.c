@@ -1,0 +1,131 @@
+#include "passes/plan.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "passes/alpha_test.h"
+
+alpha_mode plan_material_mode(const plan *p, const material *m)
+{
+    return m->alpha_mode != ALPHA_MODE_DEFAULT ? m->alpha_mode : p->global_mode;
+}
+
+const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode)
+{
+    for (int i = 0; i < p->pass_count; i++)
+        if (p->passes[i].kind == kind && (kind != PLAN_PASS_FORWARD_MASK || p->passes[i].mode == mode))
+            return &p->passes[i];
+    return NULL;
+}
+
+static int cmp_str(const void *a, const void *b) { return strcmp((const char *)a, (const char *)b); }
+
+static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
+{
+    plan_pass *ps = (plan_pass *)plan_find(p, kind, mode);
+    if (ps || p->pass_count == PLAN_MAX_PASSES)
+        return ps;
+    ps = &p->passes[p->pass_count++];
+    memset(ps, 0, sizeof *ps);
+    ps->kind = kind;
+    ps->mode = kind == PLAN_PASS_FORWARD_MASK ? mode : ALPHA_MODE_DEFAULT;
+    ps->vs = "shaders/forward.vert";
+    ps->fs = "shaders/forward.frag";
+    switch (kind) {
+    case PLAN_PASS_FORWARD_OPAQUE:
+        snprintf(ps->name, sizeof ps->name, "forward.opaque");
+        snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_OPAQUE 1");
+        break;
+    case PLAN_PASS_FORWARD_MASK:
+        snprintf(ps->name, sizeof ps->name, "forward.mask[%s]", alpha_mode_name(mode));
+        snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_MASK 1");
+        snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_MODE %d", alpha_mode_shader_id(mode));
+        break;
+    case PLAN_PASS_FORWARD_BLEND:
+        snprintf(ps->name, sizeof ps->name, "forward.blend");
+        snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_BLEND 1");
+        break;
+    }
+    qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
+    return ps;
+}
+
+fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
+{
+    plan_options o = opt ? *opt : (plan_options){0};
+    memset(out, 0, sizeof *out);
+    out->width = o.width > 0 ? o.width : sc->display.width;
+    out->height = o.height > 0 ? o.height : sc->display.height;
+    out->hfov_deg = sc->display.hfov_deg;
+    out->global_mode = o.alpha_mode != ALPHA_MODE_DEFAULT ? o.alpha_mode
+                       : sc->alpha_mode != ALPHA_MODE_DEFAULT ? sc->alpha_mode
+                                                              : ALPHA_MODE_TRADITIONAL;
+    out->coverage = true;
+
+    /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front). */
+    static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND};
+    for (int k = 0; k < 3; k++) {
+        for (int a = 0; a < sc->asset_count; a++) {
+            const asset *as = &sc->assets[a];
+            long long inst = 0;
+            for (int i = 0; i < sc->instance_count; i++)
+                inst += sc->instances[i].asset == a;
+            if (inst == 0)
+                continue; /* an asset nobody places costs nothing */
+            for (int pi = 0; pi < as->prim_count; pi++) {
+                const prim *pr = &as->prims[pi];
+                const material *m = &as->materials[pr->material];
+                plan_pass_kind kind = m->alpha_kind == ALPHA_KIND_MASK    ? PLAN_PASS_FORWARD_MASK
+                                      : m->alpha_kind == ALPHA_KIND_BLEND ? PLAN_PASS_FORWARD_BLEND
+                                                                          : PLAN_PASS_FORWARD_OPAQUE;
+                if (kind != order[k])
+                    continue;
+                alpha_mode mode = kind == PLAN_PASS_FORWARD_MASK ? plan_material_mode(out, m) : ALPHA_MODE_DEFAULT;
+                if (kind == PLAN_PASS_FORWARD_MASK && !alpha_mode_is_implemented(mode)) {
+                    log_error("alpha mode '%s' (material \"%s\" of %s) is not implemented yet; available: traditional",
+                              alpha_mode_name(mode), m->name, as->name);
+                    return FS_ERR_USAGE;
+                }
+                plan_pass *ps = get_pass(out, kind, mode);
+                if (!ps) {
+                    log_error("plan: more than %d passes", PLAN_MAX_PASSES);
+                    return FS_ERR_INTERNAL;
+                }
+                ps->prim_count++;
+                ps->triangles += (long long)(pr->index_count / 3) * inst;
+                if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
+                    out->msaa = true;
+            }
+        }
+    }
+    for (int a = 0; a < sc->asset_count; a++)
+        out->texture_count += sc->assets[a].image_count;
+    return FS_OK;
+}
+
+void plan_print(const plan *p, const scene *sc, FILE *f)
+{
+    long long tris = 0;
+    for (int i = 0; i < p->pass_count; i++)
+        tris += p->passes[i].triangles;
+    fprintf(f, "scene      %s\n", sc->path);
+    fprintf(f, "display    %d x %d, hfov %.1f deg\n", p->width, p->height, p->hfov_deg);
+    fprintf(f, "assets     %d, instances %d, triangles/frame %lld, textures %d (premultiplied mips, RGBA16F)\n",
+            sc->asset_count, sc->instance_count, tris, p->texture_count);
+    fprintf(f, "alpha mode %s (global; per-material overrides shown per pass)\n", alpha_mode_name(p->global_mode));
+    fprintf(f, "passes (in draw order):\n");
+    if (p->pass_count == 0)
+        fprintf(f, "  (none: the scene draws nothing; output is the sky colour)\n");
+    for (int i = 0; i < p->pass_count; i++) {
+        const plan_pass *ps = &p->passes[i];
+        fprintf(f, "  %-26s %3d prims %9lld tris  %s + %s [", ps->name, ps->prim_count, ps->triangles, ps->vs, ps->fs);
+        for (int d = 0; d < ps->define_count; d++)
+            fprintf(f, "%s%s", d ? ", " : "", ps->defines[d]);
+        fprintf(f, "]\n");
+    }
+    fprintf(f, "targets    colour RGBA16F + coverage R16F + depth 24, %d x %d%s\n", p->width, p->height,
+            p->msaa ? ", 4x MSAA" : "");
+    fprintf(f, "off        MSAA (%s), TAA/rings/velocity (not implemented yet)\n",
+            p->msaa ? "on" : "no alpha-to-coverage mode in use");
+}

@@ -1,0 +1,68 @@
+/* plan.h: which passes and shader variants a scene needs, decided before anything is drawn.
+ *
+ * DESIGN.md "Simulate only what the scene calls for": the plan is computed once from the scene's
+ * content and the run options. A scene with no MASK material gets no alpha-test variant whatever
+ * --alpha says; no BLEND material, no blend pass; no MSAA target unless an A2C mode is in use; no
+ * TAA history, rings or velocity path until those features exist and the scene needs them.
+ * `fovsim plan` prints it; tests assert it for the shipped scenes.
+ *
+ * Pure C (no GL): the renderer consumes a plan, it does not make one.
+ */
+#ifndef FOVSIM_PLAN_H
+#define FOVSIM_PLAN_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "scene/scene.h"
+
+#ifndef PLAN_MAX_PASSES
+#define PLAN_MAX_PASSES 16
+#endif
+#define PLAN_MAX_DEFINES 8
+
+typedef enum plan_pass_kind {
+    PLAN_PASS_FORWARD_OPAQUE = 0,
+    PLAN_PASS_FORWARD_MASK,
+    PLAN_PASS_FORWARD_BLEND,
+} plan_pass_kind;
+
+typedef struct plan_pass {
+    plan_pass_kind kind;
+    char name[48];          /* "forward.opaque", "forward.mask[traditional]", "forward.blend" */
+    alpha_mode mode;        /* MASK passes: the strategy; others: DEFAULT */
+    const char *vs, *fs;    /* embedded shader paths */
+    char defines[PLAN_MAX_DEFINES][48]; /* sorted "NAME VALUE" strings */
+    int define_count;
+    int prim_count;         /* primitives (per asset, drawn instanced) this pass draws */
+    long long triangles;    /* triangles per frame, instances included */
+} plan_pass;
+
+typedef struct plan_options {
+    alpha_mode alpha_mode; /* --alpha; DEFAULT = the scene's mode, else traditional */
+    int width, height;     /* 0 = the scene's display */
+    int frames;            /* frames to draw (TAA would need history only when > 1) */
+} plan_options;
+
+typedef struct plan {
+    int width, height;
+    float hfov_deg;
+    alpha_mode global_mode;     /* effective mode for MASK materials without an override */
+    plan_pass passes[PLAN_MAX_PASSES];
+    int pass_count;
+    int texture_count;          /* images uploaded (with premultiplied mips) */
+    bool msaa;                  /* 4x MSAA target: only for A2C modes */
+    bool taa, rings, velocity;  /* not implemented yet: always false, with the reason printed */
+    bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
+} plan;
+
+/* Builds the plan; FS_ERR_USAGE (with a message) when a requested mode is not implemented yet. */
+fs_status plan_build(const scene *sc, const plan_options *opt, plan *out);
+/* The pass of a kind (and mode for MASK), or NULL when the scene does not need it. */
+const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode);
+/* The effective alpha mode of a material under this plan. */
+alpha_mode plan_material_mode(const plan *p, const material *m);
+/* Human-readable description (for `fovsim plan`). */
+void plan_print(const plan *p, const scene *sc, FILE *f);
+
+#endif

@@ -1,0 +1,47 @@
+/* renderer.h: the GL back end: uploads a scene, runs the plan's passes for a frame_record, reads
+ * the result back as an exr_image (R, G, B, A, coverage; linear, premultiplied).
+ *
+ * Usage (a GL context must be current: gl_device_create):
+ *   renderer *r = renderer_create(&(renderer_desc){ .scene = &sc, .plan = &pl }, &status);
+ *   renderer_draw(r, &frame);  renderer_read(r, &img);  ...  renderer_destroy(r);
+ *
+ * Passes declare their resources (STYLE.md, Falcor): see k_forward_resources in renderer.c.
+ * What it does NOT do (yet): foveation rings, TAA, MSAA, alpha modes other than traditional.
+ */
+#ifndef FOVSIM_RENDERER_H
+#define FOVSIM_RENDERER_H
+
+#include "core/status.h"
+#include "output/exr_write.h"
+#include "passes/plan.h"
+#include "scene/frame.h"
+#include "scene/scene.h"
+
+typedef struct renderer renderer;
+
+typedef struct renderer_desc {
+    const scene *scene; /* borrowed: must outlive the renderer */
+    const plan *plan;   /* copied */
+    bool timers;        /* GL timer queries around each pass (for bench) */
+} renderer_desc;
+
+typedef struct renderer_stats {
+    int pass_count;
+    char pass_names[PLAN_MAX_PASSES][48];
+    double pass_ms[PLAN_MAX_PASSES]; /* GL time of each pass of the last frame, -1 = no timer */
+    long long fragments;             /* fragment shader invocations of the last frame, -1 = unknown */
+} renderer_stats;
+
+renderer *renderer_create(const renderer_desc *desc, fs_status *status);
+void renderer_destroy(renderer *r);
+/* Draws one frame into the renderer's targets. */
+fs_status renderer_draw(renderer *r, const frame_record *fr);
+/* Reads colour and coverage into *img (initialised here; rows top first): channels R, G, B, A,
+ * coverage. */
+fs_status renderer_read(renderer *r, exr_image *img);
+/* Blocks until the GPU has finished all submitted work (glFinish), for wall-clock timing. */
+void renderer_finish(renderer *r);
+/* Pass timings of the last frame (valid after renderer_draw with timers; waits for results). */
+renderer_stats renderer_last_stats(renderer *r);
+
+#endif
