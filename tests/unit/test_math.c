@@ -1,0 +1,84 @@
+/* fmath: the matrices every frame depends on. */
+#include "core/fmath.h"
+#include "test.h"
+
+static void apply(mat4 m, vec3 p, float out[4])
+{
+    for (int r = 0; r < 4; r++)
+        out[r] = m.m[r] * p.x + m.m[4 + r] * p.y + m.m[8 + r] * p.z + m.m[12 + r];
+}
+
+TEST(look_at_puts_target_on_the_view_axis)
+{
+    vec3 eye = v3(3, 2, 5), target = v3(-1, 0.5f, -4);
+    mat4 v = m4_look_at(eye, target, v3(0, 1, 0));
+    vec3 t = m4_point(v, target);
+    CHECK_NEAR(t.x, 0, 1e-5);
+    CHECK_NEAR(t.y, 0, 1e-5);
+    CHECK(t.z < 0); /* in front: -Z */
+    vec3 e = m4_point(v, eye);
+    CHECK_NEAR(v3_len(e), 0, 1e-5);
+    /* Straight down does not produce NaN. */
+    mat4 d = m4_look_at(v3(0, 10, 0), v3(0, 0, 0), v3(0, 1, 0));
+    for (int i = 0; i < 16; i++)
+        CHECK(isfinite(d.m[i]));
+}
+
+TEST(perspective_maps_the_horizontal_fov_edge_to_ndc_one)
+{
+    float hfov = 90.0f * (float)FS_PI / 180.0f;
+    mat4 p = m4_perspective_hfov(hfov, 16.0f / 9.0f, 0.1f, 100.0f);
+    float c[4];
+    apply(p, v3(5, 0, -5), c); /* 45 degrees right */
+    CHECK_NEAR(c[0] / c[3], 1.0, 1e-5);
+    apply(p, v3(0, 0, -0.1f), c);
+    CHECK_NEAR(c[2] / c[3], -1.0, 1e-4);
+    apply(p, v3(0, 0, -100), c);
+    CHECK_NEAR(c[2] / c[3], 1.0, 1e-4);
+    /* Vertical extent follows the aspect ratio. */
+    apply(p, v3(0, 5.0f * 9.0f / 16.0f, -5), c);
+    CHECK_NEAR(c[1] / c[3], 1.0, 1e-5);
+}
+
+TEST(invert_and_trs)
+{
+    float t[3] = {1, -2, 3}, q[4] = {0.2f, 0.3f, -0.1f, 0.927362f}, s[3] = {2, 3, 0.5f};
+    float l = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int i = 0; i < 4; i++)
+        q[i] /= l;
+    mat4 m = m4_trs(t, q, s), inv;
+    CHECK(m4_invert(m, &inv));
+    mat4 id = m4_mul(m, inv);
+    for (int i = 0; i < 16; i++)
+        CHECK_NEAR(id.m[i], (i % 5 == 0) ? 1.0 : 0.0, 1e-5);
+    mat4 sing = m4_scale(v3(1, 0, 1));
+    CHECK(!m4_invert(sing, &inv));
+    /* Normal matrix keeps normals perpendicular under non-uniform scale. */
+    mat4 ns = m4_normal_matrix(m4_scale(v3(4, 1, 1)));
+    vec3 n = m4_dir(ns, v3_norm_or(v3(1, 1, 0), v3(0, 1, 0)));
+    vec3 tangent = m4_dir(m4_scale(v3(4, 1, 1)), v3(1, -1, 0));
+    CHECK_NEAR(v3_dot(n, tangent), 0, 1e-5);
+    /* Translation of the TRS lands in the last column. */
+    CHECK_NEAR(m.m[12], 1, 0);
+    CHECK_NEAR(m.m[13], -2, 0);
+    CHECK_NEAR(m.m[14], 3, 0);
+}
+
+TEST(norm_or_falls_back)
+{
+    vec3 f = v3_norm_or(v3(0, 0, 0), v3(0, 1, 0));
+    CHECK(f.y == 1.0f);
+    f = v3_norm_or(v3(NAN, 0, 0), v3(1, 0, 0));
+    CHECK(f.x == 1.0f);
+    f = v3_norm_or(v3(1e-30f, 0, 0), v3(0, 1, 0)); /* denormal length squared */
+    CHECK(isfinite(f.x) && isfinite(f.y));
+}
+
+int main(void)
+{
+    RUN(look_at_puts_target_on_the_view_axis);
+    RUN(perspective_maps_the_horizontal_fov_edge_to_ndc_one);
+    RUN(invert_and_trs);
+    RUN(norm_or_falls_back);
+    return test_summary();
+}

@@ -1,0 +1,157 @@
+/* The plan: only the passes and variants a scene's content calls for (DESIGN.md). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/log.h"
+#include "passes/plan.h"
+#include "test.h"
+
+/* A one-triangle asset with one material of the given kind. */
+static asset tri_asset(alpha_kind kind, alpha_mode override)
+{
+    asset a = {0};
+    snprintf(a.name, sizeof a.name, "tri");
+    a.prims = calloc(1, sizeof(prim));
+    a.prim_count = 1;
+    a.materials = calloc(1, sizeof(material));
+    a.material_count = 1;
+    material *m = &a.materials[0];
+    snprintf(m->name, sizeof m->name, "m");
+    m->base_color[0] = m->base_color[1] = m->base_color[2] = m->base_color[3] = 1.0f;
+    m->base_color_image = -1;
+    m->alpha_kind = kind;
+    m->alpha_cutoff = 0.5f;
+    m->alpha_mode = override;
+    prim *p = &a.prims[0];
+    p->vertex_count = 3;
+    p->index_count = 3;
+    p->positions = calloc(9, sizeof(float));
+    p->normals = calloc(9, sizeof(float));
+    p->uvs = calloc(6, sizeof(float));
+    p->colors = calloc(12, sizeof(float));
+    p->indices = calloc(3, sizeof(uint32_t));
+    p->positions[3] = 1.0f;
+    p->positions[7] = 1.0f;
+    p->indices[1] = 1;
+    p->indices[2] = 2;
+    asset_compute_bounds(&a);
+    return a;
+}
+
+static void add(scene *sc, alpha_kind kind, int instances)
+{
+    asset a = tri_asset(kind, ALPHA_MODE_DEFAULT);
+    int idx = scene_add_asset(sc, &a);
+    CHECK(idx >= 0);
+    for (int i = 0; i < instances; i++)
+        CHECK(scene_add_instance(sc, idx, m4_translate(v3((float)i, 0, 0))));
+}
+
+TEST(opaque_scene_has_no_alpha_variant_whatever_the_mode)
+{
+    scene sc;
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_OPAQUE, 5);
+    for (int m = ALPHA_MODE_DEFAULT; m < ALPHA_MODE_COUNT; m++) {
+        plan p;
+        CHECK(plan_build(&sc, &(plan_options){.alpha_mode = (alpha_mode)m}, &p) == FS_OK);
+        CHECK(p.pass_count == 1);
+        CHECK(p.passes[0].kind == PLAN_PASS_FORWARD_OPAQUE);
+        CHECK(p.passes[0].triangles == 5);
+        CHECK(!p.msaa && !p.taa && !p.rings && !p.velocity);
+        CHECK(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_TRADITIONAL) == NULL);
+    }
+    scene_free(&sc);
+}
+
+TEST(mask_and_blend_get_their_passes_in_draw_order)
+{
+    scene sc;
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_BLEND, 2);
+    add(&sc, ALPHA_KIND_MASK, 3);
+    add(&sc, ALPHA_KIND_OPAQUE, 1);
+    plan p;
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(p.pass_count == 3);
+    CHECK(p.passes[0].kind == PLAN_PASS_FORWARD_OPAQUE);
+    CHECK(p.passes[1].kind == PLAN_PASS_FORWARD_MASK && p.passes[1].mode == ALPHA_MODE_TRADITIONAL);
+    CHECK(p.passes[2].kind == PLAN_PASS_FORWARD_BLEND);
+    CHECK(p.passes[1].triangles == 3 && p.passes[2].triangles == 2);
+    /* Defines are sorted (the program cache key) and name the variant. */
+    CHECK(strcmp(p.passes[1].defines[0], "ALPHA_MODE 1") == 0);
+    CHECK(strcmp(p.passes[1].defines[1], "PASS_MASK 1") == 0);
+    scene_free(&sc);
+}
+
+TEST(unplaced_assets_cost_nothing)
+{
+    scene sc;
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_MASK, 0);
+    add(&sc, ALPHA_KIND_OPAQUE, 1);
+    plan p;
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(p.pass_count == 1 && p.passes[0].kind == PLAN_PASS_FORWARD_OPAQUE);
+    scene_free(&sc);
+}
+
+TEST(unimplemented_modes_are_refused_only_when_used)
+{
+    scene sc;
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_MASK, 1);
+    plan p;
+    log_set_quiet_errors(true);
+    CHECK(plan_build(&sc, &(plan_options){.alpha_mode = ALPHA_MODE_HASHED}, &p) == FS_ERR_USAGE);
+    log_set_quiet_errors(false);
+    CHECK(plan_build(&sc, &(plan_options){.alpha_mode = ALPHA_MODE_TRADITIONAL}, &p) == FS_OK);
+    /* The scene's own mode applies when the CLI gives none; a material override beats both. */
+    sc.alpha_mode = ALPHA_MODE_TRADITIONAL;
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK && p.global_mode == ALPHA_MODE_TRADITIONAL);
+    sc.assets[0].materials[0].alpha_mode = ALPHA_MODE_STOCHASTIC;
+    log_set_quiet_errors(true);
+    CHECK(plan_build(&sc, NULL, &p) == FS_ERR_USAGE);
+    log_set_quiet_errors(false);
+    scene_free(&sc);
+}
+
+TEST(shipped_scenes)
+{
+    /* Built-in scenes: foliage is MASK over opaque trunks, posts and ground; nothing blends. */
+    const char *names[] = {"forest", "fence", "tree", "grass"};
+    for (int i = 0; i < 4; i++) {
+        scene sc;
+        CHECK(scene_load_builtin(names[i], &sc) == FS_OK);
+        plan p;
+        CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+        CHECK(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_TRADITIONAL) != NULL);
+        CHECK(plan_find(&p, PLAN_PASS_FORWARD_OPAQUE, ALPHA_MODE_DEFAULT) != NULL);
+        CHECK(plan_find(&p, PLAN_PASS_FORWARD_BLEND, ALPHA_MODE_DEFAULT) == NULL);
+        CHECK(!p.msaa);
+        CHECK(p.width == 1280 && p.height == 720);
+        scene_free(&sc);
+    }
+    /* The opaque control asset from the MegaKit: one opaque pass, even when --alpha asks for hashed. */
+    scene sc;
+    CHECK(scene_load_file(test_shared_path("assets/quaternius_megakit_set_a/Grass_Wispy_Tall.gltf"), &sc) == FS_OK);
+    plan p;
+    CHECK(plan_build(&sc, &(plan_options){.alpha_mode = ALPHA_MODE_HASHED}, &p) == FS_OK);
+    CHECK(p.pass_count == 1 && p.passes[0].kind == PLAN_PASS_FORWARD_OPAQUE);
+    scene_free(&sc);
+    /* The BLEND control asset gets a blend pass and nothing else. */
+    CHECK(scene_load_file(test_shared_path("assets/polypizza_flower_bushes_glb/flower_bushes.glb"), &sc) == FS_OK);
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(p.pass_count == 1 && p.passes[0].kind == PLAN_PASS_FORWARD_BLEND);
+    scene_free(&sc);
+}
+
+int main(void)
+{
+    RUN(opaque_scene_has_no_alpha_variant_whatever_the_mode);
+    RUN(mask_and_blend_get_their_passes_in_draw_order);
+    RUN(unplaced_assets_cost_nothing);
+    RUN(unimplemented_modes_are_refused_only_when_used);
+    RUN(shipped_scenes);
+    return test_summary();
+}
