@@ -1,0 +1,61 @@
+/* gpu_util.h: shared helpers of the GPU tests (header only): one GL context per test binary,
+ * render a scene at a time into an exr_image, simple image statistics. */
+#ifndef FOVSIM_GPU_UTIL_H
+#define FOVSIM_GPU_UTIL_H
+
+#include "gl/gl_device.h"
+#include "passes/plan.h"
+#include "passes/renderer.h"
+#include "scene/frame.h"
+#include "test.h"
+
+static inline void gpu_begin(void)
+{
+    if (gl_device_create(&(gl_device_desc){.gpu_index = -1}) != FS_OK) {
+        fprintf(stderr, "no OpenGL 4.5 context: GPU tests need Mesa's EGL (libegl-mesa0, libgl1-mesa-dri)\n");
+        exit(1);
+    }
+    fprintf(stderr, "renderer: %s\n", gl_device_renderer());
+}
+
+/* Renders `sc` at time t into *img (R, G, B, A, coverage) at w x h. */
+static inline fs_status gpu_render(const scene *sc, alpha_mode mode, int w, int h, float t, exr_image *img)
+{
+    plan pl;
+    fs_status st = plan_build(sc, &(plan_options){.alpha_mode = mode, .width = w, .height = h, .frames = 1}, &pl);
+    if (st != FS_OK)
+        return st;
+    renderer *r = renderer_create(&(renderer_desc){.scene = sc, .plan = &pl}, &st);
+    if (!r)
+        return st;
+    frame_record fr = frame_record_at(sc, 0, t, -1.0f, w, h);
+    st = renderer_draw(r, &fr);
+    if (st == FS_OK)
+        st = renderer_read(r, img);
+    renderer_destroy(r);
+    return st;
+}
+
+static inline double plane_mean(const exr_image *img, const char *ch)
+{
+    const float *p = exr_image_channel(img, ch);
+    if (!p)
+        return NAN;
+    double s = 0;
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++)
+        s += p[i];
+    return s / (double)n;
+}
+
+static inline bool all_finite(const exr_image *img)
+{
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (int c = 0; c < img->channel_count; c++)
+        for (size_t i = 0; i < n; i++)
+            if (!isfinite(img->planes[c][i]))
+                return false;
+    return true;
+}
+
+#endif
