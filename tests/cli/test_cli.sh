@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# End-to-end tests of the fovsim binary: help, render, plan, the EXR files it writes (read by tools
+# nobody here wrote: exrheader, exrinfo, oiiotool), and what bad input does (one-line message,
+# distinct exit status, nothing left in the output directory).
+set -u
+BIN=${FOVSIM_BIN:?set by CMake}
+SHARED=${FOVSIM_SHARED:?set by CMake}
+T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/cli
+rm -rf "$T"; mkdir -p "$T"
+passed=0; failed=0
+ok()   { passed=$((passed+1)); echo "ok   $1" >&2; }
+fail() { failed=$((failed+1)); echo "FAIL $1" >&2; }
+check() { local name=$1; shift; if "$@"; then ok "$name"; else fail "$name"; fi; }
+
+# expect_exit NAME CODE CMD...: exit status CODE, exactly one line on stderr
+expect_exit() {
+  local name=$1 code=$2; shift 2
+  "$@" >"$T/out.txt" 2>"$T/err.txt"; local rc=$?
+  local lines; lines=$(wc -l <"$T/err.txt")
+  if [ "$rc" -eq "$code" ] && [ "$lines" -eq 1 ]; then ok "$name"
+  else fail "$name (exit $rc, wanted $code; $lines stderr lines:)"; cat "$T/err.txt" >&2; fi
+}
+
+# ---- help and version
+check "help lists commands" bash -c "'$BIN' --help | grep -q 'render' && '$BIN' --help | grep -q 'bench'"
+check "render --help lists options" bash -c "'$BIN' render --help | grep -q -- '--frames'"
+check "version" bash -c "'$BIN' --version | grep -Eq '^fovsim [0-9]+\.[0-9]+\.[0-9]+$'"
+
+# ---- render writes a complete, readable sequence
+R="$T/render"
+"$BIN" render --builtin forest --frames 3 --width 96 --height 54 --out "$R" --quiet >"$T/render.txt" 2>&1
+check "render exits 0" test $? -eq 0
+check "render writes 3 frames" test -f "$R/frame.0000.exr" -a -f "$R/frame.0001.exr" -a -f "$R/frame.0002.exr" -a ! -e "$R/frame.0003.exr"
+check "no temporary files left" test -z "$(find "$R" -name '*.tmp*')"
+check "render reports where" grep -q "$R/frame" "$T/render.txt"
+check "exrheader reads it" bash -c "exrheader '$R/frame.0001.exr' | grep -q 'fovsim:renderer'"
+check "exrheader: ZIP, half" bash -c "exrheader '$R/frame.0001.exr' | grep -qi 'zip' && exrheader '$R/frame.0001.exr' | grep -q 'coverage, 16-bit floating-point'"
+check "exrinfo reads it" bash -c "exrinfo -v '$R/frame.0001.exr' >/dev/null"
+check "oiiotool --info -v" bash -c "oiiotool --info -v '$R/frame.0001.exr' | grep -q 'fovsim:frame: 1'"
+oiiotool --stats "$R/frame.0002.exr" >"$T/stats.txt" 2>&1
+check "oiiotool --stats: no NaN" bash -c "grep 'NanCount' '$T/stats.txt' | grep -Eq 'NanCount: 0 0 0 0 0 *$'"
+check "oiiotool --stats: no Inf" bash -c "grep 'InfCount' '$T/stats.txt' | grep -Eq 'InfCount: 0 0 0 0 0 *$'"
+check "channels R G B A coverage" bash -c "oiiotool --info -v '$R/frame.0000.exr' | grep -q 'channel list: A, B, coverage, G, R\|channel list: R, G, B, A, coverage'"
+
+# ---- a glTF file is a scene by itself
+"$BIN" render --scene "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" --frames 1 --width 64 --height 64 --out "$T/gltf" --quiet >/dev/null 2>&1
+check "render a .gltf directly" test -f "$T/gltf/frame.0000.exr"
+
+# ---- plan
+check "plan shows the mask pass" bash -c "'$BIN' plan --builtin fence | grep -q 'forward.mask\[traditional\]'"
+check "opaque asset: no alpha variant even with --alpha hashed" bash -c \
+  "out=\$('$BIN' plan --scene '$SHARED/assets/quaternius_megakit_set_a/Grass_Wispy_Tall.gltf' --alpha hashed) && echo \"\$out\" | grep -q forward.opaque && ! echo \"\$out\" | grep -q forward.mask"
+
+# ---- bad input: message, distinct exit status, nothing created
+expect_exit "unknown option -> 2" 2 "$BIN" render --frams 3 --out "$T/bad1"
+check "bad option creates nothing" test ! -e "$T/bad1"
+expect_exit "unknown command -> 2" 2 "$BIN" rendr
+expect_exit "bad --width -> 2" 2 "$BIN" render --width 10 --height 10 --out "$T/bad2"
+printf '{"assets": [ {"name": "t", "generator": "tree"} ], "instances": [ {"asset": "t", "scale": "big"} ]}' >"$T/bad.json"
+expect_exit "bad scene value -> 3" 3 "$BIN" render --scene "$T/bad.json" --out "$T/bad3"
+check "bad scene creates nothing" test ! -e "$T/bad3"
+check "bad scene message names file and JSON path" grep -q "bad.json: instances\[0\].scale" "$T/err.txt"
+printf '{"assets": [' >"$T/syntax.json"
+expect_exit "JSON syntax error -> 3" 3 "$BIN" render --scene "$T/syntax.json" --out "$T/bad4"
+expect_exit "missing scene file -> 6" 6 "$BIN" render --scene "$T/nope.json" --out "$T/bad5"
+head -c 200 "$SHARED/assets/polyhaven_fern_02_glb/fern_02.glb" >"$T/trunc.glb"
+expect_exit "truncated .glb -> 4" 4 "$BIN" render --scene "$T/trunc.glb" --out "$T/bad6"
+check "bad asset creates nothing" test ! -e "$T/bad6"
+touch "$T/afile"
+expect_exit "output path is a file -> 6" 6 "$BIN" render --frames 1 --width 32 --height 32 --out "$T/afile/x"
+expect_exit "not implemented alpha mode -> 2" 2 "$BIN" render --builtin fence --alpha hashed --out "$T/bad7"
+check "unimplemented mode creates nothing" test ! -e "$T/bad7"
+
+# ---- a full disk: the run fails with an I/O error and leaves no partial frame
+if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null; then
+  "$BIN" render --builtin forest --frames 40 --width 128 --height 72 --out "$T/full/seq" --quiet --compression none >/dev/null 2>"$T/err.txt"
+  rc=$?
+  check "full disk -> exit 6" test $rc -eq 6
+  check "full disk: message names the file" grep -q "seq/frame\.[0-9]*\.exr" "$T/err.txt"
+  check "full disk: no temporary file left" test -z "$(find "$T/full" -name '*.tmp*')"
+  bad=0
+  for f in "$T"/full/seq/*.exr; do [ -e "$f" ] || continue; exrheader "$f" >/dev/null 2>&1 || bad=1; done
+  check "full disk: every frame left is complete" test $bad -eq 0
+  umount "$T/full"
+else
+  echo "note: cannot mount a small tmpfs here (not root?); full-disk case not exercised" >&2
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,701 @@
+/* test_exr.c: EXR writer/reader (src/output/exr_write.c): half conversion, channels, attributes,
+ * compression, odd sizes, atomic writes, the writer thread and damaged files. */
+#include <dirent.h>
+#include <stdbool.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdint.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "core/log.h"
+#include "output/exr_write.h"
+#include "test.h"
+
+// >>helpers
+
+/* A path under <test_out>/exr/. Static buffer, rotating. */
+static const char *scratch(const char *name)
+{
+    static char buf[8][1024];
+    static int k;
+    static bool made;
+    if (!made) {
+        char dir[1100];
+        snprintf(dir, sizeof dir, "%s/exr", test_out_dir());
+        if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+            fprintf(stderr, "cannot create %s: %s\n", dir, strerror(errno));
+        made = true;
+    }
+    k = (k + 1) & 7;
+    snprintf(buf[k], sizeof buf[k], "%s/exr/%s", test_out_dir(), name);
+    return buf[k];
+}
+
+/* A fresh, empty directory under the scratch dir. */
+static const char *fresh_dir(const char *name)
+{
+    const char *dir = scratch(name);
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "cannot create %s\n", dir);
+    return dir;
+}
+
+static bool file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static long file_size(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* Entries of `dir` (not . and ..) whose name contains `needle`. */
+static int count_entries(const char *dir, const char *needle)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        if (strstr(e->d_name, needle))
+            n++;
+    }
+    closedir(d);
+    return n;
+}
+
+/* Copies the first `n` bytes of `src` to `dst`. */
+static bool copy_prefix(const char *src, const char *dst, long n)
+{
+    FILE *in = fopen(src, "rb"), *out = fopen(dst, "wb");
+    bool ok = in && out;
+    for (long i = 0; ok && i < n; i++) {
+        int c = fgetc(in);
+        ok = c != EOF && fputc(c, out) != EOF;
+    }
+    if (in)
+        fclose(in);
+    if (out && fclose(out) != 0)
+        ok = false;
+    return ok;
+}
+
+/* What a value reads back as after the trip through half: NaN -> 0, clamp to ±65504, round to
+ * nearest even. The reference is the compiler's _Float16 where it has one. */
+#if defined(__FLT16_MAX__)
+#define HAVE_F16_REF 1
+static float half_ref(float v)
+{
+    if (v != v)
+        return 0.0f;
+    if (v > 65504.0f)
+        v = 65504.0f;
+    if (v < -65504.0f)
+        v = -65504.0f;
+    return (float)(_Float16)v;
+}
+#endif
+
+/* Largest error of a correctly rounded half: half an ulp (2^-11 relative, 2^-25 absolute in the
+ * subnormal range). */
+static double half_tol(float v)
+{
+    return fabs((double)v) * (1.0 / 2048.0) + 1.0 / 33554432.0;
+}
+
+static void fill_ramp(exr_image *img, const char *name, float scale)
+{
+    float *p = exr_image_channel(img, name);
+    for (int i = 0; i < img->width * img->height; i++)
+        p[i] = (float)i * scale;
+}
+
+static uint32_t rng_state = 12345u;
+static uint32_t rng(void)
+{
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return rng_state;
+}
+
+static float bits_to_float(uint32_t b)
+{
+    float f;
+    memcpy(&f, &b, sizeof f);
+    return f;
+}
+
+// >>image helpers
+
+TEST(image_helpers)
+{
+    exr_image img;
+    CHECK(!exr_image_init(&img, 0, 10));
+    CHECK(!exr_image_init(&img, 10, -1));
+    CHECK(!exr_image_init(&img, 1 << 20, 1 << 20));
+    CHECK(exr_image_init(&img, 4, 3));
+    CHECK(img.width == 4 && img.height == 3 && img.channel_count == 0);
+    float *r = exr_image_add_channel(&img, "R");
+    CHECK(r != NULL);
+    CHECK(r && r[11] == 0.0f);
+    CHECK(exr_image_add_channel(&img, "R") == NULL); /* duplicate */
+    CHECK(exr_image_add_channel(&img, "") == NULL);
+    char long_name[80];
+    memset(long_name, 'x', sizeof long_name - 1);
+    long_name[sizeof long_name - 1] = '\0';
+    CHECK(exr_image_add_channel(&img, long_name) == NULL);
+    CHECK(exr_image_channel(&img, "R") == r);
+    CHECK(exr_image_channel(&img, "G") == NULL);
+    for (int c = 1; c < EXR_MAX_CHANNELS; c++) {
+        char name[16];
+        snprintf(name, sizeof name, "c%d", c);
+        CHECK(exr_image_add_channel(&img, name) != NULL);
+    }
+    CHECK(img.channel_count == EXR_MAX_CHANNELS);
+    CHECK(exr_image_add_channel(&img, "one.too.many") == NULL);
+
+    exr_image_set_int(&img, "fovsim:frame", 1);
+    exr_image_set_int(&img, "fovsim:frame", 2); /* replaces */
+    CHECK(img.attr_count == 1);
+    CHECK(exr_image_attr(&img, "fovsim:frame") && exr_image_attr(&img, "fovsim:frame")->i == 2);
+    exr_image_set_float(&img, "fovsim:frame", 0.5f); /* replaces, with another type */
+    CHECK(img.attr_count == 1);
+    CHECK(exr_image_attr(&img, "fovsim:frame")->type == EXR_ATTR_FLOAT);
+    CHECK(exr_image_attr(&img, "nope") == NULL);
+    log_set_quiet_errors(true);
+    for (int a = 0; a < EXR_MAX_ATTRS + 3; a++) {
+        char name[32];
+        snprintf(name, sizeof name, "a%d", a);
+        exr_image_set_int(&img, name, a);
+    }
+    CHECK(img.attr_count == EXR_MAX_ATTRS); /* the rest dropped with a warning */
+    char long_value[600];
+    memset(long_value, 'v', sizeof long_value - 1);
+    long_value[sizeof long_value - 1] = '\0';
+    exr_image_set_string(&img, "a0", long_value);
+    log_set_quiet_errors(false);
+    CHECK(strlen(exr_image_attr(&img, "a0")->s) == sizeof img.attrs[0].s - 1);
+
+    exr_image_free(&img);
+    CHECK(img.channel_count == 0 && img.planes[0] == NULL && img.width == 0);
+    exr_image_free(&img); /* no-op on a zeroed image */
+    exr_image_free(NULL);
+}
+
+// >>values
+
+TEST(round_trip_values)
+{
+    const int w = 7, h = 5;
+    static const char *names[] = {"R", "G", "B", "A", "coverage", "hashed.R"};
+    const int nch = 6;
+    exr_image img;
+    CHECK(exr_image_init(&img, w, h));
+    for (int c = 0; c < nch; c++)
+        CHECK(exr_image_add_channel(&img, names[c]) != NULL);
+    const float specials[] = {0.0f,     1.0f,     0.1f,      1e-5f,     70000.0f, -70000.0f,
+                              NAN,      INFINITY, -INFINITY, -0.5f,     65504.0f, 65519.0f,
+                              6.1e-5f,  3e-8f,    -1e-7f,    0.333333f, 2048.5f,  -1.0f};
+    const int ns = (int)(sizeof specials / sizeof specials[0]);
+    for (int c = 0; c < nch; c++) {
+        float *p = img.planes[c];
+        for (int i = 0; i < w * h; i++)
+            p[i] = specials[(i + c * 5) % ns] * (c == 5 ? -1.0f : 1.0f);
+    }
+    const char *path = scratch("values.exr");
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_ZIP) == FS_OK);
+
+    exr_image out;
+    CHECK(exr_read_file(path, &out) == FS_OK);
+    CHECK(out.width == w && out.height == h);
+    CHECK(out.channel_count == nch);
+    /* The file's channel order is sorted by name, as EXR requires. */
+    for (int c = 1; c < out.channel_count; c++)
+        CHECK(strcmp(out.channel_names[c - 1], out.channel_names[c]) < 0);
+    for (int c = 0; c < nch; c++) {
+        const float *src = img.planes[c];
+        const float *got = exr_image_channel(&out, names[c]);
+        CHECK(got != NULL);
+        if (!got)
+            continue;
+        for (int i = 0; i < w * h; i++) {
+            float v = src[i];
+            float g = got[i];
+            CHECK(isfinite(g));
+            if (isnan(v))
+                CHECK(g == 0.0f);
+            else if (v >= 65504.0f)
+                CHECK(g == 65504.0f);
+            else if (v <= -65504.0f)
+                CHECK(g == -65504.0f);
+            else
+                CHECK_NEAR(g, v, half_tol(v));
+        }
+    }
+    /* The named cases from the spec, at their known pixels (channel R: index i holds specials[i]). */
+    const float *R = exr_image_channel(&out, "R");
+    if (R) {
+        CHECK(R[0] == 0.0f);
+        CHECK(R[1] == 1.0f);
+        CHECK(R[2] == 0.0999755859375f);
+        CHECK_NEAR(R[3], 1e-5, 3e-8);
+        CHECK(R[4] == 65504.0f);
+        CHECK(R[5] == -65504.0f);
+        CHECK(R[6] == 0.0f);
+        CHECK(R[7] == 65504.0f);
+        CHECK(R[8] == -65504.0f);
+    }
+    exr_image_free(&out);
+    exr_image_free(&img);
+}
+
+/* Every float class through the file, compared bit for bit with a correctly rounded reference:
+ * normals, subnormal halves, exact ties (both parities), overflow, NaN and Inf. */
+TEST(half_rounding_matches_reference)
+{
+#ifndef HAVE_F16_REF
+    fprintf(stderr, "  (no _Float16 in this compiler: covered by round_trip_values only)\n");
+#else
+    const int w = 512, h = 512, n = w * h;
+    exr_image img;
+    CHECK(exr_image_init(&img, w, h));
+    float *p = exr_image_add_channel(&img, "Y");
+    if (!p) {
+        exr_image_free(&img);
+        return;
+    }
+    int i = 0;
+    /* Ties and their neighbours in the normal range: the low 13 bits decide the rounding. */
+    for (; i < n / 4; i++) {
+        uint32_t exp = 113u + rng() % 30u; /* half exponents -14..15 */
+        uint32_t kept = rng() & 0x3ffu;
+        static const uint32_t low[] = {0x1000u, 0x0fffu, 0x1001u, 0u, 0x1fffu};
+        uint32_t bits = (rng() & 0x80000000u) | exp << 23 | kept << 13 | low[i % 5];
+        p[i] = bits_to_float(bits);
+    }
+    /* The same in the subnormal range (float exponents 102..112). */
+    for (; i < n / 2; i++) {
+        uint32_t exp = 102u + rng() % 11u;
+        uint32_t shift = 126u - exp; /* bits below the half's last digit */
+        uint32_t m = rng() & 0x7fffffu;
+        if (i % 3 == 0)
+            m = (m & ~((1u << shift) - 1u)) | (1u << (shift - 1u)); /* exact tie */
+        uint32_t bits = (rng() & 0x80000000u) | exp << 23 | (m & 0x7fffffu);
+        p[i] = bits_to_float(bits);
+    }
+    /* Spread over all bit patterns: every exponent, NaN, Inf, huge values. */
+    for (int k = 0; i < n; i++, k++)
+        p[i] = bits_to_float((uint32_t)k * 32771u * 547u + rng() % 97u);
+
+    const char *path = scratch("rounding.exr");
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_NONE) == FS_OK);
+    exr_image out;
+    CHECK(exr_read_file(path, &out) == FS_OK);
+    const float *got = exr_image_channel(&out, "Y");
+    CHECK(got != NULL);
+    int bad = 0;
+    for (int k = 0; got && k < n; k++) {
+        float want = half_ref(p[k]);
+        uint32_t wb, gb;
+        memcpy(&wb, &want, 4);
+        memcpy(&gb, &got[k], 4);
+        if (wb != gb && bad++ < 5)
+            fprintf(stderr, "  pixel %d: in %a (0x%08x) want %a got %a\n", k, (double)p[k],
+                    (unsigned)(memcpy(&wb, &p[k], 4), wb), (double)want, (double)got[k]);
+    }
+    CHECK(bad == 0);
+    exr_image_free(&out);
+    exr_image_free(&img);
+#endif
+}
+
+// >>attributes
+
+TEST(attributes_round_trip)
+{
+    exr_image img;
+    CHECK(exr_image_init(&img, 3, 2));
+    CHECK(exr_image_add_channel(&img, "R") != NULL);
+    exr_image_set_string(&img, "fovsim:renderer", "fovsim 0.1.0 (llvmpipe: test) – ünïcode");
+    exr_image_set_int(&img, "fovsim:frame", -42);
+    exr_image_set_float(&img, "fovsim:time", 0.1f);
+    exr_image_set_v2f(&img, "fovsim:gaze_norm", 0.25f, -1.5f);
+    exr_image_set_string(&img, "fovsim:empty", "");
+    /* Longer than 31 characters: needs OpenEXR's long-name flag. */
+    exr_image_set_int(&img, "fovsim:a_rather_long_attribute_name_42", 7);
+    const char *path = scratch("attrs.exr");
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_ZIP) == FS_OK);
+
+    exr_image out;
+    CHECK(exr_read_file(path, &out) == FS_OK);
+    CHECK(out.attr_count == img.attr_count); /* standard attributes are not copied */
+    CHECK(exr_image_attr(&out, "compression") == NULL);
+    CHECK(exr_image_attr(&out, "screenWindowWidth") == NULL);
+    CHECK(exr_image_attr(&out, "pixelAspectRatio") == NULL);
+    const exr_attr *a = exr_image_attr(&out, "fovsim:renderer");
+    CHECK(a && a->type == EXR_ATTR_STRING &&
+          strcmp(a->s, "fovsim 0.1.0 (llvmpipe: test) – ünïcode") == 0);
+    a = exr_image_attr(&out, "fovsim:frame");
+    CHECK(a && a->type == EXR_ATTR_INT && a->i == -42);
+    a = exr_image_attr(&out, "fovsim:time");
+    CHECK(a && a->type == EXR_ATTR_FLOAT && a->f[0] == 0.1f); /* floats are stored as float */
+    a = exr_image_attr(&out, "fovsim:gaze_norm");
+    CHECK(a && a->type == EXR_ATTR_V2F && a->f[0] == 0.25f && a->f[1] == -1.5f);
+    a = exr_image_attr(&out, "fovsim:empty");
+    CHECK(a && a->type == EXR_ATTR_STRING && a->s[0] == '\0');
+    a = exr_image_attr(&out, "fovsim:a_rather_long_attribute_name_42");
+    CHECK(a && a->type == EXR_ATTR_INT && a->i == 7);
+    exr_image_free(&out);
+
+    /* A name the format reserves is refused, and nothing is written. */
+    exr_image_set_string(&img, "compression", "zip");
+    const char *bad = scratch("attrs_reserved.exr");
+    remove(bad);
+    log_set_quiet_errors(true);
+    CHECK(exr_write_file(bad, &img, EXR_COMPRESS_ZIP) == FS_ERR_IO);
+    log_set_quiet_errors(false);
+    CHECK(!file_exists(bad));
+    exr_image_free(&img);
+}
+
+// >>compression and sizes
+
+static void check_ramp_file(const char *path, int w, int h, exr_compression_kind comp)
+{
+    exr_image img;
+    CHECK(exr_image_init(&img, w, h));
+    CHECK(exr_image_add_channel(&img, "R") && exr_image_add_channel(&img, "coverage"));
+    /* Multiples of 1/64 below 2048 with <= 11 significant bits: exact in half. */
+    fill_ramp(&img, "R", 1.0f / 64.0f);
+    float *cov = exr_image_channel(&img, "coverage");
+    for (int i = 0; i < w * h; i++)
+        cov[i] = (float)((i * 7) % 5) * 0.25f;
+    CHECK(exr_write_file(path, &img, comp) == FS_OK);
+    exr_image out;
+    CHECK(exr_read_file(path, &out) == FS_OK);
+    CHECK(out.width == w && out.height == h && out.channel_count == 2);
+    int bad = 0;
+    for (int c = 0; c < 2 && out.channel_count == 2; c++) {
+        const float *a = exr_image_channel(&img, c ? "coverage" : "R");
+        const float *b = exr_image_channel(&out, c ? "coverage" : "R");
+        CHECK(b != NULL);
+        for (int i = 0; b && i < w * h; i++)
+            bad += a[i] != b[i];
+    }
+    if (bad)
+        fprintf(stderr, "  %s (%dx%d): %d pixels differ\n", path, w, h, bad);
+    CHECK(bad == 0);
+    exr_image_free(&out);
+    exr_image_free(&img);
+}
+
+TEST(compressions_round_trip)
+{
+    check_ramp_file(scratch("zip.exr"), 40, 37, EXR_COMPRESS_ZIP);
+    check_ramp_file(scratch("none.exr"), 40, 37, EXR_COMPRESS_NONE);
+    check_ramp_file(scratch("piz.exr"), 40, 37, EXR_COMPRESS_PIZ);
+    /* ZIP really compresses (a smooth ramp): smaller than the raw file. */
+    CHECK(file_size(scratch("zip.exr")) > 0);
+    CHECK(file_size(scratch("zip.exr")) < file_size(scratch("none.exr")));
+}
+
+TEST(odd_sizes)
+{
+    static const int sizes[][2] = {{1, 1}, {17, 33}, {33, 17}, {1, 40}, {41, 1}, {13, 16}, {5, 15}};
+    for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "odd_%dx%d.exr", sizes[k][0], sizes[k][1]);
+        check_ramp_file(scratch(name), sizes[k][0], sizes[k][1], EXR_COMPRESS_ZIP);
+        snprintf(name, sizeof name, "odd_%dx%d_none.exr", sizes[k][0], sizes[k][1]);
+        check_ramp_file(scratch(name), sizes[k][0], sizes[k][1], EXR_COMPRESS_NONE);
+    }
+}
+
+// >>atomic
+
+static void make_frame(exr_image *img, int w, int h, float base)
+{
+    CHECK(exr_image_init(img, w, h));
+    static const char *rgba[] = {"R", "G", "B", "A", "coverage"};
+    for (int c = 0; c < 5; c++) {
+        float *p = exr_image_add_channel(img, rgba[c]);
+        CHECK(p != NULL);
+        for (int i = 0; p && i < w * h; i++)
+            p[i] = base + (float)((i + c * 3) % 64) / 64.0f;
+    }
+    exr_image_set_float(img, "fovsim:base", base);
+}
+
+TEST(atomic_missing_directory)
+{
+    const char *dir = scratch("no_such_dir");
+    char cmd[1100];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/frame.0001.exr", dir);
+    exr_image img;
+    make_frame(&img, 8, 8, 0.0f);
+    log_set_quiet_errors(true);
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_ZIP) == FS_ERR_IO);
+    log_set_quiet_errors(false);
+    CHECK(!file_exists(path));
+    CHECK(!file_exists(dir)); /* nothing created on the way */
+    exr_image_free(&img);
+}
+
+TEST(atomic_no_temp_left_after_success)
+{
+    const char *dir = fresh_dir("atomic_ok");
+    char path[1200];
+    snprintf(path, sizeof path, "%s/frame.0001.exr", dir);
+    exr_image img;
+    make_frame(&img, 31, 9, 0.0f);
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_ZIP) == FS_OK);
+    CHECK(file_exists(path));
+    CHECK(count_entries(dir, ".tmp") == 0);
+    CHECK(count_entries(dir, "") == 1);
+    /* Overwriting an existing frame also goes through a temporary name and leaves one file. */
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_NONE) == FS_OK);
+    CHECK(count_entries(dir, "") == 1);
+    exr_image_free(&img);
+}
+
+/* A write that fails part-way (the file-size limit stands in for a full disk: pwrite fails
+ * with EFBIG instead of ENOSPC) leaves neither a temporary file nor anything at the final name,
+ * and a frame already at the final name survives untouched. */
+TEST(atomic_failure_midway)
+{
+    const char *dir = fresh_dir("atomic_fail");
+    char path[1200], old_path[1200];
+    snprintf(path, sizeof path, "%s/frame.0002.exr", dir);
+    snprintf(old_path, sizeof old_path, "%s/frame.0003.exr", dir);
+    exr_image small, big;
+    make_frame(&small, 4, 4, 5.0f);
+    make_frame(&big, 256, 256, 0.0f);
+    CHECK(exr_write_file(old_path, &small, EXR_COMPRESS_ZIP) == FS_OK);
+
+    struct rlimit old_lim;
+    CHECK(getrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    void (*old_sig)(int) = signal(SIGXFSZ, SIG_IGN);
+    struct rlimit lim = old_lim;
+    lim.rlim_cur = 16 * 1024; /* the header fits, the pixels (640 KB raw) do not */
+    CHECK(setrlimit(RLIMIT_FSIZE, &lim) == 0);
+    log_set_quiet_errors(true);
+    fs_status st_new = exr_write_file(path, &big, EXR_COMPRESS_NONE);
+    fs_status st_old = exr_write_file(old_path, &big, EXR_COMPRESS_NONE);
+    log_set_quiet_errors(false);
+    CHECK(setrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    signal(SIGXFSZ, old_sig);
+
+    CHECK(st_new == FS_ERR_IO);
+    CHECK(st_old == FS_ERR_IO);
+    CHECK(!file_exists(path));
+    CHECK(count_entries(dir, ".tmp") == 0);
+    CHECK(count_entries(dir, "") == 1);
+    exr_image back;
+    CHECK(exr_read_file(old_path, &back) == FS_OK);
+    CHECK(back.width == 4 && exr_image_channel(&back, "R") &&
+          exr_image_channel(&back, "R")[0] == 5.0f);
+    exr_image_free(&back);
+
+    /* Permission denied (only meaningful when not root: root ignores the mode). */
+    if (geteuid() != 0) {
+        const char *ro = fresh_dir("atomic_ro");
+        CHECK(chmod(ro, 0555) == 0);
+        char ro_path[1200];
+        snprintf(ro_path, sizeof ro_path, "%s/frame.exr", ro);
+        log_set_quiet_errors(true);
+        CHECK(exr_write_file(ro_path, &small, EXR_COMPRESS_ZIP) == FS_ERR_IO);
+        log_set_quiet_errors(false);
+        CHECK(count_entries(ro, "") == 0);
+        chmod(ro, 0755);
+    }
+    exr_image_free(&small);
+    exr_image_free(&big);
+}
+
+TEST(bad_images_refused)
+{
+    exr_image img;
+    memset(&img, 0, sizeof img);
+    const char *path = scratch("bad_image.exr");
+    remove(path);
+    log_set_quiet_errors(true);
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_ZIP) == FS_ERR_IO); /* no size */
+    CHECK(exr_image_init(&img, 4, 4));
+    CHECK(exr_write_file(path, &img, EXR_COMPRESS_ZIP) == FS_ERR_IO); /* no channels */
+    log_set_quiet_errors(false);
+    CHECK(!file_exists(path));
+    exr_image_free(&img);
+}
+
+// >>writer thread
+
+static bool frame_reads_back(const char *path, int w, int h, float base)
+{
+    exr_image out;
+    if (exr_read_file(path, &out) != FS_OK)
+        return false;
+    bool ok = out.width == w && out.height == h && out.channel_count == 5;
+    const exr_attr *a = exr_image_attr(&out, "fovsim:base");
+    ok = ok && a && a->type == EXR_ATTR_FLOAT && a->f[0] == base;
+    const float *g = exr_image_channel(&out, "G");
+    for (int i = 0; ok && g && i < w * h; i++)
+        ok = fabs(g[i] - (base + (float)((i + 3) % 64) / 64.0f)) <= half_tol(base + 1.0f);
+    exr_image_free(&out);
+    return ok && g;
+}
+
+TEST(writer_thread_writes_all_frames)
+{
+    const char *dir = fresh_dir("writer");
+    exr_writer *w = exr_writer_create(&(exr_writer_desc){.queue_depth = 2});
+    CHECK(w != NULL);
+    if (!w)
+        return;
+    for (int f = 0; f < 10; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/frame.%04d.exr", dir, f);
+        exr_image img;
+        make_frame(&img, 64 + f, 48, (float)f);
+        CHECK(exr_writer_submit(w, path, &img) == FS_OK);
+        CHECK(img.planes[0] == NULL && img.channel_count == 0); /* ownership moved */
+    }
+    CHECK(exr_writer_finish(w) == FS_OK);
+    for (int f = 0; f < 10; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/frame.%04d.exr", dir, f);
+        CHECK(frame_reads_back(path, 64 + f, 48, (float)f));
+    }
+    CHECK(count_entries(dir, ".tmp") == 0);
+    CHECK(count_entries(dir, ".exr") == 10);
+
+    /* Defaults (NULL desc), nothing submitted. */
+    exr_writer *w2 = exr_writer_create(NULL);
+    CHECK(w2 != NULL);
+    CHECK(exr_writer_finish(w2) == FS_OK);
+    CHECK(exr_writer_finish(NULL) == FS_OK);
+}
+
+TEST(writer_thread_error_is_sticky)
+{
+    const char *dir = fresh_dir("writer_err");
+    char bad[1200];
+    snprintf(bad, sizeof bad, "%s/missing_subdir/frame.0000.exr", dir);
+    log_set_quiet_errors(true);
+
+    /* Error reported by finish. */
+    exr_writer *w = exr_writer_create(&(exr_writer_desc){.queue_depth = 2});
+    CHECK(w != NULL);
+    if (!w) {
+        log_set_quiet_errors(false);
+        return;
+    }
+    exr_image img;
+    make_frame(&img, 8, 8, 0.0f);
+    CHECK(exr_writer_submit(w, bad, &img) == FS_OK); /* queued; fails on the thread */
+    CHECK(exr_writer_finish(w) == FS_ERR_IO);
+
+    /* Error returned by later submits, which then free the image and queue nothing. */
+    w = exr_writer_create(&(exr_writer_desc){.queue_depth = 1});
+    CHECK(w != NULL);
+    if (!w) {
+        log_set_quiet_errors(false);
+        return;
+    }
+    make_frame(&img, 8, 8, 0.0f);
+    CHECK(exr_writer_submit(w, bad, &img) == FS_OK);
+    fs_status st = FS_OK;
+    int f;
+    for (f = 1; f < 200 && st == FS_OK; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/after.%04d.exr", dir, f);
+        make_frame(&img, 8, 8, (float)f);
+        st = exr_writer_submit(w, path, &img);
+        if (st != FS_OK) {
+            CHECK(img.planes[0] == NULL); /* freed */
+            CHECK(!file_exists(path));   /* not queued */
+        } else {
+            nanosleep(&(struct timespec){.tv_nsec = 2000000}, NULL);
+        }
+    }
+    CHECK(st == FS_ERR_IO);
+    make_frame(&img, 8, 8, 0.0f);
+    char later[1200];
+    snprintf(later, sizeof later, "%s/later.exr", dir);
+    CHECK(exr_writer_submit(w, later, &img) == FS_ERR_IO);
+    CHECK(exr_writer_finish(w) == FS_ERR_IO);
+    CHECK(!file_exists(later));
+    log_set_quiet_errors(false);
+}
+
+// >>damaged files
+
+TEST(read_missing_or_damaged_files)
+{
+    exr_image out;
+    log_set_quiet_errors(true);
+    CHECK(exr_read_file(scratch("does_not_exist.exr"), &out) == FS_ERR_IO);
+    CHECK(out.channel_count == 0 && out.planes[0] == NULL);
+
+    const char *text = scratch("not_an_exr.exr");
+    FILE *f = fopen(text, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs("this is not an EXR file\n", f);
+        fclose(f);
+    }
+    CHECK(exr_read_file(text, &out) == FS_ERR_IO);
+
+    const char *good = scratch("good_for_truncation.exr");
+    exr_image img;
+    make_frame(&img, 64, 50, 0.5f);
+    CHECK(exr_write_file(good, &img, EXR_COMPRESS_ZIP) == FS_OK);
+    exr_image_free(&img);
+    long size = file_size(good);
+    CHECK(size > 100);
+    const long cuts[] = {0, 4, 8, 100, size / 2, size - 8, size - 1};
+    for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; k++) {
+        const char *cut = scratch("truncated.exr");
+        CHECK(copy_prefix(good, cut, cuts[k]));
+        fs_status st = exr_read_file(cut, &out);
+        if (st != FS_ERR_IO)
+            fprintf(stderr, "  truncated to %ld of %ld bytes: read returned %d\n", cuts[k], size,
+                    (int)st);
+        CHECK(st == FS_ERR_IO);
+        CHECK(out.channel_count == 0 && out.planes[0] == NULL);
+        exr_image_free(&out);
+    }
+    log_set_quiet_errors(false);
+    CHECK(exr_read_file(good, &out) == FS_OK);
+    exr_image_free(&out);
+}
+
+int main(void)
+{
+    RUN(image_helpers);
+    RUN(round_trip_values);
+    RUN(half_rounding_matches_reference);
+    RUN(attributes_round_trip);
+    RUN(compressions_round_trip);
+    RUN(odd_sizes);
+    RUN(atomic_missing_directory);
+    RUN(atomic_no_temp_left_after_success);
+    RUN(atomic_failure_midway);
+    RUN(bad_images_refused);
+    RUN(writer_thread_writes_all_frames);
+    RUN(writer_thread_error_is_sticky);
+    RUN(read_missing_or_damaged_files);
+    return test_summary();
+}
