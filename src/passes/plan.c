@@ -111,7 +111,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
         tris += p->passes[i].triangles;
     fprintf(f, "scene      %s\n", sc->path);
     fprintf(f, "display    %d x %d, hfov %.1f deg\n", p->width, p->height, p->hfov_deg);
-    fprintf(f, "assets     %d, instances %d, triangles/frame %lld, textures %d (premultiplied mips, RGBA16F)\n",
+    fprintf(f, "assets     %d, instances %d, triangles/frame %lld, textures %d (premultiplied mips, RGBA16)\n",
             sc->asset_count, sc->instance_count, tris, p->texture_count);
     fprintf(f, "alpha mode %s (global; per-material overrides shown per pass)\n", alpha_mode_name(p->global_mode));
     fprintf(f, "passes (in draw order):\n");

@@ -9,7 +9,7 @@
 #include "common/shared_defs.h"
 #include "core/log.h"
 #include "gl/gl_device.h"
-#include "gl/shader_src.h"
+#include "gl/gl_program.h"
 #include "scene/mip.h"
 
 /* >>resources
@@ -62,60 +62,18 @@ struct renderer {
 };
 
 /* >>programs */
-static GLuint compile_stage(GLenum stage, const char *path, const plan_pass *ps, fs_status *st)
+static fs_status program_create(const plan_pass *ps, gpu_program *out)
 {
     const char *defs[PLAN_MAX_DEFINES];
     for (int i = 0; i < ps->define_count; i++)
         defs[i] = ps->defines[i];
-    shader_src src;
-    *st = shader_src_build(path, defs, ps->define_count, &src);
-    if (*st != FS_OK)
-        return 0;
-    GLuint sh = glCreateShader(stage);
-    const char *text = src.text;
-    glShaderSource(sh, 1, &text, NULL);
-    glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096], out[8192];
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        shader_src_translate_log(&src, log, out, sizeof out);
-        log_error("%s (%s): shader compile failed:\n%s", path, ps->name, out);
-        glDeleteShader(sh);
-        sh = 0;
-        *st = FS_ERR_SHADER;
-    }
-    shader_src_free(&src);
-    return sh;
-}
-
-static fs_status program_create(const plan_pass *ps, gpu_program *out)
-{
-    fs_status st;
-    GLuint vs = compile_stage(GL_VERTEX_SHADER, ps->vs, ps, &st);
-    if (!vs)
+    gpu_program_handle h;
+    fs_status st = gl_program_build(&(gl_program_desc){.vs = ps->vs, .fs = ps->fs, .defines = defs,
+                                                       .define_count = ps->define_count, .label = ps->name},
+                                    &h);
+    if (st != FS_OK)
         return st;
-    GLuint fs = compile_stage(GL_FRAGMENT_SHADER, ps->fs, ps, &st);
-    if (!fs) {
-        glDeleteShader(vs);
-        return st;
-    }
-    GLuint p = glCreateProgram();
-    glAttachShader(p, vs);
-    glAttachShader(p, fs);
-    glLinkProgram(p);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        log_error("%s + %s (%s): link failed: %s", ps->vs, ps->fs, ps->name, log);
-        glDeleteProgram(p);
-        return FS_ERR_SHADER;
-    }
+    GLuint p = h.id;
     out->id = p;
     out->u_view_proj = glGetUniformLocation(p, "u_view_proj");
     out->u_has_base_tex = glGetUniformLocation(p, "u_has_base_tex");
@@ -131,18 +89,37 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
 }
 
 /* >>upload */
+/* Textures are stored as RGBA16 UNORM, linear premultiplied. 16-bit unorm holds every 8-bit
+ * value k/255 exactly (k/255 = 257k/65535), so a level-0 alpha equal to a material's cutoff
+ * compares exactly as glTF says (alpha >= cutoff); RGBA16F would round 51/255 below a 0.2 cutoff.
+ * It also keeps 1/65535 precision for dark premultiplied colour in the averaged mips. */
 static GLuint upload_image(const image_rgba8 *img, fs_status *st)
 {
     mip_chain mc;
     *st = mip_chain_build(img, &mc);
     if (*st != FS_OK)
         return 0;
+    size_t n0 = (size_t)mc.width[0] * (size_t)mc.height[0] * 4;
+    uint16_t *buf = malloc(sizeof(uint16_t) * n0);
+    if (!buf) {
+        mip_chain_free(&mc);
+        *st = FS_ERR_NOMEM;
+        return 0;
+    }
     GLuint t;
     glCreateTextures(GL_TEXTURE_2D, 1, &t);
-    glTextureStorage2D(t, mc.level_count, GL_RGBA16F, mc.width[0], mc.height[0]);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    for (int l = 0; l < mc.level_count; l++)
-        glTextureSubImage2D(t, l, 0, 0, mc.width[l], mc.height[l], GL_RGBA, GL_FLOAT, mc.rgba[l]);
+    glTextureStorage2D(t, mc.level_count, GL_RGBA16, mc.width[0], mc.height[0]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    for (int l = 0; l < mc.level_count; l++) {
+        size_t n = (size_t)mc.width[l] * (size_t)mc.height[l] * 4;
+        for (size_t i = 0; i < n; i++) {
+            float v = mc.rgba[l][i];
+            v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; /* also maps NaN to 0 */
+            buf[i] = (uint16_t)lrintf(v * 65535.0f);
+        }
+        glTextureSubImage2D(t, l, 0, 0, mc.width[l], mc.height[l], GL_RGBA, GL_UNSIGNED_SHORT, buf);
+    }
+    free(buf);
     mip_chain_free(&mc);
     return t;
 }

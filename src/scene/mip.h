@@ -24,7 +24,8 @@ typedef struct mip_chain {
     float *rgba[MIP_MAX_LEVELS]; /* linear premultiplied RGBA, 4 floats per texel, rows top first */
 } mip_chain;
 
-/* sRGB 8-bit value to linear [0,1] (IEC 61966-2-1). */
+/* sRGB-encoded value in [0,1] (an 8-bit value divided by 255) to linear [0,1] (IEC 61966-2-1);
+ * clamps, NaN gives 0. */
 float srgb_to_linear(float c);
 float linear_to_srgb(float c);
 
