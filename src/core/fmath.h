@@ -9,12 +9,20 @@
 
 #include <stdbool.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define FS_PI 3.14159265358979323846
 
 typedef struct { float x, y, z; } vec3;
 typedef struct { float m[16]; } mat4;
 
-static inline vec3 v3(float x, float y, float z) { return (vec3){x, y, z}; }
+static inline vec3 v3(float x, float y, float z)
+{
+    vec3 r = {x, y, z};
+    return r;
+}
 vec3 v3_add(vec3 a, vec3 b);
 vec3 v3_sub(vec3 a, vec3 b);
 vec3 v3_scale(vec3 a, float s);
@@ -46,5 +54,9 @@ vec3 m4_point(mat4 a, vec3 p);  /* transforms a point (w = 1) */
 vec3 m4_dir(mat4 a, vec3 d);    /* transforms a direction (w = 0) */
 /* Inverse transpose of the upper 3x3 (for normals), returned in a mat4. */
 mat4 m4_normal_matrix(mat4 a);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

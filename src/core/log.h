@@ -10,6 +10,10 @@
 
 #include <stdbool.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #if defined(__GNUC__)
 #define FS_PRINTF(a, b) __attribute__((format(printf, a, b)))
 #else
@@ -34,6 +38,10 @@ void log_info(const char *fmt, ...) FS_PRINTF(1, 2);
 #else
 void fs_assert_fail(const char *expr, const char *file, int line);
 #define FS_ASSERT(c) ((c) ? (void)0 : fs_assert_fail(#c, __FILE__, __LINE__))
+#endif
+
+#ifdef __cplusplus
+}
 #endif
 
 #endif

@@ -8,6 +8,10 @@
 #ifndef FOVSIM_STATUS_H
 #define FOVSIM_STATUS_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* X(name, exit status, short description) */
 #define FS_STATUS_TABLE(X)                                                  \
     X(FS_OK,            0, "ok")                                            \
@@ -33,5 +37,9 @@ typedef enum fs_status {
 int fs_status_exit_code(fs_status s);
 /* Short English description, never NULL. */
 const char *fs_status_text(fs_status s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -29,18 +29,18 @@
 #endif
 
 typedef enum exr_attr_type {
-    EXR_ATTR_STRING = 0,
-    EXR_ATTR_INT,
-    EXR_ATTR_FLOAT,
-    EXR_ATTR_V2F,
+    FS_EXR_ATTR_STRING = 0,
+    FS_EXR_ATTR_INT,
+    FS_EXR_ATTR_FLOAT,
+    FS_EXR_ATTR_V2F,
 } exr_attr_type;
 
 typedef struct exr_attr {
     char name[64];
     exr_attr_type type;
-    char s[512];  /* EXR_ATTR_STRING */
-    int i;        /* EXR_ATTR_INT */
-    float f[2];   /* EXR_ATTR_FLOAT uses f[0]; EXR_ATTR_V2F uses both */
+    char s[512];  /* FS_EXR_ATTR_STRING */
+    int i;        /* FS_EXR_ATTR_INT */
+    float f[2];   /* FS_EXR_ATTR_FLOAT uses f[0]; FS_EXR_ATTR_V2F uses both */
 } exr_attr;
 
 typedef struct exr_image {

@@ -8,6 +8,7 @@
 
 #include "common/shared_defs.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "gl/gl_device.h"
 #include "gl/gl_program.h"
 #include "scene/mip.h"
@@ -59,6 +60,8 @@ struct renderer {
     GLuint time_queries[PLAN_MAX_PASSES];
     GLuint frag_query;
     bool stats_pending;
+    bool pass_sync;
+    double pass_wall_ms[PLAN_MAX_PASSES];
 };
 
 /* >>programs */
@@ -430,6 +433,9 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
     glCullFace(GL_BACK);
     if (r->frag_query)
         glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->frag_query);
+    if (r->pass_sync)
+        glFinish();
+    double t_prev = time_now();
     for (int i = 0; i < r->pl.pass_count; i++) {
         const plan_pass *ps = &r->pl.passes[i];
         const gpu_program *pg = &r->programs[i];
@@ -449,6 +455,13 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         }
         if (r->timers)
             glEndQuery(GL_TIME_ELAPSED);
+        r->pass_wall_ms[i] = -1.0;
+        if (r->pass_sync) {
+            glFinish();
+            double t = time_now();
+            r->pass_wall_ms[i] = (t - t_prev) * 1e3;
+            t_prev = t;
+        }
     }
     if (r->frag_query)
         glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
@@ -456,6 +469,11 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
     glBindVertexArray(0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return FS_OK;
+}
+
+void renderer_set_pass_sync(renderer *r, bool on)
+{
+    r->pass_sync = on;
 }
 
 void renderer_finish(renderer *r)
@@ -472,6 +490,7 @@ renderer_stats renderer_last_stats(renderer *r)
     for (int i = 0; i < r->pl.pass_count; i++) {
         snprintf(s.pass_names[i], sizeof s.pass_names[i], "%s", r->pl.passes[i].name);
         s.pass_ms[i] = -1.0;
+        s.pass_wall_ms[i] = r->pass_wall_ms[i];
         if (r->stats_pending) {
             GLuint64 ns = 0;
             glGetQueryObjectui64v(r->time_queries[i], GL_QUERY_RESULT, &ns);

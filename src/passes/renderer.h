@@ -28,7 +28,11 @@ typedef struct renderer_desc {
 typedef struct renderer_stats {
     int pass_count;
     char pass_names[PLAN_MAX_PASSES][48];
-    double pass_ms[PLAN_MAX_PASSES]; /* GL time of each pass of the last frame, -1 = no timer */
+    double pass_ms[PLAN_MAX_PASSES];      /* GL timer query of each pass of the last frame, -1 = none */
+    double pass_wall_ms[PLAN_MAX_PASSES]; /* wall clock of each pass with glFinish around it, -1 = not
+                                             measured (renderer_set_pass_sync off). Software
+                                             rasterisers (llvmpipe) defer work to the flush, so only
+                                             this measure is meaningful there. */
     long long fragments;             /* fragment shader invocations of the last frame, -1 = unknown */
 } renderer_stats;
 
@@ -39,6 +43,9 @@ fs_status renderer_draw(renderer *r, const frame_record *fr);
 /* Reads colour and coverage into *img (initialised here; rows top first): channels R, G, B, A,
  * coverage. */
 fs_status renderer_read(renderer *r, exr_image *img);
+/* With `on`, every later renderer_draw finishes the GPU after each pass and records its wall time
+ * (renderer_stats.pass_wall_ms). Adds sync overhead: bench measures frame time without it. */
+void renderer_set_pass_sync(renderer *r, bool on);
 /* Blocks until the GPU has finished all submitted work (glFinish), for wall-clock timing. */
 void renderer_finish(renderer *r);
 /* Pass timings of the last frame (valid after renderer_draw with timers; waits for results). */

@@ -7,7 +7,7 @@
  * vertex. The first perspective camera found in the node tree is returned in asset space.
  *
  * What it does NOT do: upload, mipmaps, scene placement, and it never throws: every C++ exception
- * is caught at the boundary and reported as FS_ERR_ASSET. Assets that require an extension fovsim
+ * is caught at the boundary and reported as FS_ERR_ASSET (FS_ERR_NOMEM when out of memory). Assets that require an extension fovsim
  * cannot honour (Draco, meshopt, KTX2/Basis, ...) are refused with a message naming it.
  */
 #ifndef FOVSIM_GLTF_SHIM_H

@@ -25,6 +25,10 @@
 #include "core/fmath.h"
 #include "core/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* >>materials */
 
 /* How a material's alpha is meant to be used (glTF alphaMode). */
@@ -151,7 +155,6 @@ typedef struct camera_path {
 typedef struct camera_state {
     vec3 position, target;
     float hfov_deg;
-    bool cut; /* true on the first frame at or after a cut key */
 } camera_state;
 
 typedef struct display_desc {
@@ -201,7 +204,14 @@ void scene_bounds(const scene *sc, vec3 *min, vec3 *max);
 /* A camera path that frames the whole scene from the front (used for glTF-as-scene). */
 void scene_fit_camera(scene *sc);
 
-/* Camera at time t (seconds; clamped to the path). */
+/* Camera at time t (seconds; clamped to the path). A cut key starts a new spline: times before it
+ * never interpolate towards it. */
 camera_state camera_path_eval(const camera_path *path, float t);
+/* True when a cut key's time lies in (t0, t1]: the frame at t1 must not reuse history from t0. */
+bool camera_path_cut_between(const camera_path *path, float t0, float t1);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif
