@@ -184,12 +184,18 @@ static fs_status run_demo(const run_desc *d)
     if (st != FS_OK)
         return st;
     const char *out = d->out_dir ? d->out_dir : "out/demo";
-    printf("\nlook at the frames:\n"
-           "  oiiotool --info -v %s/%s.0000.exr            # header: frame, time, renderer, alpha mode\n"
-           "  oiiotool %s/%s.0000.exr --ch R,G,B --colorconvert linear sRGB -o first.png\n"
-           "  ffmpeg -framerate %g -i %s/%s.%%04d.exr -vf \"format=gbrpf32le,zscale=t=bt709:tin=linear,format=yuv420p\" demo.mp4\n"
-           "  (the coverage channel: oiiotool %s/%s.0000.exr --ch coverage -o coverage.png)\n",
-           out, d->name, out, d->name, d->fps, out, d->name, out, d->name);
+    scene sc; /* only to know the frame count the render used */
+    int last = 0;
+    if (scene_load_builtin(d->builtin, &sc) == FS_OK) {
+        last = frame_count(d, &sc) - 1;
+        scene_free(&sc);
+    }
+    printf("\nlook at the frames (linear half-float RGBA + a coverage channel):\n"
+           "  oiiotool --info -v %s/%s.0000.exr      # header: frame, time, renderer, alpha mode\n"
+           "  oiiotool --frames 0-%d %s/%s.#.exr --ch R,G,B --colorconvert linear sRGB -o %s/%s.#.png\n"
+           "  ffmpeg -framerate %g -i %s/%s.%%04d.png -pix_fmt yuv420p %s/demo.mp4\n"
+           "  oiiotool %s/%s.0000.exr --ch coverage -o coverage.png   # where alpha-mapped foliage is\n",
+           out, d->name, last, out, d->name, out, d->name, d->fps, out, d->name, out, out, d->name);
     return FS_OK;
 }
 
