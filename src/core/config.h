@@ -28,6 +28,21 @@
 #define MAX_DISPLAY_SIZE 8192
 #endif
 
+/* Most instances one scatter entry of a scene file may create (64 bytes of transform each). */
+#ifndef MAX_SCATTER_COUNT
+#define MAX_SCATTER_COUNT 100000
+#endif
+
+/* Most instances one scene may hold in all (64 MB of transforms). */
+#ifndef MAX_SCENE_INSTANCES
+#define MAX_SCENE_INSTANCES 1000000
+#endif
+
+/* Largest scene file read, in bytes (a scene file is a description, not data). */
+#ifndef MAX_SCENE_FILE_BYTES
+#define MAX_SCENE_FILE_BYTES (64u << 20)
+#endif
+
 /* Most frames one render may ask for (about 15 minutes at 120 fps). */
 #ifndef MAX_FRAMES
 #define MAX_FRAMES 100000

@@ -173,7 +173,7 @@ typedef struct scene {
     char path[512];   /* the scene file, or "builtin:<name>" */
     asset *assets;
     int asset_count;
-    instance *instances;
+    instance *instances; /* grown by scene_add_instance only (its capacity is derived from the count) */
     int instance_count;
     camera_path camera;
     display_desc display;
@@ -195,7 +195,8 @@ const char *scene_builtin_list(void);
 fs_status scene_validate(const scene *sc);
 /* Frees everything the scene owns. No-op on a zeroed scene. */
 void scene_free(scene *sc);
-/* Adds an asset (moved in: the scene owns it afterwards); returns its index or -1. */
+/* Adds an asset (moved in: the scene owns it afterwards and *a is zeroed); returns its index, or
+ * -1 when out of memory, in which case the caller still owns *a. */
 int scene_add_asset(scene *sc, asset *a);
 /* Adds an instance of asset `asset_index`; returns false when out of memory. */
 bool scene_add_instance(scene *sc, int asset_index, mat4 transform);
