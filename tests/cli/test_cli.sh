@@ -76,7 +76,7 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   "$BIN" render --builtin forest --frames 40 --width 128 --height 72 --out "$T/full/seq" --quiet --compression none >/dev/null 2>"$T/err.txt"
   rc=$?
   check "full disk -> exit 6" test $rc -eq 6
-  check "full disk: message names the file" grep -q "seq/frame\.[0-9]*\.exr" "$T/err.txt"
+  check "full disk: one line naming the file" bash -c "grep -q 'seq/frame\.[0-9]*\.exr: .*No space left' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
   check "full disk: no temporary file left" test -z "$(find "$T/full" -name '*.tmp*')"
   bad=0
   for f in "$T"/full/seq/*.exr; do [ -e "$f" ] || continue; exrheader "$f" >/dev/null 2>&1 || bad=1; done

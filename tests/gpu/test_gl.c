@@ -149,11 +149,11 @@ TEST(rendered_frame_round_trips_through_exr)
     fprintf(stderr, "max relative error after half storage: %.2e\n", max_rel);
     CHECK(max_rel <= 1.0 / 2048.0); /* half has 11 significant bits: round to nearest */
     const exr_attr *a = exr_image_attr(&back, "fovsim:renderer");
-    CHECK(a && a->type == EXR_ATTR_STRING && strcmp(a->s, gl_device_renderer()) == 0);
+    CHECK(a && a->type == FS_EXR_ATTR_STRING && strcmp(a->s, gl_device_renderer()) == 0);
     a = exr_image_attr(&back, "fovsim:frame");
-    CHECK(a && a->type == EXR_ATTR_INT && a->i == 48);
+    CHECK(a && a->type == FS_EXR_ATTR_INT && a->i == 48);
     a = exr_image_attr(&back, "fovsim:gaze");
-    CHECK(a && a->type == EXR_ATTR_V2F && a->f[0] == 0.25f && a->f[1] == 0.75f);
+    CHECK(a && a->type == FS_EXR_ATTR_V2F && a->f[0] == 0.25f && a->f[1] == 0.75f);
     exr_image_free(&img);
     exr_image_free(&back);
     scene_free(&sc);
