@@ -71,6 +71,19 @@ expect_exit "output path is a file -> 6" 6 "$BIN" render --frames 1 --width 32 -
 expect_exit "not implemented alpha mode -> 2" 2 "$BIN" render --builtin fence --alpha hashed --out "$T/bad7"
 check "unimplemented mode creates nothing" test ! -e "$T/bad7"
 
+expect_exit "no such EGL device -> 7" 7 "$BIN" render --gpu 15 --frames 1 --out "$T/bad8"
+check "no GL context creates nothing" test ! -e "$T/bad8"
+
+# ---- Ctrl-C: stops after the frame in flight, exit 130, every file left is complete
+"$BIN" render --builtin forest --frames 5000 --width 64 --height 36 --out "$T/int" --quiet >/dev/null 2>"$T/err.txt" &
+pid=$!
+for _ in $(seq 1 100); do [ -e "$T/int/frame.0002.exr" ] && break; sleep 0.1; done
+kill -INT "$pid"; wait "$pid"; rc=$?
+check "SIGINT -> exit 130" test $rc -eq 130
+check "SIGINT: one line" test "$(wc -l <"$T/err.txt")" -eq 1
+check "SIGINT: no temporary file left" test -z "$(find "$T/int" -name '*.tmp*')"
+check "SIGINT: stopped early" test ! -e "$T/int/frame.4999.exr"
+
 # ---- a full disk: the run fails with an I/O error and leaves no partial frame
 if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null; then
   "$BIN" render --builtin forest --frames 40 --width 128 --height 72 --out "$T/full/seq" --quiet --compression none >/dev/null 2>"$T/err.txt"
