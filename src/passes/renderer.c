@@ -317,13 +317,13 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     glProgramUniform1f(pg->id, pg->u_mip_bias, 0.0f);
 }
 
-static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi, float cutoff)
+static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi)
 {
     const material *m = &as->materials[mi];
     bool tex = m->base_color_image >= 0;
     glProgramUniform1i(pg->id, pg->u_has_base_tex, tex);
     glProgramUniform4fv(pg->id, pg->u_base_color, 1, m->base_color);
-    glProgramUniform1f(pg->id, pg->u_alpha_cutoff, cutoff);
+    glProgramUniform1f(pg->id, pg->u_alpha_cutoff, m->alpha_cutoff);
     glProgramUniform1i(pg->id, pg->u_double_sided, m->double_sided);
     glBindTextureUnit(TEX_UNIT_BASE_COLOR, tex ? ga->textures[m->base_color_image] : 0);
     glBindSampler(TEX_UNIT_BASE_COLOR, ga->samplers[mi]);
@@ -344,22 +344,28 @@ static bool prim_in_pass(const renderer *r, const material *m, const plan_pass *
     return false;
 }
 
+/* Draws the primitives of asset `a` that belong to pass `ps`, for `count` instances starting at
+ * instance slot `first`. */
+static void draw_asset(const renderer *r, const gpu_program *pg, const plan_pass *ps, int a, int first, int count)
+{
+    const gpu_asset *ga = &r->assets[a];
+    const asset *as = &r->sc->assets[a];
+    for (int p = 0; p < as->prim_count; p++) {
+        const material *m = &as->materials[as->prims[p].material];
+        if (!prim_in_pass(r, m, ps))
+            continue;
+        set_material(pg, ga, as, as->prims[p].material);
+        glBindVertexArray(ga->prims[p].vao);
+        glDrawElementsInstancedBaseInstance(GL_TRIANGLES, ga->prims[p].index_count, GL_UNSIGNED_INT, NULL, count,
+                                            (GLuint)first);
+    }
+}
+
 static void draw_instanced(const renderer *r, const gpu_program *pg, const plan_pass *ps)
 {
-    for (int a = 0; a < r->sc->asset_count; a++) {
-        const gpu_asset *ga = &r->assets[a];
-        const asset *as = &r->sc->assets[a];
-        if (ga->instance_count == 0)
-            continue;
-        for (int p = 0; p < as->prim_count; p++) {
-            const material *m = &as->materials[as->prims[p].material];
-            if (!prim_in_pass(r, m, ps))
-                continue;
-            set_material(pg, ga, as, as->prims[p].material, m->alpha_cutoff);
-            glBindVertexArray(ga->prims[p].vao);
-            glDrawElementsInstanced(GL_TRIANGLES, ga->prims[p].index_count, GL_UNSIGNED_INT, NULL, ga->instance_count);
-        }
-    }
+    for (int a = 0; a < r->sc->asset_count; a++)
+        if (r->assets[a].instance_count > 0)
+            draw_asset(r, pg, ps, a, 0, r->assets[a].instance_count);
 }
 
 typedef struct sort_item {
@@ -398,19 +404,8 @@ static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const pl
         }
     }
     qsort(items, (size_t)n, sizeof *items, cmp_far_first);
-    for (int i = 0; i < n; i++) {
-        const gpu_asset *ga = &r->assets[items[i].asset];
-        const asset *as = &r->sc->assets[items[i].asset];
-        for (int p = 0; p < as->prim_count; p++) {
-            const material *m = &as->materials[as->prims[p].material];
-            if (!prim_in_pass(r, m, ps))
-                continue;
-            set_material(pg, ga, as, as->prims[p].material, m->alpha_cutoff);
-            glBindVertexArray(ga->prims[p].vao);
-            glDrawElementsInstancedBaseInstance(GL_TRIANGLES, ga->prims[p].index_count, GL_UNSIGNED_INT, NULL, 1,
-                                                (GLuint)items[i].slot);
-        }
-    }
+    for (int i = 0; i < n; i++)
+        draw_asset(r, pg, ps, items[i].asset, items[i].slot, 1);
     free(items);
 }
 
