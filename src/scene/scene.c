@@ -103,21 +103,33 @@ void scene_bounds(const scene *sc, vec3 *min, vec3 *max)
 /* One still key looking at the centre of the bounds from the front (+Z) and 15 degrees above, at
  * the distance where the bounding sphere (grown by a 10 % margin) fits the smaller of the
  * horizontal and vertical fov. Golden images depend on this framing. */
+/* Frames the scene's bounding box: the camera looks at the box centre from the front (+Z), 20
+ * degrees up, at the smallest distance where all 8 corners project inside the display with a 10 %
+ * margin. A box fit, not a sphere fit, so flat plants (a fern is wide and low) fill the frame. */
 void scene_fit_camera(scene *sc)
 {
     vec3 lo, hi;
     scene_bounds(sc, &lo, &hi);
     vec3 centre = v3_scale(v3_add(lo, hi), 0.5f);
-    float radius = 0.5f * v3_len(v3_sub(hi, lo));
-    if (!(radius > 1e-6f) || !isfinite(radius))
-        radius = 1.0f;
     float aspect = sc->display.width > 0 && sc->display.height > 0
                        ? (float)sc->display.width / (float)sc->display.height : 16.0f / 9.0f;
     float hfov = sc->display.hfov_deg > 1.0f && sc->display.hfov_deg < 179.0f ? sc->display.hfov_deg : 90.0f;
-    float half_h = 0.5f * hfov * (float)(FS_PI / 180.0);
-    float half_v = atanf(tanf(half_h) / aspect);
-    float dist = 1.1f * radius / sinf(fminf(half_h, half_v));
-    vec3 dir = v3_norm_or(v3(0, 0.27f, 1), v3(0, 0, 1)); /* atan(0.27) = 15 degrees up */
+    float tan_h = tanf(0.5f * hfov * (float)(FS_PI / 180.0)) / 1.1f; /* 10 % margin */
+    float tan_v = tan_h / aspect;
+    vec3 dir = v3_norm_or(v3(0, 0.364f, 1), v3(0, 0, 1)); /* atan(0.364) = 20 degrees up */
+    vec3 right = v3_norm_or(v3_cross(v3(0, 1, 0), dir), v3(1, 0, 0));
+    vec3 up = v3_cross(dir, right);
+    /* Corner c at camera distance D: depth D - dot(c, dir); it fits when
+     * |dot(c, right)| <= tan_h * depth and |dot(c, up)| <= tan_v * depth. */
+    float dist = 0.0f;
+    for (int k = 0; k < 8; k++) {
+        vec3 c = v3_sub(v3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z), centre);
+        float z = v3_dot(c, dir);
+        dist = fmaxf(dist, z + fabsf(v3_dot(c, right)) / tan_h);
+        dist = fmaxf(dist, z + fabsf(v3_dot(c, up)) / tan_v);
+    }
+    if (!(dist > 1e-3f) || !isfinite(dist))
+        dist = 1.0f;
     sc->camera.count = 1;
     sc->camera.keys[0] = (camera_key){
         .time = 0,
