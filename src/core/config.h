@@ -48,7 +48,8 @@
 #define MAX_FRAMES 100000
 #endif
 
-/* Frames the EXR writer thread may hold queued before rendering waits for it. */
+/* Frames the EXR writer may hold queued (besides one in flight per worker thread) before
+ * rendering waits for it. */
 #ifndef EXR_QUEUE_DEPTH
 #define EXR_QUEUE_DEPTH 4
 #endif

@@ -7,6 +7,7 @@
 #include <limits.h>
 #include <pthread.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -289,17 +290,24 @@ static exr_compression_t core_compression(exr_compression_kind k)
     }
 }
 
-/* `<dir>/.<base>.tmp.<pid>` next to `path`, so the final rename(2) stays on one file system.
+/* Numbers the temporary files of this process. */
+static atomic_ulong g_temp_seq;
+
+/* `<dir>/.<base>.tmp.<pid>.<n>` next to `path`, so the final rename(2) stays on one file system.
+ * <n> is new for every call: two writes in flight at once (writer threads, or callers of
+ * exr_write_file on their own threads) never share a temporary file, even when their paths name
+ * the same file in different spellings ("a/x.exr", "a//x.exr", a symlinked directory).
  * Returns a malloc'd string or NULL. */
 static char *temp_path_for(const char *path)
 {
     const char *slash = strrchr(path, '/');
     size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
     const char *base = path + dir_len;
-    size_t cap = strlen(path) + 40;
+    unsigned long n = atomic_fetch_add_explicit(&g_temp_seq, 1, memory_order_relaxed);
+    size_t cap = strlen(path) + 64;
     char *tmp = malloc(cap);
     if (tmp)
-        snprintf(tmp, cap, "%.*s.%s.tmp.%ld", (int)dir_len, path, base, (long)getpid());
+        snprintf(tmp, cap, "%.*s.%s.tmp.%ld.%lu", (int)dir_len, path, base, (long)getpid(), n);
     return tmp;
 }
 
@@ -338,7 +346,8 @@ static bool needs_long_names(const exr_image *img)
 }
 
 /* Declares the part, channels and attributes, then encodes every scanline chunk. */
-static exr_result_t write_part(exr_context_t ctxt, const exr_image *img, exr_compression_t comp)
+static exr_result_t write_part(exr_context_t ctxt, const exr_image *img, exr_compression_t comp,
+                               int zip_level)
 {
     int part = 0;
     exr_result_t rv = exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
@@ -351,6 +360,9 @@ static exr_result_t write_part(exr_context_t ctxt, const exr_image *img, exr_com
         rv = exr_set_lineorder(ctxt, part, EXR_LINEORDER_INCREASING_Y);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_set_compression(ctxt, part, comp);
+    /* Not stored in the file: it only steers the deflate encoder of this context. */
+    if (rv == EXR_ERR_SUCCESS && comp == EXR_COMPRESSION_ZIP)
+        rv = exr_set_zip_compression_level(ctxt, part, zip_level);
     /* The Core keeps the channel list sorted by name, as the format requires; the encoder below
      * finds each plane by name, so the caller's order does not matter. */
     for (int c = 0; c < img->channel_count && rv == EXR_ERR_SUCCESS; c++)
@@ -427,7 +439,20 @@ static exr_result_t write_part(exr_context_t ctxt, const exr_image *img, exr_com
     return rv;
 }
 
-fs_status exr_write_file(const char *path, const exr_image *img, exr_compression_kind compression)
+/* 1..9, 0 or less meaning EXR_ZIP_LEVEL_DEFAULT. That default is 4, measured (zlib 1.2.13,
+ * OpenEXR 3.1.5, one core of this 2-core machine, best of 5 writes of RGBA + coverage):
+ *                                       level 1          level 4          level 6 (zlib default)
+ *   synthetic 1280x720, gradient+noise  2.85 MB  68 ms   2.73 MB  85 ms   2.65 MB 113 ms
+ *   rendered garden 640x360 (llvmpipe)  512 KB   17 ms   474 KB   21 ms   463 KB   36 ms
+ *   golden forest_t1 192x108            44.6 KB 2.8 ms   41.7 KB 3.0 ms   40.8 KB 3.7 ms
+ * Level 4 costs 2.4-3 % in size for 25-41 % less time; level 1 costs 7-11 %, too much. */
+static int clamp_zip_level(int level)
+{
+    return level <= 0 ? EXR_ZIP_LEVEL_DEFAULT : level > 9 ? 9 : level;
+}
+
+static fs_status write_file(const char *path, const exr_image *img,
+                            exr_compression_kind compression, int zip_level)
 {
     FS_ASSERT(path && img);
     char why_buf[160];
@@ -458,7 +483,7 @@ fs_status exr_write_file(const char *path, const exr_image *img, exr_compression
     init.write_fn = stream_write;
     rv = exr_start_write(&ctxt, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS)
-        rv = write_part(ctxt, img, core_compression(compression));
+        rv = write_part(ctxt, img, core_compression(compression), clamp_zip_level(zip_level));
     /* exr_finish writes the chunk offset table, so its result matters as much as the rest. */
     exr_result_t frv = exr_finish(&ctxt);
     if (rv == EXR_ERR_SUCCESS)
@@ -491,6 +516,11 @@ fail:
     log_error("%s: cannot write EXR: %s", path, sys_msg[0] ? sys_msg : exr_reason(&s, rv));
     free(tmp);
     return FS_ERR_IO;
+}
+
+fs_status exr_write_file(const char *path, const exr_image *img, exr_compression_kind compression)
+{
+    return write_file(path, img, compression, EXR_ZIP_LEVEL_DEFAULT);
 }
 
 // >>read
@@ -672,49 +702,90 @@ typedef struct exr_job {
     exr_image img;
 } exr_job;
 
-struct exr_writer {
+typedef struct exr_worker {
     pthread_t thread;
+    exr_writer *w;
+    const char *busy_path; /* the path it is writing, NULL when idle; guarded by w->mu */
+} exr_worker;
+
+/* Jobs leave the ring in submission order. A worker takes the oldest job unless another worker
+ * is still writing that job's path: then every worker waits (the queue head blocks) until that
+ * write is done, and the worker that did it takes the job. So writes to one path never overlap
+ * and the last one submitted is what stays on disk, as with a single thread. */
+struct exr_writer {
     pthread_mutex_t mu;
-    pthread_cond_t not_empty; /* a job was queued, or stop was set */
-    pthread_cond_t not_full;  /* a job was taken off the queue */
+    pthread_cond_t not_empty; /* the oldest job may be free to take, or stop was set */
+    pthread_cond_t not_full;  /* a job was taken off the queue, or err was set */
     exr_compression_kind compression;
+    int zip_level;
     exr_job *ring; /* queue_depth slots */
     int queue_depth, head, count;
-    bool stop;      /* set by finish: drain the queue, then exit */
-    fs_status err;  /* first failure, sticky */
+    exr_worker *workers; /* thread_count slots; the first `started` run */
+    int thread_count, started;
+    bool stop;     /* set by finish: drain the queue, then exit */
+    fs_status err; /* first failure, sticky */
 };
 
-static void writer_desc_defaults(exr_writer_desc *d)
+exr_writer_desc exr_writer_desc_defaults(const exr_writer_desc *d)
 {
-    if (d->queue_depth <= 0)
-        d->queue_depth = EXR_QUEUE_DEPTH;
-    if (d->compression != EXR_COMPRESS_NONE && d->compression != EXR_COMPRESS_PIZ)
-        d->compression = EXR_COMPRESS_ZIP;
+    exr_writer_desc r = d ? *d : (exr_writer_desc){0};
+    if (r.compression != EXR_COMPRESS_NONE && r.compression != EXR_COMPRESS_PIZ)
+        r.compression = EXR_COMPRESS_ZIP;
+    if (r.queue_depth <= 0)
+        r.queue_depth = EXR_QUEUE_DEPTH;
+    if (r.thread_count <= 0) {
+        long n = sysconf(_SC_NPROCESSORS_ONLN); /* -1 when unknown */
+        r.thread_count = n > EXR_MAX_WRITER_THREADS ? EXR_MAX_WRITER_THREADS : n < 1 ? 1 : (int)n;
+    }
+    if (r.thread_count > EXR_MAX_WRITER_THREADS)
+        r.thread_count = EXR_MAX_WRITER_THREADS;
+    r.zip_level = clamp_zip_level(r.zip_level);
+    return r;
+}
+
+static bool path_in_flight(const exr_writer *w, const char *path)
+{
+    for (int i = 0; i < w->thread_count; i++)
+        if (w->workers[i].busy_path && strcmp(w->workers[i].busy_path, path) == 0)
+            return true;
+    return false;
 }
 
 static void *writer_main(void *arg)
 {
-    exr_writer *w = arg;
+    exr_worker *me = arg;
+    exr_writer *w = me->w;
     pthread_mutex_lock(&w->mu);
     for (;;) {
-        while (w->count == 0 && !w->stop)
+        while ((w->count == 0 && !w->stop) ||
+               (w->count > 0 && path_in_flight(w, w->ring[w->head].path)))
             pthread_cond_wait(&w->not_empty, &w->mu);
-        if (w->count == 0)
-            break; /* stop requested and queue drained */
+        if (w->count == 0) {
+            /* Stop requested and queue drained. Others may still be waiting for a path that was
+             * busy when finish woke them: they must see this too. */
+            pthread_cond_broadcast(&w->not_empty);
+            break;
+        }
         exr_job job = w->ring[w->head];
         memset(&w->ring[w->head], 0, sizeof w->ring[w->head]);
         w->head = (w->head + 1) % w->queue_depth;
         w->count--;
+        me->busy_path = job.path;
         pthread_cond_signal(&w->not_full);
+        /* Pass the wake-up on: the new oldest job may be free for an idle worker. (A worker that
+         * finishes a write needs no wake-up: it loops and takes the head itself.) */
+        if (w->count > 0)
+            pthread_cond_signal(&w->not_empty);
         pthread_mutex_unlock(&w->mu);
 
         /* Jobs accepted before a failure are still written: each write is atomic, so a complete
          * frame is never worse than none, and --resume can use it. */
-        fs_status st = exr_write_file(job.path, &job.img, w->compression);
+        fs_status st = write_file(job.path, &job.img, w->compression, w->zip_level);
         exr_image_free(&job.img);
-        free(job.path);
 
         pthread_mutex_lock(&w->mu);
+        me->busy_path = NULL;
+        free(job.path); /* only after busy_path no longer points at it */
         if (st != FS_OK && w->err == FS_OK) {
             w->err = st;
             pthread_cond_broadcast(&w->not_full); /* blocked submitters return the error */
@@ -724,20 +795,40 @@ static void *writer_main(void *arg)
     return NULL;
 }
 
+/* Stops the started workers (after they drain the queue), frees everything and returns the first
+ * error. */
+static fs_status writer_shutdown(exr_writer *w)
+{
+    pthread_mutex_lock(&w->mu);
+    w->stop = true;
+    pthread_cond_broadcast(&w->not_empty);
+    pthread_mutex_unlock(&w->mu);
+    for (int i = 0; i < w->started; i++)
+        pthread_join(w->workers[i].thread, NULL);
+    fs_status st = w->err; /* every worker has been joined: no lock needed */
+    pthread_cond_destroy(&w->not_full);
+    pthread_cond_destroy(&w->not_empty);
+    pthread_mutex_destroy(&w->mu);
+    free(w->workers);
+    free(w->ring);
+    free(w);
+    return st;
+}
+
 exr_writer *exr_writer_create(const exr_writer_desc *desc)
 {
-    exr_writer_desc d = desc ? *desc : (exr_writer_desc){0};
-    writer_desc_defaults(&d);
+    exr_writer_desc d = exr_writer_desc_defaults(desc);
     exr_writer *w = calloc(1, sizeof *w);
     if (!w)
         return NULL;
     w->ring = calloc((size_t)d.queue_depth, sizeof *w->ring);
-    if (!w->ring) {
-        free(w);
-        return NULL;
-    }
+    w->workers = calloc((size_t)d.thread_count, sizeof *w->workers);
+    if (!w->ring || !w->workers)
+        goto fail_mu;
     w->queue_depth = d.queue_depth;
+    w->thread_count = d.thread_count;
     w->compression = d.compression;
+    w->zip_level = d.zip_level;
     w->err = FS_OK;
     if (pthread_mutex_init(&w->mu, NULL) != 0)
         goto fail_mu;
@@ -745,17 +836,27 @@ exr_writer *exr_writer_create(const exr_writer_desc *desc)
         goto fail_ne;
     if (pthread_cond_init(&w->not_full, NULL) != 0)
         goto fail_nf;
-    if (pthread_create(&w->thread, NULL, writer_main, w) != 0)
-        goto fail_thread;
+    for (int i = 0; i < d.thread_count; i++) {
+        w->workers[i].w = w;
+        if (pthread_create(&w->workers[i].thread, NULL, writer_main, &w->workers[i]) != 0)
+            break;
+        w->started++;
+    }
+    if (w->started == 0) {
+        (void)writer_shutdown(w);
+        return NULL;
+    }
+    /* Fewer threads (a process or system thread limit) are slower, not wrong. */
+    if (w->started < d.thread_count)
+        log_warn("EXR: started %d of %d writer threads", w->started, d.thread_count);
     return w;
 
-fail_thread:
-    pthread_cond_destroy(&w->not_full);
 fail_nf:
     pthread_cond_destroy(&w->not_empty);
 fail_ne:
     pthread_mutex_destroy(&w->mu);
 fail_mu:
+    free(w->workers);
     free(w->ring);
     free(w);
     return NULL;
@@ -796,16 +897,5 @@ fs_status exr_writer_finish(exr_writer *w)
 {
     if (!w)
         return FS_OK;
-    pthread_mutex_lock(&w->mu);
-    w->stop = true;
-    pthread_cond_signal(&w->not_empty);
-    pthread_mutex_unlock(&w->mu);
-    pthread_join(w->thread, NULL);
-    fs_status st = w->err;
-    pthread_cond_destroy(&w->not_full);
-    pthread_cond_destroy(&w->not_empty);
-    pthread_mutex_destroy(&w->mu);
-    free(w->ring);
-    free(w);
-    return st;
+    return writer_shutdown(w);
 }

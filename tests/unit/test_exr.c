@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/config.h"
 #include "core/log.h"
 #include "output/exr_write.h"
 #include "test.h"
@@ -567,10 +568,32 @@ static bool frame_reads_back(const char *path, int w, int h, float base)
     return ok && g;
 }
 
-TEST(writer_thread_writes_all_frames)
+/* Every channel and the attribute of make_frame(w, h, base), bit for bit (its values are exact in
+ * half for 0 <= base < 64 in whole numbers). */
+static bool frame_reads_back_exactly(const char *path, int w, int h, float base)
 {
-    const char *dir = fresh_dir("writer");
-    exr_writer *w = exr_writer_create(&(exr_writer_desc){.queue_depth = 2});
+    exr_image want, got;
+    make_frame(&want, w, h, base);
+    bool ok = exr_read_file(path, &got) == FS_OK;
+    ok = ok && got.width == w && got.height == h && got.channel_count == want.channel_count;
+    for (int c = 0; ok && c < want.channel_count; c++) {
+        const float *g = exr_image_channel(&got, want.channel_names[c]);
+        ok = g && memcmp(g, want.planes[c], (size_t)w * (size_t)h * sizeof *g) == 0;
+    }
+    const exr_attr *a = ok ? exr_image_attr(&got, "fovsim:base") : NULL;
+    ok = ok && a && a->type == FS_EXR_ATTR_FLOAT && a->f[0] == base;
+    exr_image_free(&got);
+    exr_image_free(&want);
+    return ok;
+}
+
+static void writer_writes_all_frames(int threads)
+{
+    char name[64];
+    snprintf(name, sizeof name, "writer_t%d", threads);
+    const char *dir = fresh_dir(name);
+    exr_writer *w =
+        exr_writer_create(&(exr_writer_desc){.queue_depth = 2, .thread_count = threads});
     CHECK(w != NULL);
     if (!w)
         return;
@@ -598,15 +621,21 @@ TEST(writer_thread_writes_all_frames)
     CHECK(exr_writer_finish(NULL) == FS_OK);
 }
 
-TEST(writer_thread_error_is_sticky)
+TEST(writer_thread_writes_all_frames_1_thread) { writer_writes_all_frames(1); }
+TEST(writer_thread_writes_all_frames_4_threads) { writer_writes_all_frames(4); }
+
+static void writer_error_is_sticky(int threads)
 {
-    const char *dir = fresh_dir("writer_err");
+    char name[64];
+    snprintf(name, sizeof name, "writer_err_t%d", threads);
+    const char *dir = fresh_dir(name);
     char bad[1200];
     snprintf(bad, sizeof bad, "%s/missing_subdir/frame.0000.exr", dir);
     log_set_quiet_errors(true);
 
     /* Error reported by finish. */
-    exr_writer *w = exr_writer_create(&(exr_writer_desc){.queue_depth = 2});
+    exr_writer *w =
+        exr_writer_create(&(exr_writer_desc){.queue_depth = 2, .thread_count = threads});
     CHECK(w != NULL);
     if (!w) {
         log_set_quiet_errors(false);
@@ -618,7 +647,7 @@ TEST(writer_thread_error_is_sticky)
     CHECK(exr_writer_finish(w) == FS_ERR_IO);
 
     /* Error returned by later submits, which then free the image and queue nothing. */
-    w = exr_writer_create(&(exr_writer_desc){.queue_depth = 1});
+    w = exr_writer_create(&(exr_writer_desc){.queue_depth = 1, .thread_count = threads});
     CHECK(w != NULL);
     if (!w) {
         log_set_quiet_errors(false);
@@ -648,6 +677,159 @@ TEST(writer_thread_error_is_sticky)
     CHECK(exr_writer_finish(w) == FS_ERR_IO);
     CHECK(!file_exists(later));
     log_set_quiet_errors(false);
+}
+
+TEST(writer_thread_error_is_sticky_1_thread) { writer_error_is_sticky(1); }
+TEST(writer_thread_error_is_sticky_4_threads) { writer_error_is_sticky(4); }
+
+TEST(writer_desc_defaults)
+{
+    exr_writer_desc d = exr_writer_desc_defaults(NULL);
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    int want = cpus < 1 ? 1 : cpus > EXR_MAX_WRITER_THREADS ? EXR_MAX_WRITER_THREADS : (int)cpus;
+    CHECK(d.compression == EXR_COMPRESS_ZIP);
+    CHECK(d.queue_depth == EXR_QUEUE_DEPTH);
+    CHECK(d.thread_count == want);
+    CHECK(d.zip_level == EXR_ZIP_LEVEL_DEFAULT);
+    d = exr_writer_desc_defaults(&(exr_writer_desc){.compression = EXR_COMPRESS_PIZ,
+                                                    .queue_depth = 3, .thread_count = 2,
+                                                    .zip_level = 9});
+    CHECK(d.compression == EXR_COMPRESS_PIZ && d.queue_depth == 3 && d.thread_count == 2 &&
+          d.zip_level == 9);
+    d = exr_writer_desc_defaults(
+        &(exr_writer_desc){.queue_depth = -1, .thread_count = 1000, .zip_level = 42});
+    CHECK(d.queue_depth == EXR_QUEUE_DEPTH);
+    CHECK(d.thread_count == EXR_MAX_WRITER_THREADS);
+    CHECK(d.zip_level == 9);
+    CHECK(exr_writer_desc_defaults(&(exr_writer_desc){.thread_count = -3}).thread_count == want);
+}
+
+/* More frames than threads and queue slots together, so submit blocks again and again and every
+ * worker takes many frames; each file must still be exactly its own frame. Also a non-default
+ * deflate level, which must not change a single pixel. */
+TEST(writer_threads_many_frames)
+{
+    const char *dir = fresh_dir("writer_many");
+    enum { N = 24 };
+    exr_writer *w = exr_writer_create(
+        &(exr_writer_desc){.queue_depth = 2, .thread_count = 3, .zip_level = 1});
+    CHECK(w != NULL);
+    if (!w)
+        return;
+    for (int f = 0; f < N; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/frame.%04d.exr", dir, f);
+        exr_image img;
+        make_frame(&img, 96 + f, 40 + (f * 7) % 13, (float)f);
+        CHECK(exr_writer_submit(w, path, &img) == FS_OK);
+        CHECK(img.planes[0] == NULL && img.channel_count == 0);
+    }
+    CHECK(exr_writer_finish(w) == FS_OK);
+    for (int f = 0; f < N; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/frame.%04d.exr", dir, f);
+        CHECK(file_exists(path));
+        CHECK(frame_reads_back_exactly(path, 96 + f, 40 + (f * 7) % 13, (float)f));
+    }
+    CHECK(count_entries(dir, ".tmp") == 0);
+    CHECK(count_entries(dir, "") == N);
+}
+
+/* A write failing on one worker while the others succeed: finish still reports it, and the frames
+ * accepted before it are all complete. */
+TEST(writer_threads_error_with_others_succeeding)
+{
+    const char *dir = fresh_dir("writer_err_mt");
+    char bad[1200];
+    snprintf(bad, sizeof bad, "%s/missing_subdir/frame.exr", dir);
+    log_set_quiet_errors(true);
+
+    /* The failing frame last: every submit is accepted (nothing has failed yet), the failure
+     * comes while the other workers are busy with larger frames. */
+    exr_writer *w = exr_writer_create(&(exr_writer_desc){.queue_depth = 8, .thread_count = 4});
+    CHECK(w != NULL);
+    if (!w) {
+        log_set_quiet_errors(false);
+        return;
+    }
+    exr_image img;
+    for (int f = 0; f < 3; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/good.%04d.exr", dir, f);
+        make_frame(&img, 300, 200, (float)f);
+        CHECK(exr_writer_submit(w, path, &img) == FS_OK);
+    }
+    make_frame(&img, 8, 8, 0.0f);
+    CHECK(exr_writer_submit(w, bad, &img) == FS_OK);
+    CHECK(exr_writer_finish(w) == FS_ERR_IO);
+    for (int f = 0; f < 3; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/good.%04d.exr", dir, f);
+        CHECK(frame_reads_back_exactly(path, 300, 200, (float)f));
+    }
+
+    /* The failing frame first: whatever was accepted is written in full, the rest is refused. */
+    w = exr_writer_create(&(exr_writer_desc){.queue_depth = 2, .thread_count = 3});
+    CHECK(w != NULL);
+    if (!w) {
+        log_set_quiet_errors(false);
+        return;
+    }
+    make_frame(&img, 8, 8, 0.0f);
+    CHECK(exr_writer_submit(w, bad, &img) == FS_OK);
+    bool accepted[12];
+    for (int f = 0; f < 12; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/after.%04d.exr", dir, f);
+        make_frame(&img, 64, 32, (float)f);
+        fs_status st = exr_writer_submit(w, path, &img);
+        CHECK(st == FS_OK || st == FS_ERR_IO);
+        accepted[f] = st == FS_OK;
+    }
+    CHECK(exr_writer_finish(w) == FS_ERR_IO);
+    for (int f = 0; f < 12; f++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/after.%04d.exr", dir, f);
+        if (accepted[f])
+            CHECK(frame_reads_back_exactly(path, 64, 32, (float)f));
+        else
+            CHECK(!file_exists(path));
+    }
+    CHECK(count_entries(dir, ".tmp") == 0);
+    log_set_quiet_errors(false);
+}
+
+/* Frames queued for one path are written one at a time, in order: the last one submitted is what
+ * stays, and no temporary file is left behind. */
+TEST(writer_threads_same_path_in_order)
+{
+    const char *dir = fresh_dir("writer_same_path");
+    char path[1200];
+    snprintf(path, sizeof path, "%s/frame.exr", dir);
+    exr_writer *w = exr_writer_create(&(exr_writer_desc){.queue_depth = 4, .thread_count = 4});
+    CHECK(w != NULL);
+    if (!w)
+        return;
+    for (int f = 0; f < 12; f++) {
+        exr_image img;
+        /* Later frames are smaller: written concurrently, they would finish first. */
+        make_frame(&img, 16 + (11 - f) * 40, 60, (float)f);
+        CHECK(exr_writer_submit(w, path, &img) == FS_OK);
+        /* Other paths in between, so the queue mixes free and blocked jobs. */
+        char other[1300];
+        snprintf(other, sizeof other, "%s/other.%04d.exr", dir, f);
+        make_frame(&img, 16, 16, (float)f);
+        CHECK(exr_writer_submit(w, other, &img) == FS_OK);
+    }
+    CHECK(exr_writer_finish(w) == FS_OK);
+    CHECK(frame_reads_back_exactly(path, 16, 60, 11.0f));
+    for (int f = 0; f < 12; f++) {
+        char other[1300];
+        snprintf(other, sizeof other, "%s/other.%04d.exr", dir, f);
+        CHECK(frame_reads_back_exactly(other, 16, 16, (float)f));
+    }
+    CHECK(count_entries(dir, ".tmp") == 0);
+    CHECK(count_entries(dir, "") == 13);
 }
 
 // >>damaged files
@@ -704,8 +886,14 @@ int main(void)
     RUN(atomic_no_temp_left_after_success);
     RUN(atomic_failure_midway);
     RUN(bad_images_refused);
-    RUN(writer_thread_writes_all_frames);
-    RUN(writer_thread_error_is_sticky);
+    RUN(writer_thread_writes_all_frames_1_thread);
+    RUN(writer_thread_writes_all_frames_4_threads);
+    RUN(writer_thread_error_is_sticky_1_thread);
+    RUN(writer_thread_error_is_sticky_4_threads);
+    RUN(writer_desc_defaults);
+    RUN(writer_threads_many_frames);
+    RUN(writer_threads_error_with_others_succeeding);
+    RUN(writer_threads_same_path_in_order);
     RUN(read_missing_or_damaged_files);
     return test_summary();
 }
