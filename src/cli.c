@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/config.h"
 #include "core/log.h"
@@ -24,11 +25,11 @@ void cli_print_help(command cmd)
 {
     switch (cmd) {
     case CMD_RENDER:
-        printf("usage: fovsim render [--scene FILE | --builtin NAME] [options]\n\n"
+        printf("usage: fovsim render [SCENE | --scene FILE | --builtin NAME] [options]\n\n"
                "Renders the scene's camera path to DIR/<name>.<frame:04d>.exr (half RGBA + coverage, ZIP).\n\n");
         break;
     case CMD_PLAN:
-        printf("usage: fovsim plan [--scene FILE | --builtin NAME] [--alpha MODE] [--width W --height H]\n\n"
+        printf("usage: fovsim plan [SCENE | --scene FILE | --builtin NAME] [--alpha MODE] [--width W --height H]\n\n"
                "Prints which passes, shader variants and targets the scene needs, without drawing.\n\n");
         break;
     case CMD_DEMO:
@@ -37,7 +38,7 @@ void cli_print_help(command cmd)
                "and prints how to look at the frames. Accepts the render options below.\n\n");
         break;
     case CMD_BENCH:
-        printf("usage: fovsim bench [--scene FILE | --builtin NAME] [--frames N] [--warmup W] [--markdown FILE]\n\n"
+        printf("usage: fovsim bench [SCENE | --scene FILE | --builtin NAME] [--frames N] [--warmup W] [--markdown FILE]\n\n"
                "Draws N frames spread over the camera path after W warm-up frames and reports median and\n"
                "spread of the frame time (wall clock, glFinish), GL time per pass and fragment-shader\n"
                "invocations per frame. Defaults: N = 30, W = 5, the scene's display size.\n\n");
@@ -54,6 +55,7 @@ void cli_print_help(command cmd)
     if (cmd == CMD_NONE)
         return;
     printf("options:\n"
+           "  SCENE               a scene file or built-in name, as --scene or --builtin\n"
            "  --scene FILE        scene JSON, or a .gltf/.glb asset to view on its own\n"
            "  --builtin NAME      built-in scene: %s (default forest)\n"
            "  --frames N          frames to draw (default: the camera path at --fps)\n"
@@ -141,8 +143,16 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         char opt[64];
         const char *a = argv[i], *val = NULL, *eq = strchr(a, '=');
         if (strncmp(a, "--", 2) != 0) {
-            log_error("fovsim %s: unexpected argument '%s' (options start with --; see fovsim %s --help)", c, a, c);
-            return FS_ERR_USAGE;
+            /* One positional argument: the scene (`fovsim plan scenes/x.json`, `fovsim render fence`). */
+            if (d->cmd == CMD_DEMO || d->scene_path || d->builtin || a[0] == '-') {
+                log_error("fovsim %s: unexpected argument '%s' (see fovsim %s --help)", c, a, c);
+                return FS_ERR_USAGE;
+            }
+            if (access(a, F_OK) != 0 && !strchr(a, '/') && !strchr(a, '.'))
+                d->builtin = a; /* a name, not a path: scene_load_builtin says if it is unknown */
+            else
+                d->scene_path = a;
+            continue;
         }
         snprintf(opt, sizeof opt, "%.*s", eq ? (int)(eq - a) : (int)strlen(a), a);
         if (eq)

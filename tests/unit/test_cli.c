@@ -42,6 +42,10 @@ TEST(options)
     CHECK(d.quiet && d.compression == EXR_COMPRESS_NONE && strcmp(d.name, "f") == 0);
     CHECK(parse(&d, "fovsim bench --builtin fence --warmup 2 --markdown x.md") == FS_OK);
     CHECK(d.warmup == 2 && strcmp(d.markdown, "x.md") == 0 && strcmp(d.builtin, "fence") == 0);
+    /* A positional scene: a path, or a built-in name. */
+    CHECK(parse(&d, "fovsim plan scenes/x.json") == FS_OK && strcmp(d.scene_path, "scenes/x.json") == 0 && !d.builtin);
+    CHECK(parse(&d, "fovsim plan plant.glb --alpha traditional") == FS_OK && strcmp(d.scene_path, "plant.glb") == 0);
+    CHECK(parse(&d, "fovsim render fence --frames 2") == FS_OK && strcmp(d.builtin, "fence") == 0 && !d.scene_path);
 }
 
 TEST(bad_arguments)
@@ -60,7 +64,9 @@ TEST(bad_arguments)
         "fovsim render --scene a --builtin b",
         "fovsim render --compression lz4",
         "fovsim render --name a/b",
-        "fovsim render stray",
+        "fovsim render a.json b.json",          /* two scenes */
+        "fovsim render a.json --builtin fence", /* a scene twice */
+        "fovsim demo forest",                   /* demo takes no scene */
         "fovsim demo --builtin fence",
         "fovsim render --quiet=1",
         "fovsim render --quiet --verbose",
