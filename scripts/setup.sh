@@ -13,6 +13,7 @@ packages=(
   libopenexr-dev openexr openimageio-tools                          # EXR output + external readers for tests
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
   libcjson-dev                                                      # scene files
+  python3                                                           # tests: checks bench JSON
 )
 
 missing=()

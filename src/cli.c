@@ -63,6 +63,14 @@ void cli_print_help(command cmd)
            "  --width W, --height H   output size in pixels (default: the scene's display, 1280x720)\n"
            "  --alpha MODE        alpha test for MASK materials: %s\n"
            "                      (implemented so far: traditional)\n"
+           "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
+           "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
+           "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
+           "                      Tobii livedata.json (default: fixation at the display centre)\n"
+           "  --gaze-format F     csv, pupil, eyelink or tobii (default: detected from the content)\n"
+           "  --eye E             binocular traces: left, right or average (default: average of valid eyes)\n"
+           "  --overlay           draw ring borders and the gaze marker into the frames\n"
+           "  --debug-channels    add ring.id and eccentricity (degrees) channels to the EXR\n"
            "  --out DIR           output directory (default out/<command>)\n"
            "  --name NAME         file prefix (default frame)\n"
            "  --compression C     zip (default), none or piz\n"
@@ -73,7 +81,8 @@ void cli_print_help(command cmd)
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --warmup W          frames drawn before timing (default 5)\n"
-               "  --markdown FILE     append the result as a Markdown section to FILE\n");
+               "  --markdown FILE     append the result as a Markdown section to FILE\n"
+               "  --format F          text (default) or json (machine-readable, on stdout)\n");
     printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 6 I/O error,\n"
            "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 130 interrupted\n");
 }
@@ -163,10 +172,12 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->cmd = CMD_HELP;
             return FS_OK;
         }
-        bool *flag = !strcmp(opt, "--verbose") ? &d->verbose
-                     : !strcmp(opt, "--quiet")  ? &d->quiet
-                     : !strcmp(opt, "--gl-debug") ? &d->gl_debug
-                                                 : NULL;
+        bool *flag = !strcmp(opt, "--verbose")          ? &d->verbose
+                     : !strcmp(opt, "--quiet")          ? &d->quiet
+                     : !strcmp(opt, "--gl-debug")       ? &d->gl_debug
+                     : !strcmp(opt, "--overlay")        ? &d->overlay
+                     : !strcmp(opt, "--debug-channels") ? &d->debug_channels
+                                                        : NULL;
         if (flag) {
             if (val) {
                 log_error("%s takes no value", opt);
@@ -177,7 +188,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         }
         static const char *const with_value[] = {"--scene", "--builtin", "--frames", "--fps", "--out",
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
-                                                 "--warmup", "--markdown", "--compression"};
+                                                 "--warmup", "--markdown", "--compression", "--rings",
+                                                 "--gaze", "--gaze-format", "--eye", "--format"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -201,6 +213,27 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->out_dir = val;
         else if (!strcmp(opt, "--markdown"))
             d->markdown = val;
+        else if (!strcmp(opt, "--rings"))
+            d->rings = val; /* checked against the display once the scene is known */
+        else if (!strcmp(opt, "--gaze"))
+            d->gaze_path = val;
+        else if (!strcmp(opt, "--gaze-format")) {
+            d->gaze_format = gaze_format_parse(val);
+            ok = d->gaze_format != GAZE_FORMAT_AUTO;
+            if (!ok)
+                log_error("--gaze-format: expected csv, pupil, eyelink or tobii, got '%s'", val);
+        } else if (!strcmp(opt, "--eye")) {
+            d->eye = !strcmp(val, "left") ? GAZE_EYE_LEFT : !strcmp(val, "right") ? GAZE_EYE_RIGHT
+                     : !strcmp(val, "average") ? GAZE_EYE_AVERAGE : GAZE_EYE_AUTO;
+            ok = d->eye != GAZE_EYE_AUTO;
+            if (!ok)
+                log_error("--eye: expected left, right or average, got '%s'", val);
+        } else if (!strcmp(opt, "--format")) {
+            ok = !strcmp(val, "json") || !strcmp(val, "text");
+            d->json = !strcmp(val, "json");
+            if (!ok)
+                log_error("--format: expected text or json, got '%s'", val);
+        }
         else if (!strcmp(opt, "--name")) {
             d->name = val;
             ok = *val && !strchr(val, '/');
@@ -248,6 +281,14 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if ((d->width > 0) != (d->height > 0)) {
         log_error("--width and --height: give both or neither");
+        return FS_ERR_USAGE;
+    }
+    if (d->json && d->cmd != CMD_BENCH) {
+        log_error("--format is an option of fovsim bench");
+        return FS_ERR_USAGE;
+    }
+    if ((d->gaze_format != GAZE_FORMAT_AUTO || d->eye != GAZE_EYE_AUTO) && !d->gaze_path) {
+        log_error("--gaze-format and --eye describe a --gaze trace; give --gaze FILE");
         return FS_ERR_USAGE;
     }
     if (d->quiet && d->verbose) {

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 
 #include "core/status.h"
+#include "gaze/gaze.h"
 #include "output/exr_write.h"
 #include "scene/scene.h"
 
@@ -36,6 +37,13 @@ typedef struct run_desc {
     int warmup;              /* bench: --warmup, default 5 */
     const char *markdown;    /* bench: --markdown FILE, append a result table */
     exr_compression_kind compression; /* --compression zip|none|piz */
+    const char *rings;       /* --rings auto|off|SPEC; NULL = the scene's, else auto */
+    const char *gaze_path;   /* --gaze FILE; NULL = fixation at the display centre */
+    gaze_format gaze_format; /* --gaze-format, default detected from the content */
+    gaze_eye eye;            /* --eye left|right|average, default auto */
+    bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
+    bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
+    bool json;               /* bench: --format json */
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

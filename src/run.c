@@ -15,6 +15,8 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "gl/gl_device.h"
+#include "fov/fov_ring.h"
+#include "gaze/gaze.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "scene/frame.h"
@@ -71,38 +73,89 @@ static fs_status make_dirs(const char *path)
     return FS_OK;
 }
 
+/* The ring layout of a run: --rings, else the scene file's, else auto; checked against the display. */
+static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, int height, fov_layout *out)
+{
+    const char *spec = d->rings ? d->rings : sc->rings[0] ? sc->rings : "auto";
+    display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
+                       sc->display.hfov_deg};
+    char err[256];
+    if (fov_layout_parse(spec, &dd, out, err, sizeof err) != FS_OK) {
+        log_error("%s: %s", d->rings ? "--rings" : sc->path, err);
+        return FS_ERR_USAGE;
+    }
+    return FS_OK;
+}
+
+static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
+{
+    plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, sc),
+                       .overlay = d->overlay, .debug_channels = d->debug_channels};
+    fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
+    return st == FS_OK ? plan_build(sc, &po, pl) : st;
+}
+
 typedef struct session {
     scene sc;
     plan pl;
     renderer *r;
+    gaze_trace gaze;    /* count == 0: no trace, fixation at the centre */
+    bool gaze_ended;    /* the "trace ends before the sequence" note was printed */
 } session;
 
 static void session_end(session *s)
 {
     renderer_destroy(s->r);
     gl_device_destroy();
+    gaze_free(&s->gaze);
     scene_free(&s->sc);
 }
 
-/* Scene, plan, GL context, renderer: everything that can reject bad input. */
+/* Scene, plan, gaze trace, GL context, renderer: everything that can reject bad input, before
+ * anything is written. */
 static fs_status session_begin(const run_desc *d, session *s, bool timers)
 {
     memset(s, 0, sizeof *s);
     fs_status st = load_scene(d, &s->sc);
     if (st != FS_OK)
         return st;
-    plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, &s->sc)};
-    st = plan_build(&s->sc, &po, &s->pl);
+    st = build_plan(d, &s->sc, &s->pl);
+    if (st == FS_OK && d->gaze_path)
+        st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &s->gaze);
     if (st == FS_OK)
         st = gl_device_create(&(gl_device_desc){.gpu_index = d->gpu, .gl_debug = d->gl_debug});
     if (st == FS_OK) {
         log_info("SCENE: [%s] %d assets, %d instances, %.2f s camera path", s->sc.path, s->sc.asset_count,
                  s->sc.instance_count, s->sc.duration);
+        if (s->gaze.count > 0)
+            log_info("GAZE: [%s] %s, %d samples (%d valid) over %.2f s", s->gaze.path,
+                     gaze_format_name(s->gaze.format), s->gaze.count, s->gaze.valid_count, s->gaze.duration);
         s->r = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &s->pl, .timers = timers}, &st);
     }
     if (st != FS_OK)
         session_end(s);
     return st;
+}
+
+/* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
+static frame_record session_frame(session *s, int index, float time, float prev_time)
+{
+    frame_record fr = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
+    float gx = 0.5f, gy = 0.5f;
+    if (s->gaze.count > 0) {
+        bool beyond = false;
+        gaze_point g = gaze_at(&s->gaze, time, &beyond);
+        gx = g.x;
+        gy = g.y;
+        if (beyond && !s->gaze_ended) {
+            log_warn("%s: the gaze trace ends at %.2f s; frames after it hold its last gaze", s->gaze.path,
+                     s->gaze.duration);
+            s->gaze_ended = true;
+        }
+    }
+    display_desc dd = {s->pl.width, s->pl.height, fr.hfov_deg};
+    frame_record_set_gaze(&fr, &s->pl.layout, &dd, gx, gy);
+    return fr;
 }
 
 /* >>render */
@@ -114,9 +167,12 @@ static void set_frame_attrs(exr_image *img, const session *s, const frame_record
     exr_image_set_int(img, "fovsim:frame", fr->index);
     exr_image_set_float(img, "fovsim:time", fr->time);
     exr_image_set_v2f(img, "fovsim:gaze", fr->gaze[0], fr->gaze[1]);
-    exr_image_set_v2f(img, "fovsim:gaze_deg", 0.0f, 0.0f); /* gaze = view centre until gaze traces land */
+    exr_image_set_v2f(img, "fovsim:gaze_deg", fr->gaze_deg[0], fr->gaze_deg[1]);
     exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(s->pl.global_mode));
-    exr_image_set_string(img, "fovsim:rings", "off (full resolution)");
+    char rings[256];
+    fov_layout_format(&s->pl.layout, rings, sizeof rings);
+    exr_image_set_string(img, "fovsim:rings", rings);
+    exr_image_set_string(img, "fovsim:gaze_trace", s->gaze.count > 0 ? s->gaze.path : "centre fixation");
     exr_image_set_float(img, "fovsim:hfov_deg", fr->hfov_deg);
     exr_image_set_string(img, "fovsim:channels",
                          "RGBA: linear premultiplied radiance; coverage: opacity of alpha-mapped surfaces");
@@ -143,7 +199,7 @@ static fs_status run_render(const run_desc *d, const char *default_out)
             st = FS_ERR_INTERRUPTED;
             break;
         }
-        frame_record fr = frame_record_make(&s.sc, i, d->fps, s.pl.width, s.pl.height);
+        frame_record fr = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
         exr_image img;
         st = renderer_draw(s.r, &fr);
         if (st == FS_OK)
@@ -165,9 +221,11 @@ static fs_status run_render(const run_desc *d, const char *default_out)
     progress_end(&pr);
     double el = time_now() - t0;
     if (st == FS_OK) {
-        printf("wrote %d frames (%dx%d, alpha %s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n", frames,
-               s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode), out, d->name, el, frames / el,
-               gl_device_renderer());
+        char rings[256];
+        fov_layout_format(&s.pl.layout, rings, sizeof rings);
+        printf("wrote %d frames (%dx%d, alpha %s, rings %s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n",
+               frames, s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode), rings, out, d->name, el,
+               frames / el, gl_device_renderer());
     } else if (st == FS_ERR_INTERRUPTED) {
         log_error("interrupted after %d complete frames in %s (no partial frame was left)", done, out);
     } else if (done > 0) {
@@ -207,8 +265,7 @@ static fs_status run_plan(const run_desc *d)
     if (st != FS_OK)
         return st;
     plan pl;
-    plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, &sc)};
-    st = plan_build(&sc, &po, &pl);
+    st = build_plan(d, &sc, &pl);
     if (st == FS_OK)
         plan_print(&pl, &sc, stdout);
     scene_free(&sc);
@@ -252,6 +309,79 @@ static void cpu_name(char *buf, size_t n)
     fclose(f);
 }
 
+/* One measured configuration of the bench (full resolution, or the run's ring layout). */
+typedef struct bench_config {
+    const char *name;
+    plan pl;
+    renderer *r;
+    double *wall, *stage_wall, *stage_gl, *frags, *shaded; /* n, n * stages, n * stages, n, n */
+    renderer_stats names;                                  /* stage names */
+} bench_config;
+
+typedef struct summary {
+    double median, p10, p90, min, max;
+} summary;
+
+/* Sorts v (n values) and summarises it. */
+static summary summarise(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return (summary){quantile(v, n, 0.5), quantile(v, n, 0.1), quantile(v, n, 0.9), v[0], v[n - 1]};
+}
+
+static bool bench_alloc(bench_config *c, int n)
+{
+    c->wall = calloc((size_t)n, sizeof(double));
+    c->stage_wall = calloc((size_t)n * RENDERER_STATS_MAX, sizeof(double));
+    c->stage_gl = calloc((size_t)n * RENDERER_STATS_MAX, sizeof(double));
+    c->frags = calloc((size_t)n, sizeof(double));
+    c->shaded = calloc((size_t)n, sizeof(double));
+    return c->wall && c->stage_wall && c->stage_gl && c->frags && c->shaded;
+}
+
+static void bench_free(bench_config *c)
+{
+    free(c->wall);
+    free(c->stage_wall);
+    free(c->stage_gl);
+    free(c->frags);
+    free(c->shaded);
+}
+
+/* Draws frame k of config c twice: once as the renderer runs it (timed to glFinish), once with a
+ * finish after every stage (per-stage wall times). Records when k >= 0. */
+static void bench_frame(session *s, bench_config *c, int k, float t, int n)
+{
+    frame_record fr = frame_record_at(&s->sc, k < 0 ? 0 : k, t, -1.0f, c->pl.width, c->pl.height);
+    float gx = 0.5f, gy = 0.5f;
+    if (s->gaze.count > 0) {
+        gaze_point g = gaze_at(&s->gaze, t, NULL);
+        gx = g.x;
+        gy = g.y;
+    }
+    display_desc dd = {c->pl.width, c->pl.height, fr.hfov_deg};
+    frame_record_set_gaze(&fr, &c->pl.layout, &dd, gx, gy);
+    renderer_set_pass_sync(c->r, false);
+    double t0 = time_now();
+    renderer_draw(c->r, &fr);
+    renderer_finish(c->r);
+    double t1 = time_now();
+    renderer_stats rs = renderer_last_stats(c->r);
+    renderer_set_pass_sync(c->r, true);
+    renderer_draw(c->r, &fr);
+    renderer_stats sync = renderer_last_stats(c->r);
+    c->names = rs;
+    if (k < 0)
+        return;
+    c->wall[k] = (t1 - t0) * 1e3;
+    for (int p = 0; p < rs.pass_count; p++) {
+        c->stage_wall[(size_t)p * (size_t)n + (size_t)k] = sync.pass_wall_ms[p];
+        c->stage_gl[(size_t)p * (size_t)n + (size_t)k] = rs.pass_ms[p];
+    }
+    c->frags[k] = (double)rs.fragments;
+    c->shaded[k] = (double)rs.shaded_pixels;
+}
+
 static fs_status run_bench(const run_desc *d)
 {
     session s;
@@ -259,42 +389,34 @@ static fs_status run_bench(const run_desc *d)
     if (st != FS_OK)
         return st;
     int n = d->frames > 0 ? d->frames : 30;
-    double *wall = calloc((size_t)n, sizeof *wall);
-    double *pass = calloc((size_t)n * PLAN_MAX_PASSES, sizeof *pass);
-    double *gltime = calloc((size_t)n * PLAN_MAX_PASSES, sizeof *gltime);
-    double *frags = calloc((size_t)n, sizeof *frags);
-    if (!wall || !pass || !gltime || !frags) {
-        free(wall); free(pass); free(gltime); free(frags);
-        session_end(&s);
-        return FS_ERR_NOMEM;
+    /* Config 0 is always full resolution; config 1 the run's ring layout when it has rings. */
+    bench_config cfg[2] = {{0}};
+    int ncfg = 1;
+    cfg[0].name = "full resolution";
+    if (s.pl.rings) {
+        plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = n};
+        st = plan_build(&s.sc, &po, &cfg[0].pl);
+        if (st == FS_OK)
+            cfg[0].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &cfg[0].pl, .timers = true}, &st);
+        cfg[1] = (bench_config){.name = "foveated", .pl = s.pl, .r = s.r};
+        ncfg = 2;
+    } else {
+        cfg[0].pl = s.pl;
+        cfg[0].r = s.r;
     }
-    /* Frames spread evenly over the camera path, so the numbers stand for the whole sequence. */
+    for (int c = 0; c < ncfg && st == FS_OK; c++)
+        if (!bench_alloc(&cfg[c], n))
+            st = FS_ERR_NOMEM;
     float span = s.sc.duration;
     progress pr = progress_begin("bench", d->warmup + n, d->quiet);
-    renderer_stats rs = {0};
-    for (int i = 0; i < d->warmup + n; i++) {
-        int k = i < d->warmup ? i : i - d->warmup;
-        float t = n > 1 ? span * (float)k / (float)(n - 1) : 0.0f;
-        frame_record fr = frame_record_at(&s.sc, k, t, -1.0f, s.pl.width, s.pl.height);
-        /* 1: the frame as the renderer runs it, finished once at the end. */
-        renderer_set_pass_sync(s.r, false);
-        double t0 = time_now();
-        renderer_draw(s.r, &fr);
-        renderer_finish(s.r);
-        double t1 = time_now();
-        rs = renderer_last_stats(s.r);
-        /* 2: the same frame again with a finish after every pass, for per-pass wall times. */
-        renderer_set_pass_sync(s.r, true);
-        renderer_draw(s.r, &fr);
-        renderer_stats sync = renderer_last_stats(s.r);
-        if (i >= d->warmup) {
-            wall[k] = (t1 - t0) * 1e3;
-            for (int p = 0; p < rs.pass_count; p++) {
-                pass[(size_t)p * (size_t)n + (size_t)k] = sync.pass_wall_ms[p];
-                gltime[(size_t)p * (size_t)n + (size_t)k] = rs.pass_ms[p];
-            }
-            frags[k] = (double)rs.fragments;
-        }
+    /* Frames spread evenly over the camera path (and gaze trace), configs interleaved per frame so
+     * both see the same machine state. */
+    for (int i = 0; i < d->warmup + n && st == FS_OK; i++) {
+        int k = i < d->warmup ? -1 : i - d->warmup;
+        int kk = k < 0 ? i : k;
+        float t = n > 1 ? span * (float)kk / (float)(n - 1) : 0.0f;
+        for (int c = 0; c < ncfg; c++)
+            bench_frame(&s, &cfg[c], k, t, n);
         progress_update(&pr, i + 1);
     }
     progress_end(&pr);
@@ -303,55 +425,96 @@ static fs_status run_bench(const run_desc *d)
     cpu_name(cpu, sizeof cpu);
     struct utsname un;
     uname(&un);
-    qsort(wall, (size_t)n, sizeof *wall, cmp_double);
-    qsort(frags, (size_t)n, sizeof *frags, cmp_double);
-    long long tris = 0;
-    for (int p = 0; p < s.pl.pass_count; p++)
-        tris += s.pl.passes[p].triangles;
     double px = (double)s.pl.width * s.pl.height;
-
-    char report[8192];
-    int o = 0;
-#define OUT(...) o += snprintf(report + o, sizeof report - (size_t)o, __VA_ARGS__)
-    OUT("### %s, %dx%d, alpha %s\n\n", s.sc.path, s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode));
-    OUT("- machine: %s, %s %s (%ld cores online)\n", cpu, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
-    OUT("- renderer: %s (OpenGL %s, %s)\n", gl_device_renderer(), gl_device_version(), gl_device_description());
-    OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; %lld triangles/frame\n\n", n, span,
-        d->warmup, tris);
-    OUT("| measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|\n");
-    OUT("| frame, wall clock incl. finish (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", quantile(wall, n, 0.5),
-        quantile(wall, n, 0.1), quantile(wall, n, 0.9), wall[0], wall[n - 1]);
-    for (int p = 0; p < rs.pass_count; p++) {
-        double *v = &pass[(size_t)p * (size_t)n];
-        qsort(v, (size_t)n, sizeof *v, cmp_double);
-        OUT("| pass %s, wall clock with glFinish (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", rs.pass_names[p],
-            quantile(v, n, 0.5), quantile(v, n, 0.1), quantile(v, n, 0.9), v[0], v[n - 1]);
-    }
-    for (int p = 0; p < rs.pass_count; p++) {
-        double *v = &gltime[(size_t)p * (size_t)n];
-        qsort(v, (size_t)n, sizeof *v, cmp_double);
-        OUT("| pass %s, GL timer query (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", rs.pass_names[p],
-            quantile(v, n, 0.5), quantile(v, n, 0.1), quantile(v, n, 0.9), v[0], v[n - 1]);
-    }
-    if (frags[0] >= 0)
-        OUT("| fragment shader invocations / pixel | %.2f | %.2f | %.2f | %.2f | %.2f |\n", quantile(frags, n, 0.5) / px,
-            quantile(frags, n, 0.1) / px, quantile(frags, n, 0.9) / px, frags[0] / px, frags[n - 1] / px);
-    OUT("\nshaded pixels per frame: %.0f (one forward sample per display pixel; rings not implemented yet)\n", px);
-#undef OUT
-    fputs(report, stdout);
-    if (d->markdown) {
-        FILE *f = fopen(d->markdown, "a");
-        if (!f || fprintf(f, "\n%s", report) < 0 || fclose(f) != 0) {
-            log_error("%s: cannot append the bench report: %s", d->markdown, strerror(errno));
-            st = FS_ERR_IO;
-        } else {
-            printf("appended to %s\n", d->markdown);
+    char rings[256];
+    fov_layout_format(&s.pl.layout, rings, sizeof rings);
+    summary wall[2], shaded[2], frags[2];
+    summary stage_wall[2][RENDERER_STATS_MAX], stage_gl[2][RENDERER_STATS_MAX];
+    for (int c = 0; c < ncfg && st == FS_OK; c++) {
+        wall[c] = summarise(cfg[c].wall, n);
+        shaded[c] = summarise(cfg[c].shaded, n);
+        frags[c] = summarise(cfg[c].frags, n);
+        for (int p = 0; p < cfg[c].names.pass_count; p++) {
+            stage_wall[c][p] = summarise(&cfg[c].stage_wall[(size_t)p * (size_t)n], n);
+            stage_gl[c][p] = summarise(&cfg[c].stage_gl[(size_t)p * (size_t)n], n);
         }
     }
-    free(wall);
-    free(pass);
-    free(gltime);
-    free(frags);
+    double speedup = ncfg == 2 ? wall[0].median / wall[1].median : 1.0;
+    double ideal = ncfg == 2 ? px / shaded[1].median : 1.0;
+
+    char *report = malloc(65536);
+    int o = 0;
+    if (!report)
+        st = FS_ERR_NOMEM;
+    if (st == FS_OK && d->json) {
+#define OUT(...) o += snprintf(report + o, 65536 - (size_t)o, __VA_ARGS__)
+        OUT("{\n  \"scene\": \"%s\",\n  \"width\": %d,\n  \"height\": %d,\n  \"alpha_mode\": \"%s\",\n", s.sc.path,
+            s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode));
+        OUT("  \"rings\": \"%s\",\n  \"gaze\": \"%s\",\n  \"renderer\": \"%s\",\n  \"machine\": \"%s, %ld cores\",\n",
+            rings, s.gaze.count ? s.gaze.path : "centre", gl_device_renderer(), cpu, sysconf(_SC_NPROCESSORS_ONLN));
+        OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", n, d->warmup, px);
+        for (int c = 0; c < ncfg; c++) {
+            char spec[256];
+            fov_layout_format(&cfg[c].pl.layout, spec, sizeof spec);
+            OUT("    {\"name\": \"%s\", \"rings\": \"%s\", \"shaded_pixels\": %.0f,\n", cfg[c].name, spec, shaded[c].median);
+            OUT("     \"frame_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
+                wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
+            OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags[c].median >= 0 ? frags[c].median / px : -1.0);
+            for (int p = 0; p < cfg[c].names.pass_count; p++)
+                OUT("%s\n       {\"name\": \"%s\", \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f}", p ? "," : "",
+                    cfg[c].names.pass_names[p], stage_wall[c][p].median, stage_gl[c][p].median);
+            OUT("]}%s\n", c + 1 < ncfg ? "," : "");
+        }
+        OUT("  ],\n  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", speedup,
+            ideal, speedup / ideal);
+    } else if (st == FS_OK) {
+        OUT("### %s, %dx%d, alpha %s, rings %s\n\n", s.sc.path, s.pl.width, s.pl.height,
+            alpha_mode_name(s.pl.global_mode), rings);
+        OUT("- machine: %s, %s %s (%ld cores online)\n", cpu, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
+        OUT("- renderer: %s (OpenGL %s, %s)\n", gl_device_renderer(), gl_device_version(), gl_device_description());
+        OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; gaze: %s\n\n", n, span, d->warmup,
+            s.gaze.count ? s.gaze.path : "fixation at the centre");
+        OUT("| configuration | measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|---|\n");
+        for (int c = 0; c < ncfg; c++) {
+            OUT("| %s | frame, wall clock incl. finish (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", cfg[c].name,
+                wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
+            for (int p = 0; p < cfg[c].names.pass_count; p++)
+                OUT("| %s | %s, wall clock with glFinish (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", cfg[c].name,
+                    cfg[c].names.pass_names[p], stage_wall[c][p].median, stage_wall[c][p].p10, stage_wall[c][p].p90,
+                    stage_wall[c][p].min, stage_wall[c][p].max);
+            for (int p = 0; p < cfg[c].names.pass_count; p++)
+                OUT("| %s | %s, GL timer query (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", cfg[c].name,
+                    cfg[c].names.pass_names[p], stage_gl[c][p].median, stage_gl[c][p].p10, stage_gl[c][p].p90,
+                    stage_gl[c][p].min, stage_gl[c][p].max);
+            OUT("| %s | shaded pixels / display pixels | %.3f | %.3f | %.3f | %.3f | %.3f |\n", cfg[c].name,
+                shaded[c].median / px, shaded[c].p10 / px, shaded[c].p90 / px, shaded[c].min / px, shaded[c].max / px);
+            if (frags[c].min >= 0)
+                OUT("| %s | fragment shader invocations / display pixel | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
+                    cfg[c].name, frags[c].median / px, frags[c].p10 / px, frags[c].p90 / px, frags[c].min / px,
+                    frags[c].max / px);
+        }
+        if (ncfg == 2)
+            OUT("\nfoveated vs full resolution: speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
+                "shaded pixels), achieved %.0f %% of ideal\n", speedup, ideal, 100.0 * speedup / ideal);
+#undef OUT
+    }
+    if (st == FS_OK) {
+        fputs(report, stdout);
+        if (d->markdown) {
+            FILE *f = fopen(d->markdown, "a");
+            if (!f || fprintf(f, "\n%s", report) < 0 || fclose(f) != 0) {
+                log_error("%s: cannot append the bench report: %s", d->markdown, strerror(errno));
+                st = FS_ERR_IO;
+            } else if (!d->json) {
+                printf("appended to %s\n", d->markdown);
+            }
+        }
+    }
+    free(report);
+    for (int c = 0; c < ncfg; c++)
+        bench_free(&cfg[c]);
+    if (ncfg == 2)
+        renderer_destroy(cfg[0].r);
     session_end(&s);
     return st;
 }

@@ -43,6 +43,21 @@
 #define MAX_SCENE_FILE_BYTES (64u << 20)
 #endif
 
+/* Most foveation rings in one layout (innermost first; the last covers the display). */
+#ifndef MAX_FOV_RINGS
+#define MAX_FOV_RINGS 8
+#endif
+
+/* Coarsest ring resolution, as log2 of the downsampling factor (4 = 1/16). */
+#ifndef MAX_FOV_SCALE_LOG2
+#define MAX_FOV_SCALE_LOG2 4
+#endif
+
+/* Largest gaze trace file read, in bytes (a 2 kHz binocular EyeLink ASC hour is ~400 MB). */
+#ifndef MAX_GAZE_FILE_BYTES
+#define MAX_GAZE_FILE_BYTES (512u << 20)
+#endif
+
 /* Most frames one render may ask for (about 15 minutes at 120 fps). */
 #ifndef MAX_FRAMES
 #define MAX_FRAMES 100000

@@ -174,3 +174,22 @@ mat4 m4_normal_matrix(mat4 a)
             r.m[c * 4 + row] = inv.m[row * 4 + c];
     return r;
 }
+
+bool m4_box_outside_clip(mat4 mvp, vec3 lo, vec3 hi)
+{
+    /* Bit k of `out` set for a corner outside plane k; the box is culled when some plane has all
+     * eight corners outside it. */
+    unsigned all = 0x3f;
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z};
+        float v[4];
+        for (int r = 0; r < 4; r++)
+            v[r] = mvp.m[r] * p[0] + mvp.m[4 + r] * p[1] + mvp.m[8 + r] * p[2] + mvp.m[12 + r];
+        unsigned out = (v[0] < -v[3]) | (v[0] > v[3]) << 1 | (v[1] < -v[3]) << 2 | (v[1] > v[3]) << 3 |
+                       (v[2] < -v[3]) << 4 | (v[2] > v[3]) << 5;
+        all &= out;
+        if (!all)
+            return false;
+    }
+    return all != 0;
+}

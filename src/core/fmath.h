@@ -54,6 +54,10 @@ vec3 m4_point(mat4 a, vec3 p);  /* transforms a point (w = 1) */
 vec3 m4_dir(mat4 a, vec3 d);    /* transforms a direction (w = 0) */
 /* Inverse transpose of the upper 3x3 (for normals), returned in a mat4. */
 mat4 m4_normal_matrix(mat4 a);
+/* True when the box [lo, hi] (object space) transformed by the model-view-projection `mvp` lies
+ * entirely outside one clip plane (-w <= x, y, z <= w), so nothing of it can be visible.
+ * Conservative: false means "maybe visible". */
+bool m4_box_outside_clip(mat4 mvp, vec3 lo, vec3 hi);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,6 @@
 #include "passes/plan.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,6 +102,26 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     }
     for (int a = 0; a < sc->asset_count; a++)
         out->texture_count += sc->assets[a].image_count;
+
+    /* Foveation: the rings, and a composite pass only when something needs one. */
+    out->layout = o.layout.count > 0 ? o.layout : fov_layout_off();
+    out->rings = out->layout.count > 1 || out->layout.rings[0].scale_log2 > 0;
+    out->overlay = o.overlay;
+    out->debug_channels = o.debug_channels;
+    out->composite = out->rings || o.overlay || o.debug_channels;
+    if (out->composite) {
+        plan_pass *c = &out->composite_pass;
+        memset(c, 0, sizeof *c);
+        snprintf(c->name, sizeof c->name, "composite");
+        c->vs = "shaders/fullscreen.vert";
+        c->fs = "shaders/composite.frag";
+        snprintf(c->defines[c->define_count++], sizeof c->defines[0], "FOV_RING_COUNT %d", out->layout.count);
+        if (o.overlay)
+            snprintf(c->defines[c->define_count++], sizeof c->defines[0], "OVERLAY 1");
+        if (o.debug_channels)
+            snprintf(c->defines[c->define_count++], sizeof c->defines[0], "DEBUG_CHANNELS 1");
+        qsort(c->defines, (size_t)c->define_count, sizeof c->defines[0], cmp_str);
+    }
     return FS_OK;
 }
 
@@ -124,8 +145,43 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             fprintf(f, "%s%s", d ? ", " : "", ps->defines[d]);
         fprintf(f, "]\n");
     }
-    fprintf(f, "targets    colour RGBA16F + coverage R16F + depth 24, %d x %d%s\n", p->width, p->height,
-            p->msaa ? ", 4x MSAA" : "");
-    fprintf(f, "off        MSAA (%s), TAA/rings/velocity (not implemented yet)\n",
+    display_desc dd = {p->width, p->height, p->hfov_deg};
+    if (p->rings) {
+        char spec[256];
+        fov_layout_format(&p->layout, spec, sizeof spec);
+        long long per[MAX_FOV_RINGS];
+        long long total = fov_shaded_pixels(&dd, &p->layout, 0.5f * (float)p->width, 0.5f * (float)p->height,
+                                            FOV_MARGIN_BLOCKS, per);
+        double px = (double)p->width * (double)p->height;
+        fprintf(f, "rings      %s (%s), %.1f px/deg at the centre; gaze at the centre:\n",
+                p->layout.kind == FOV_LAYOUT_AUTO ? "auto" : "explicit", spec, fov_pixels_per_degree(&dd));
+        float inner = 0.0f;
+        for (int i = 0; i < p->layout.count; i++) {
+            const fov_ring *r = &p->layout.rings[i];
+            fov_ring_rect rr = fov_ring_footprint(&dd, &p->layout, i, 0.5f * (float)p->width,
+                                                  0.5f * (float)p->height, FOV_MARGIN_BLOCKS);
+            char outer[32];
+            if (isinf(r->outer_deg))
+                snprintf(outer, sizeof outer, "display edge");
+            else
+                snprintf(outer, sizeof outer, "%.2f deg (%.0f px)", r->outer_deg, r->outer_deg * fov_pixels_per_degree(&dd));
+            fprintf(f, "  ring %d   %5.2f deg .. %-24s scale 1/%-2d mip bias %+.2f  target %4d x %-4d  shades %5.1f %%\n",
+                    i, inner, outer, 1 << r->scale_log2, r->mip_bias, rr.width, rr.height, 100.0 * (double)per[i] / px);
+            inner = r->outer_deg;
+        }
+        fprintf(f, "  total      %.1f %% of display pixels shaded (ideal speedup %.2fx)\n", 100.0 * (double)total / px,
+                px / (double)total);
+    } else {
+        fprintf(f, "rings      off (full resolution)\n");
+    }
+    if (p->composite) {
+        fprintf(f, "composite  %s + %s [", p->composite_pass.vs, p->composite_pass.fs);
+        for (int d = 0; d < p->composite_pass.define_count; d++)
+            fprintf(f, "%s%s", d ? ", " : "", p->composite_pass.defines[d]);
+        fprintf(f, "]%s\n", p->debug_channels ? ", writes ring.id and eccentricity" : "");
+    }
+    fprintf(f, "targets    per ring: colour RGBA16F + coverage R16F + depth 24%s; display: %s\n",
+            p->msaa ? ", 4x MSAA" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
+    fprintf(f, "off        MSAA (%s), TAA and velocity (not implemented yet)\n",
             p->msaa ? "on" : "no alpha-to-coverage mode in use");
 }

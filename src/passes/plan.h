@@ -14,6 +14,7 @@
 #include <stdbool.h>
 #include <stdio.h>
 
+#include "fov/fov_ring.h"
 #include "scene/scene.h"
 
 #ifndef PLAN_MAX_PASSES
@@ -42,6 +43,9 @@ typedef struct plan_options {
     alpha_mode alpha_mode; /* --alpha; DEFAULT = the scene's mode, else traditional */
     int width, height;     /* 0 = the scene's display */
     int frames;            /* frames to draw (TAA would need history only when > 1) */
+    fov_layout layout;     /* foveation rings; zeroed = off (one full-resolution ring) */
+    bool overlay;          /* draw ring borders and the gaze marker into the colour */
+    bool debug_channels;   /* write ring.id and eccentricity channels */
 } plan_options;
 
 typedef struct plan {
@@ -52,8 +56,13 @@ typedef struct plan {
     int pass_count;
     int texture_count;          /* images uploaded (with premultiplied mips) */
     bool msaa;                  /* 4x MSAA target: only for A2C modes */
-    bool taa, rings, velocity;  /* not implemented yet: always false, with the reason printed */
+    bool taa, velocity;         /* not implemented yet: always false, with the reason printed */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
+    fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */
+    bool rings;                 /* foveation on: more than one ring or a reduced scale */
+    bool composite;             /* a composite pass runs (rings, overlay or debug channels) */
+    bool overlay, debug_channels;
+    plan_pass composite_pass;   /* shaders and defines of the composite (valid when composite) */
 } plan;
 
 /* Builds the plan; FS_ERR_USAGE (with a message) when a requested mode is not implemented yet. */

@@ -21,6 +21,7 @@ typedef struct pass_resource {
     bool output, optional;
 } pass_resource;
 
+/* Each ring's forward passes write these, at the ring's resolution. */
 static const pass_resource k_forward_resources[] = {
     {"color", "linear premultiplied radiance, A = opacity", GL_RGBA16F, true, false},
     {"coverage", "opacity contributed by alpha-mapped surfaces", GL_R16F, true, false},
@@ -28,12 +29,25 @@ static const pass_resource k_forward_resources[] = {
 };
 enum { RES_COLOR, RES_COVERAGE, RES_DEPTH, RES_COUNT };
 
+/* The composite reads every ring's color and coverage and writes these at display resolution. */
+static const pass_resource k_composite_resources[] = {
+    {"color", "display colour, rings upsampled and blended", GL_RGBA16F, true, false},
+    {"coverage", "display coverage", GL_R16F, true, false},
+    {"debug", "ring.id (ring + blend weight) and eccentricity (degrees)", GL_RG32F, true, true},
+};
+enum { OUT_COLOR, OUT_COVERAGE, OUT_DEBUG, OUT_COUNT };
+
 /* >>types */
 typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_eye,
         u_light_dir, u_light_color, u_ambient;
 } gpu_program;
+
+typedef struct composite_program {
+    GLuint id;
+    GLint u_display_px, u_focal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
+} composite_program;
 
 typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
@@ -46,22 +60,41 @@ typedef struct gpu_asset {
     GLuint *samplers;       /* per material */
     GLuint instance_vbo;    /* mat4 per instance of this asset, in instance_ids order */
     int *instance_ids;      /* scene instance index of each slot */
+    unsigned char *visible; /* per slot: may be visible in the ring being drawn (frustum culling) */
     int instance_count;
 } gpu_asset;
+
+/* Ring targets: colour and coverage are texture arrays with one layer per ring, each layer the
+ * size of the display (the innermost ring may need all of it); a ring renders into the
+ * footprint's (width x height) corner of its layer. Rings draw one after another, so they share
+ * one depth buffer. */
+typedef struct ring_targets {
+    GLuint fbo[MAX_FOV_RINGS];
+    GLuint color, coverage, depth;
+} ring_targets;
+
+#define RENDERER_MAX_STAGES (MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
 
 struct renderer {
     const scene *sc;
     plan pl;
     gpu_asset *assets;
     gpu_program programs[PLAN_MAX_PASSES]; /* one per plan pass, same index */
-    GLuint fbo, tex[RES_COUNT];
+    composite_program comp;
+    ring_targets rt;
+    GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
+    GLuint empty_vao;                      /* the full-screen triangle needs a bound VAO */
+    GLuint ring_sampler;                   /* bilinear, clamp to edge */
     int width, height;
     bool timers;
-    GLuint time_queries[PLAN_MAX_PASSES];
+    int stage_count;                       /* timed stages: passes (rings off) or rings + composite */
+    char stage_names[RENDERER_MAX_STAGES][48];
+    GLuint time_queries[RENDERER_MAX_STAGES];
+    double stage_wall_ms[RENDERER_MAX_STAGES];
     GLuint frag_query;
     bool stats_pending;
     bool pass_sync;
-    double pass_wall_ms[PLAN_MAX_PASSES];
+    long long shaded_pixels;               /* ring target pixels drawn by the last frame */
 };
 
 /* >>programs */
@@ -88,6 +121,29 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_light_dir = glGetUniformLocation(p, "u_light_dir");
     out->u_light_color = glGetUniformLocation(p, "u_light_color");
     out->u_ambient = glGetUniformLocation(p, "u_ambient");
+    return FS_OK;
+}
+
+static fs_status composite_create(const plan_pass *ps, composite_program *out)
+{
+    const char *defs[PLAN_MAX_DEFINES];
+    for (int i = 0; i < ps->define_count; i++)
+        defs[i] = ps->defines[i];
+    gpu_program_handle h;
+    fs_status st = gl_program_build(&(gl_program_desc){.vs = ps->vs, .fs = ps->fs, .defines = defs,
+                                                       .define_count = ps->define_count, .label = ps->name},
+                                    &h);
+    if (st != FS_OK)
+        return st;
+    out->id = h.id;
+    out->u_display_px = glGetUniformLocation(h.id, "u_display_px");
+    out->u_focal_px = glGetUniformLocation(h.id, "u_focal_px");
+    out->u_gaze_px = glGetUniformLocation(h.id, "u_gaze_px");
+    out->u_ring_outer = glGetUniformLocation(h.id, "u_ring_outer");
+    out->u_ring_band = glGetUniformLocation(h.id, "u_ring_band");
+    out->u_ring_rect = glGetUniformLocation(h.id, "u_ring_rect");
+    out->u_ring_block = glGetUniformLocation(h.id, "u_ring_block");
+    out->u_array_px = glGetUniformLocation(h.id, "u_array_px");
     return FS_OK;
 }
 
@@ -181,11 +237,12 @@ static fs_status upload_scene(renderer *r)
         if (ga->instance_count == 0)
             continue; /* nothing places it: nothing to upload */
         ga->instance_ids = malloc(sizeof(int) * (size_t)ga->instance_count);
+        ga->visible = malloc((size_t)ga->instance_count);
         mat4 *mats = malloc(sizeof(mat4) * (size_t)ga->instance_count);
         ga->prims = calloc((size_t)as->prim_count + 1, sizeof *ga->prims);
         ga->textures = calloc((size_t)as->image_count + 1, sizeof(GLuint));
         ga->samplers = calloc((size_t)as->material_count + 1, sizeof(GLuint));
-        if (!ga->instance_ids || !mats || !ga->prims || !ga->textures || !ga->samplers) {
+        if (!ga->instance_ids || !ga->visible || !mats || !ga->prims || !ga->textures || !ga->samplers) {
             free(mats);
             return FS_ERR_NOMEM;
         }
@@ -212,27 +269,71 @@ static fs_status upload_scene(renderer *r)
 }
 
 /* >>targets */
-static fs_status create_targets(renderer *r)
+static fs_status check_fbo(GLuint fbo, const char *what, int w, int h)
 {
-    glCreateFramebuffers(1, &r->fbo);
-    for (int i = 0; i < RES_COUNT; i++) {
-        glCreateTextures(GL_TEXTURE_2D, 1, &r->tex[i]);
-        glTextureStorage2D(r->tex[i], 1, k_forward_resources[i].format, r->width, r->height);
-    }
-    glNamedFramebufferTexture(r->fbo, GL_COLOR_ATTACHMENT0, r->tex[RES_COLOR], 0);
-    glNamedFramebufferTexture(r->fbo, GL_COLOR_ATTACHMENT1, r->tex[RES_COVERAGE], 0);
-    glNamedFramebufferTexture(r->fbo, GL_DEPTH_ATTACHMENT, r->tex[RES_DEPTH], 0);
-    static const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(r->fbo, 2, bufs);
-    GLenum s = glCheckNamedFramebufferStatus(r->fbo, GL_FRAMEBUFFER);
+    GLenum s = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
     if (s != GL_FRAMEBUFFER_COMPLETE) {
-        log_error("GL: forward targets %dx%d incomplete (0x%x)", r->width, r->height, s);
+        log_error("GL: %s targets %dx%d incomplete (0x%x)", what, w, h, s);
         return FS_ERR_GL;
     }
     return FS_OK;
 }
 
+static fs_status create_targets(renderer *r)
+{
+    static const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    int n = r->pl.layout.count;
+    ring_targets *t = &r->rt;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t->color);
+    glTextureStorage3D(t->color, 1, k_forward_resources[RES_COLOR].format, r->width, r->height, n);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t->coverage);
+    glTextureStorage3D(t->coverage, 1, k_forward_resources[RES_COVERAGE].format, r->width, r->height, n);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t->depth);
+    glTextureStorage2D(t->depth, 1, k_forward_resources[RES_DEPTH].format, r->width, r->height);
+    for (int i = 0; i < n; i++) {
+        glCreateFramebuffers(1, &t->fbo[i]);
+        glNamedFramebufferTextureLayer(t->fbo[i], GL_COLOR_ATTACHMENT0, t->color, 0, i);
+        glNamedFramebufferTextureLayer(t->fbo[i], GL_COLOR_ATTACHMENT1, t->coverage, 0, i);
+        glNamedFramebufferTexture(t->fbo[i], GL_DEPTH_ATTACHMENT, t->depth, 0);
+        glNamedFramebufferDrawBuffers(t->fbo[i], 2, bufs);
+        fs_status st = check_fbo(t->fbo[i], "ring", r->width, r->height);
+        if (st != FS_OK)
+            return st;
+    }
+    if (!r->pl.composite)
+        return FS_OK;
+    int outs = r->pl.debug_channels ? OUT_COUNT : OUT_DEBUG; /* the debug target only when asked */
+    glCreateFramebuffers(1, &r->out_fbo);
+    for (int k = 0; k < outs; k++) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->out_tex[k]);
+        glTextureStorage2D(r->out_tex[k], 1, k_composite_resources[k].format, r->width, r->height);
+        glNamedFramebufferTexture(r->out_fbo, bufs[k], r->out_tex[k], 0);
+    }
+    glNamedFramebufferDrawBuffers(r->out_fbo, outs, bufs);
+    glCreateVertexArrays(1, &r->empty_vao);
+    glCreateSamplers(1, &r->ring_sampler);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return check_fbo(r->out_fbo, "composite", r->width, r->height);
+}
+
 /* >>lifetime */
+static void name_stages(renderer *r)
+{
+    r->stage_count = 0;
+    if (!r->pl.composite) {
+        for (int i = 0; i < r->pl.pass_count; i++)
+            snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "%s", r->pl.passes[i].name);
+        return;
+    }
+    for (int i = 0; i < r->pl.layout.count; i++)
+        snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "ring %d (1/%d, all passes)", i,
+                 1 << r->pl.layout.rings[i].scale_log2);
+    snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "composite");
+}
+
 renderer *renderer_create(const renderer_desc *desc, fs_status *status)
 {
     FS_ASSERT(desc && desc->scene && desc->plan && gl_device_is_valid());
@@ -246,15 +347,18 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
     r->width = r->pl.width;
     r->height = r->pl.height;
     r->timers = desc->timers;
+    name_stages(r);
     fs_status st = FS_OK;
     for (int i = 0; i < r->pl.pass_count && st == FS_OK; i++)
         st = program_create(&r->pl.passes[i], &r->programs[i]);
+    if (st == FS_OK && r->pl.composite)
+        st = composite_create(&r->pl.composite_pass, &r->comp);
     if (st == FS_OK)
         st = upload_scene(r);
     if (st == FS_OK)
         st = create_targets(r);
     if (st == FS_OK && r->timers) {
-        glGenQueries(PLAN_MAX_PASSES, r->time_queries);
+        glGenQueries(r->stage_count, r->time_queries);
         if (gl_device_has_pipeline_stats())
             glGenQueries(1, &r->frag_query);
     }
@@ -290,15 +394,23 @@ void renderer_destroy(renderer *r)
             free(ga->textures);
             free(ga->samplers);
             free(ga->instance_ids);
+            free(ga->visible);
         }
         free(r->assets);
     }
     for (int i = 0; i < r->pl.pass_count; i++)
         glDeleteProgram(r->programs[i].id);
-    glDeleteFramebuffers(1, &r->fbo);
-    glDeleteTextures(RES_COUNT, r->tex);
+    glDeleteProgram(r->comp.id);
+    glDeleteFramebuffers(MAX_FOV_RINGS, r->rt.fbo);
+    glDeleteTextures(1, &r->rt.color);
+    glDeleteTextures(1, &r->rt.coverage);
+    glDeleteTextures(1, &r->rt.depth);
+    glDeleteFramebuffers(1, &r->out_fbo);
+    glDeleteTextures(OUT_COUNT, r->out_tex);
+    glDeleteVertexArrays(1, &r->empty_vao);
+    glDeleteSamplers(1, &r->ring_sampler);
     if (r->timers) {
-        glDeleteQueries(PLAN_MAX_PASSES, r->time_queries);
+        glDeleteQueries(r->stage_count, r->time_queries);
         if (r->frag_query)
             glDeleteQueries(1, &r->frag_query);
     }
@@ -306,15 +418,15 @@ void renderer_destroy(renderer *r)
 }
 
 /* >>draw */
-static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr)
+static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
 {
     const light_desc *L = &r->sc->light;
-    glProgramUniformMatrix4fv(pg->id, pg->u_view_proj, 1, GL_FALSE, fr->view_proj.m);
+    glProgramUniformMatrix4fv(pg->id, pg->u_view_proj, 1, GL_FALSE, fr->ring_view_proj[ring].m);
     glProgramUniform3f(pg->id, pg->u_eye, fr->camera.position.x, fr->camera.position.y, fr->camera.position.z);
     glProgramUniform3f(pg->id, pg->u_light_dir, L->direction.x, L->direction.y, L->direction.z);
     glProgramUniform3f(pg->id, pg->u_light_color, L->color.x, L->color.y, L->color.z);
     glProgramUniform3f(pg->id, pg->u_ambient, L->ambient.x, L->ambient.y, L->ambient.z);
-    glProgramUniform1f(pg->id, pg->u_mip_bias, 0.0f);
+    glProgramUniform1f(pg->id, pg->u_mip_bias, r->pl.layout.rings[ring].mip_bias);
 }
 
 static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi)
@@ -361,11 +473,36 @@ static void draw_asset(const renderer *r, const gpu_program *pg, const plan_pass
     }
 }
 
+/* Marks which instances may be visible through a ring's frustum (its footprint's cropped
+ * projection): inner rings see a narrow cone and skip most instances' vertex work. */
+static void cull_instances(renderer *r, const mat4 *view_proj)
+{
+    for (int a = 0; a < r->sc->asset_count; a++) {
+        gpu_asset *ga = &r->assets[a];
+        const asset *as = &r->sc->assets[a];
+        for (int k = 0; k < ga->instance_count; k++) {
+            mat4 mvp = m4_mul(*view_proj, r->sc->instances[ga->instance_ids[k]].transform);
+            ga->visible[k] = !m4_box_outside_clip(mvp, as->bounds_min, as->bounds_max);
+        }
+    }
+}
+
+/* Every asset, instanced, in runs of consecutive visible instance slots. */
 static void draw_instanced(const renderer *r, const gpu_program *pg, const plan_pass *ps)
 {
-    for (int a = 0; a < r->sc->asset_count; a++)
-        if (r->assets[a].instance_count > 0)
-            draw_asset(r, pg, ps, a, 0, r->assets[a].instance_count);
+    for (int a = 0; a < r->sc->asset_count; a++) {
+        const gpu_asset *ga = &r->assets[a];
+        for (int k = 0; k < ga->instance_count;) {
+            if (!ga->visible[k]) {
+                k++;
+                continue;
+            }
+            int first = k;
+            while (k < ga->instance_count && ga->visible[k])
+                k++;
+            draw_asset(r, pg, ps, a, first, k - first);
+        }
+    }
 }
 
 typedef struct sort_item {
@@ -398,6 +535,8 @@ static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const pl
             continue;
         vec3 c = v3_scale(v3_add(as->bounds_min, as->bounds_max), 0.5f);
         for (int s = 0; s < r->assets[a].instance_count; s++) {
+            if (!r->assets[a].visible[s])
+                continue;
             vec3 w = m4_point(r->sc->instances[r->assets[a].instance_ids[s]].transform, c);
             vec3 d = v3_sub(w, fr->camera.position);
             items[n++] = (sort_item){v3_dot(d, d), a, s};
@@ -409,35 +548,58 @@ static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const pl
     free(items);
 }
 
-fs_status renderer_draw(renderer *r, const frame_record *fr)
+/* Timed stage boundaries: GL timer query always (when timers are on), wall clock with glFinish
+ * when pass_sync is on. */
+static void stage_begin(renderer *r, int k)
+{
+    if (r->timers)
+        glBeginQuery(GL_TIME_ELAPSED, r->time_queries[k]);
+}
+
+static void stage_end(renderer *r, int k, double *t_prev)
+{
+    if (r->timers)
+        glEndQuery(GL_TIME_ELAPSED);
+    r->stage_wall_ms[k] = -1.0;
+    if (r->pass_sync) {
+        glFinish();
+        double t = time_now();
+        r->stage_wall_ms[k] = (t - *t_prev) * 1e3;
+        *t_prev = t;
+    }
+}
+
+/* The forward passes of one ring into its target. `stage` >= 0: time each pass as a stage from
+ * there (rings off); < 0: the caller times the ring as a whole. */
+static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, double *t_prev)
 {
     const light_desc *L = &r->sc->light;
-    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-    glViewport(0, 0, r->width, r->height);
+    GLuint fbo = r->rt.fbo[ring];
+    const fov_ring_rect *rr = &fr->ring_rect[ring];
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, rr->width, rr->height);
+    glScissor(0, 0, rr->width, rr->height);
+    glEnable(GL_SCISSOR_TEST);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
     const float sky[4] = {L->sky.x, L->sky.y, L->sky.z, 0.0f}; /* A = 0: no geometry */
     const float zero[4] = {0, 0, 0, 0};
     const float one = 1.0f;
-    glClearNamedFramebufferfv(r->fbo, GL_COLOR, 0, sky);
-    glClearNamedFramebufferfv(r->fbo, GL_COLOR, 1, zero);
-    glClearNamedFramebufferfv(r->fbo, GL_DEPTH, 0, &one);
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, sky);
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
-    if (r->frag_query)
-        glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->frag_query);
-    if (r->pass_sync)
-        glFinish();
-    double t_prev = time_now();
+    cull_instances(r, &fr->ring_view_proj[ring]);
     for (int i = 0; i < r->pl.pass_count; i++) {
         const plan_pass *ps = &r->pl.passes[i];
         const gpu_program *pg = &r->programs[i];
-        if (r->timers)
-            glBeginQuery(GL_TIME_ELAPSED, r->time_queries[i]);
+        if (stage >= 0)
+            stage_begin(r, stage + i);
         glUseProgram(pg->id);
-        set_frame_uniforms(r, pg, fr);
+        set_frame_uniforms(r, pg, fr, ring);
         if (ps->kind == PLAN_PASS_FORWARD_BLEND) {
             glEnable(GL_BLEND);
             glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
@@ -448,15 +610,75 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         } else {
             draw_instanced(r, pg, ps);
         }
-        if (r->timers)
-            glEndQuery(GL_TIME_ELAPSED);
-        r->pass_wall_ms[i] = -1.0;
-        if (r->pass_sync) {
-            glFinish();
-            double t = time_now();
-            r->pass_wall_ms[i] = (t - t_prev) * 1e3;
-            t_prev = t;
+        if (stage >= 0)
+            stage_end(r, stage + i, t_prev);
+    }
+    glDisable(GL_SCISSOR_TEST);
+}
+
+static void draw_composite(renderer *r, const frame_record *fr)
+{
+    const composite_program *c = &r->comp;
+    const fov_layout *l = &r->pl.layout;
+    display_desc d = {r->width, r->height, fr->hfov_deg};
+    float outer[MAX_FOV_RINGS], band[MAX_FOV_RINGS], rect[4 * MAX_FOV_RINGS], block[MAX_FOV_RINGS];
+    for (int i = 0; i < l->count; i++) {
+        float prev = i > 0 ? l->rings[i - 1].outer_deg : 0.0f;
+        outer[i] = isinf(l->rings[i].outer_deg) ? 1e9f : l->rings[i].outer_deg;
+        band[i] = isinf(l->rings[i].outer_deg) ? 0.0f : fminf(l->blend_deg, 0.5f * (l->rings[i].outer_deg - prev));
+        const fov_ring_rect *rr = &fr->ring_rect[i];
+        rect[4 * i] = (float)rr->x0;
+        rect[4 * i + 1] = (float)rr->y0;
+        rect[4 * i + 2] = (float)rr->x1;
+        rect[4 * i + 3] = (float)rr->y1;
+        block[i] = (float)rr->block;
+    }
+    glBindTextureUnit(0, r->rt.color);
+    glBindTextureUnit(1, r->rt.coverage);
+    glBindSampler(0, r->ring_sampler);
+    glBindSampler(1, r->ring_sampler);
+    glProgramUniform2f(c->id, c->u_display_px, (float)r->width, (float)r->height);
+    glProgramUniform2f(c->id, c->u_array_px, (float)r->width, (float)r->height);
+    glProgramUniform1f(c->id, c->u_focal_px, fov_focal_px(&d));
+    glProgramUniform2f(c->id, c->u_gaze_px, fr->gaze_px[0], fr->gaze_px[1]);
+    glProgramUniform1fv(c->id, c->u_ring_outer, l->count, outer);
+    glProgramUniform1fv(c->id, c->u_ring_band, l->count, band);
+    glProgramUniform4fv(c->id, c->u_ring_rect, l->count, rect);
+    glProgramUniform1fv(c->id, c->u_ring_block, l->count, block);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->out_fbo);
+    glViewport(0, 0, r->width, r->height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(c->id);
+    glBindVertexArray(r->empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindSampler(0, 0);
+    glBindSampler(1, 0);
+}
+
+fs_status renderer_draw(renderer *r, const frame_record *fr)
+{
+    FS_ASSERT(fr->ring_count == r->pl.layout.count);
+    if (r->frag_query)
+        glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->frag_query);
+    if (r->pass_sync)
+        glFinish();
+    double t_prev = time_now();
+    r->shaded_pixels = 0;
+    if (!r->pl.composite) {
+        draw_ring(r, fr, 0, 0, &t_prev);
+        r->shaded_pixels = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
+    } else {
+        for (int i = 0; i < r->pl.layout.count; i++) {
+            stage_begin(r, i);
+            draw_ring(r, fr, i, -1, &t_prev);
+            stage_end(r, i, &t_prev);
+            r->shaded_pixels += (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
         }
+        stage_begin(r, r->pl.layout.count);
+        draw_composite(r, fr);
+        stage_end(r, r->pl.layout.count, &t_prev);
     }
     if (r->frag_query)
         glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
@@ -480,12 +702,13 @@ void renderer_finish(renderer *r)
 renderer_stats renderer_last_stats(renderer *r)
 {
     renderer_stats s = {0};
-    s.pass_count = r->pl.pass_count;
+    s.pass_count = r->stage_count;
     s.fragments = -1;
-    for (int i = 0; i < r->pl.pass_count; i++) {
-        snprintf(s.pass_names[i], sizeof s.pass_names[i], "%s", r->pl.passes[i].name);
+    s.shaded_pixels = r->shaded_pixels;
+    for (int i = 0; i < r->stage_count; i++) {
+        snprintf(s.pass_names[i], sizeof s.pass_names[i], "%s", r->stage_names[i]);
         s.pass_ms[i] = -1.0;
-        s.pass_wall_ms[i] = r->pass_wall_ms[i];
+        s.pass_wall_ms[i] = r->stage_wall_ms[i];
         if (r->stats_pending) {
             GLuint64 ns = 0;
             glGetQueryObjectui64v(r->time_queries[i], GL_QUERY_RESULT, &ns);
@@ -524,22 +747,36 @@ fs_status renderer_read(renderer *r, exr_image *img)
         free(rgba);
         return FS_ERR_NOMEM;
     }
-    static const char *const names[] = {"R", "G", "B", "A", "coverage"};
-    float *planes[5];
-    for (int c = 0; c < 5; c++)
+    static const char *const names[] = {"R", "G", "B", "A", "coverage", "ring.id", "eccentricity"};
+    int channels = r->pl.debug_channels ? 7 : 5;
+    float *planes[7];
+    for (int c = 0; c < channels; c++)
         if (!(planes[c] = exr_image_add_channel(img, names[c]))) {
             free(rgba);
             exr_image_free(img);
             return FS_ERR_NOMEM;
         }
+    /* Composite: the display targets; rings off: layer 0 of the ring arrays (display-sized). */
+    GLuint color = r->pl.composite ? r->out_tex[OUT_COLOR] : r->rt.color;
+    GLuint coverage = r->pl.composite ? r->out_tex[OUT_COVERAGE] : r->rt.coverage;
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glGetTextureImage(r->tex[RES_COLOR], 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * n), rgba);
-    glGetTextureImage(r->tex[RES_COVERAGE], 0, GL_RED, GL_FLOAT, (GLsizei)(sizeof(float) * n), planes[4]);
+    glGetTextureSubImage(color, 0, 0, 0, 0, r->width, r->height, 1, GL_RGBA, GL_FLOAT,
+                         (GLsizei)(sizeof(float) * 4 * n), rgba);
+    glGetTextureSubImage(coverage, 0, 0, 0, 0, r->width, r->height, 1, GL_RED, GL_FLOAT,
+                         (GLsizei)(sizeof(float) * n), planes[4]);
     flip_rows(rgba, r->width, r->height, 4); /* GL rows are bottom first, EXR top first */
     flip_rows(planes[4], r->width, r->height, 1);
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 4; c++)
             planes[c][i] = rgba[4 * i + (size_t)c];
+    if (r->pl.debug_channels) {
+        glGetTextureImage(r->out_tex[OUT_DEBUG], 0, GL_RG, GL_FLOAT, (GLsizei)(sizeof(float) * 2 * n), rgba);
+        flip_rows(rgba, r->width, r->height, 2);
+        for (size_t i = 0; i < n; i++) {
+            planes[5][i] = rgba[2 * i];
+            planes[6][i] = rgba[2 * i + 1];
+        }
+    }
     free(rgba);
     return FS_OK;
 }

@@ -6,7 +6,9 @@
  *   renderer_draw(r, &frame);  renderer_read(r, &img);  ...  renderer_destroy(r);
  *
  * Passes declare their resources (STYLE.md, Falcor): see k_forward_resources in renderer.c.
- * What it does NOT do (yet): foveation rings, TAA, MSAA, alpha modes other than traditional.
+ * With foveation the forward passes run once per ring into the ring's own target (cropped frustum,
+ * ring mip bias), and a composite pass upsamples and blends the rings at display resolution.
+ * What it does NOT do (yet): TAA, MSAA, alpha modes other than traditional.
  */
 #ifndef FOVSIM_RENDERER_H
 #define FOVSIM_RENDERER_H
@@ -25,11 +27,16 @@ typedef struct renderer_desc {
     bool timers;        /* GL timer queries around each pass (for bench) */
 } renderer_desc;
 
+#define RENDERER_STATS_MAX (MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
+
+/* Timed stages of the last frame: the forward passes when foveation is off; each ring (all its
+ * passes) and the composite when it is on. */
 typedef struct renderer_stats {
     int pass_count;
-    char pass_names[PLAN_MAX_PASSES][48];
-    double pass_ms[PLAN_MAX_PASSES];      /* GL timer query of each pass of the last frame, -1 = none */
-    double pass_wall_ms[PLAN_MAX_PASSES]; /* wall clock of each pass with glFinish around it, -1 = not
+    char pass_names[RENDERER_STATS_MAX][48];
+    long long shaded_pixels;                 /* ring target pixels drawn (display pixels when off) */
+    double pass_ms[RENDERER_STATS_MAX];      /* GL timer query of each stage of the last frame, -1 = none */
+    double pass_wall_ms[RENDERER_STATS_MAX]; /* wall clock of each pass with glFinish around it, -1 = not
                                              measured (renderer_set_pass_sync off). Software
                                              rasterisers (llvmpipe) defer work to the flush, so only
                                              this measure is meaningful there. */
@@ -41,7 +48,7 @@ void renderer_destroy(renderer *r);
 /* Draws one frame into the renderer's targets. */
 fs_status renderer_draw(renderer *r, const frame_record *fr);
 /* Reads colour and coverage into *img (initialised here; rows top first): channels R, G, B, A,
- * coverage. */
+ * coverage, and ring.id + eccentricity when the plan asks for debug channels. */
 fs_status renderer_read(renderer *r, exr_image *img);
 /* With `on`, every later renderer_draw finishes the GPU after each pass and records its wall time
  * (renderer_stats.pass_wall_ms). Adds sync overhead: bench measures frame time without it. */

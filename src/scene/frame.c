@@ -34,7 +34,27 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
     fr.view = m4_look_at(fr.camera.position, fr.camera.target, v3(0, 1, 0));
     fr.proj = m4_perspective_hfov(fr.hfov_deg * (float)FS_PI / 180.0f, (float)width / (float)height, fr.znear, fr.zfar);
     fr.view_proj = m4_mul(fr.proj, fr.view);
-    fr.gaze[0] = 0.5f;
-    fr.gaze[1] = 0.5f;
+    fov_layout off = fov_layout_off();
+    display_desc d = {width, height, fr.hfov_deg};
+    frame_record_set_gaze(&fr, &off, &d, 0.5f, 0.5f);
     return fr;
+}
+
+void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy)
+{
+    gx = isfinite(gx) ? fminf(fmaxf(gx, 0.0f), 1.0f) : 0.5f;
+    gy = isfinite(gy) ? fminf(fmaxf(gy, 0.0f), 1.0f) : 0.5f;
+    fr->gaze[0] = gx;
+    fr->gaze[1] = gy;
+    fr->gaze_px[0] = gx * (float)d->width;
+    fr->gaze_px[1] = gy * (float)d->height;
+    fov_gaze_clamp(d, &fr->gaze_px[0], &fr->gaze_px[1]); /* the exact gaze the footprints use */
+    float f = fov_focal_px(d);
+    fr->gaze_deg[0] = atanf((fr->gaze_px[0] - 0.5f * (float)d->width) / f) * (float)(180.0 / FS_PI);
+    fr->gaze_deg[1] = atanf((0.5f * (float)d->height - fr->gaze_px[1]) / f) * (float)(180.0 / FS_PI);
+    fr->ring_count = l->count;
+    for (int i = 0; i < l->count; i++) {
+        fr->ring_rect[i] = fov_ring_footprint(d, l, i, fr->gaze_px[0], fr->gaze_px[1], FOV_MARGIN_BLOCKS);
+        fr->ring_view_proj[i] = m4_mul(fov_ring_crop(d, &fr->ring_rect[i]), fr->view_proj);
+    }
 }

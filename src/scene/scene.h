@@ -179,6 +179,8 @@ typedef struct scene {
     display_desc display;
     light_desc light;
     alpha_mode alpha_mode; /* the scene's default mode, DEFAULT = traditional unless the CLI says */
+    char rings[256];       /* foveation ring layout from the scene file ("auto", "off", "10:1:0,..."),
+                              empty = not given (the CLI's --rings, else auto) */
     float duration;        /* seconds: the last camera key's time (0 for a still camera) */
 } scene;
 

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "fov/fov_ring.h"
 #include "scene/generators.h"
 #include "scene/gltf_shim.h"
 
@@ -953,7 +954,7 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
 static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
 {
     static const char *const keys[] = {"display", "alpha_mode", "light", "assets", "instances",
-                                       "camera", "materials", "comment", NULL};
+                                       "camera", "materials", "rings", "comment", NULL};
     char got[64];
     scene *sc = c->sc;
     const char *str;
@@ -971,6 +972,17 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
         return s;
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "light")) && (s = parse_light(c, j)) != FS_OK)
         return s;
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "rings"))) {
+        /* A ring layout, checked now against the display parsed above (fov_ring.h). */
+        if ((s = jstring(c, j, "rings", &str)) != FS_OK)
+            return s;
+        fov_layout l;
+        char err[256];
+        if (strlen(str) >= sizeof sc->rings || fov_layout_parse(str, &sc->display, &l, err, sizeof err) != FS_OK)
+            return jfail(c, "rings", "expected \"auto\", \"off\" or a layout like \"10:1:0,25:1/2:0,*:1/4:0.5\" (%s)",
+                         strlen(str) >= sizeof sc->rings ? "too long" : err);
+        snprintf(sc->rings, sizeof sc->rings, "%s", str);
+    }
     int nspecs = 0;
     s = parse_asset_specs(c, cJSON_GetObjectItemCaseSensitive(root, "assets"), specs, &nspecs);
     if (s == FS_OK)

@@ -5,6 +5,7 @@
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
 SHARED=${FOVSIM_SHARED:?set by CMake}
+SRC=${FOVSIM_SOURCE:?set by CMake}
 T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/cli
 rm -rf "$T"; mkdir -p "$T"
 passed=0; failed=0
@@ -41,6 +42,34 @@ oiiotool --stats "$R/frame.0002.exr" >"$T/stats.txt" 2>&1
 check "oiiotool --stats: no NaN" bash -c "grep 'NanCount' '$T/stats.txt' | grep -Eq 'NanCount: 0 0 0 0 0 *$'"
 check "oiiotool --stats: no Inf" bash -c "grep 'InfCount' '$T/stats.txt' | grep -Eq 'InfCount: 0 0 0 0 0 *$'"
 check "channels R G B A coverage" bash -c "oiiotool --info -v '$R/frame.0000.exr' | grep -q 'channel list: A, B, coverage, G, R\|channel list: R, G, B, A, coverage'"
+
+# ---- foveation: rings around a replayed gaze trace
+F="$T/fov"
+"$BIN" render --builtin forest --frames 4 --fps 2 --width 160 --height 90 --rings "10:1:0,25:1/2:0,*:1/4:0.5" \
+  --gaze "$SRC/gaze_paths/fixation_saccade.csv" --debug-channels --out "$F" --quiet >/dev/null 2>"$T/err.txt"
+check "foveated render exits 0" test $? -eq 0
+check "debug channels written" bash -c "oiiotool --info -v '$F/frame.0003.exr' | grep -q 'ring.id'"
+check "rings recorded in the header" bash -c "exrheader '$F/frame.0000.exr' | grep -q '10:1:0,25:1/2:0,\*:1/4:0.5'"
+check "gaze recorded in the header" bash -c "exrheader '$F/frame.0000.exr' | grep -q 'fovsim:gaze_trace.*fixation_saccade.csv'"
+printf 't,x,y\n0,0.5,0.5\n0.5,0.6,0.5\n' >"$T/short.csv"
+"$BIN" render --builtin fence --frames 30 --width 64 --height 36 --gaze "$T/short.csv" --out "$T/short" --quiet >/dev/null 2>"$T/err.txt"
+check "short trace: still renders" test $? -eq 0
+check "short trace: said once" test "$(grep -c 'ends at 0.50 s' "$T/err.txt")" -eq 1
+check "plan prints the rings" bash -c "'$BIN' plan forest | grep -q 'ring 0' && '$BIN' plan forest | grep -q 'ideal speedup'"
+check "plan --rings off" bash -c "'$BIN' plan forest --rings off | grep -q 'rings      off'"
+expect_exit "bad --rings -> 2" 2 "$BIN" render --rings "10:1:0,5:1/2:0,*:1/4:0" --out "$T/bad9"
+check "bad rings create nothing" test ! -e "$T/bad9"
+printf 't,x,y\n0,0.5,0.5\n1,abc,0.5\n' >"$T/badgaze.csv"
+expect_exit "bad gaze trace -> 5" 5 "$BIN" render --gaze "$T/badgaze.csv" --out "$T/bad10"
+check "bad gaze names file:line:column" grep -q "badgaze.csv:3:2:" "$T/err.txt"
+check "bad gaze creates nothing" test ! -e "$T/bad10"
+expect_exit "missing gaze file -> 6" 6 "$BIN" render --gaze "$T/nope.csv" --out "$T/bad11"
+expect_exit "--eye without --gaze -> 2" 2 "$BIN" render --eye left --out "$T/bad12"
+"$BIN" bench --builtin fence --frames 3 --warmup 1 --width 160 --height 90 --rings "10:1:0,*:1/4:0" --format json >"$T/bench.json" 2>/dev/null
+check "bench --format json is JSON with the speedup" python3 -c "
+import json,sys; j=json.load(open('$T/bench.json')); c=j['configs']
+assert len(c)==2 and c[0]['shaded_pixels']==160*90 and 0<c[1]['shaded_pixels']<160*90, c
+assert j['ideal_speedup']>1 and j['speedup']>0 and 'achieved_fraction_of_ideal' in j"
 
 # ---- a glTF file is a scene by itself
 "$BIN" render --scene "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" --frames 1 --width 64 --height 64 --out "$T/gltf" --quiet >/dev/null 2>&1

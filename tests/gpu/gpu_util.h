@@ -18,22 +18,45 @@ static inline void gpu_begin(void)
     fprintf(stderr, "renderer: %s\n", gl_device_renderer());
 }
 
-/* Renders `sc` at time t into *img (R, G, B, A, coverage) at w x h. */
-static inline fs_status gpu_render(const scene *sc, alpha_mode mode, int w, int h, float t, exr_image *img)
+/* Foveated rendering options of gpu_render_fov. */
+typedef struct gpu_fov {
+    const fov_layout *layout; /* NULL = off */
+    float gaze[2];            /* normalised, origin top-left */
+    bool overlay, debug_channels;
+} gpu_fov;
+
+/* Renders `sc` at time t into *img (R, G, B, A, coverage [, ring.id, eccentricity]) at w x h. */
+static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, int h, float t, const gpu_fov *fv,
+                                       exr_image *img)
 {
     plan pl;
-    fs_status st = plan_build(sc, &(plan_options){.alpha_mode = mode, .width = w, .height = h, .frames = 1}, &pl);
+    plan_options po = {.alpha_mode = mode, .width = w, .height = h, .frames = 1};
+    if (fv) {
+        if (fv->layout)
+            po.layout = *fv->layout;
+        po.overlay = fv->overlay;
+        po.debug_channels = fv->debug_channels;
+    }
+    fs_status st = plan_build(sc, &po, &pl);
     if (st != FS_OK)
         return st;
     renderer *r = renderer_create(&(renderer_desc){.scene = sc, .plan = &pl}, &st);
     if (!r)
         return st;
     frame_record fr = frame_record_at(sc, 0, t, -1.0f, w, h);
+    display_desc dd = {w, h, fr.hfov_deg};
+    frame_record_set_gaze(&fr, &pl.layout, &dd, fv ? fv->gaze[0] : 0.5f, fv ? fv->gaze[1] : 0.5f);
     st = renderer_draw(r, &fr);
     if (st == FS_OK)
         st = renderer_read(r, img);
     renderer_destroy(r);
     return st;
+}
+
+/* Full resolution, gaze at the centre. */
+static inline fs_status gpu_render(const scene *sc, alpha_mode mode, int w, int h, float t, exr_image *img)
+{
+    return gpu_render_fov(sc, mode, w, h, t, NULL, img);
 }
 
 static inline double plane_mean(const exr_image *img, const char *ch)

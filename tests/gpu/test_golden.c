@@ -23,12 +23,16 @@ typedef struct golden_case {
     int w, h;
     double max_rmse;    /* over R, G, B, A, coverage */
     double max_err_2x2; /* max abs error of 2x2-averaged pixels */
+    const char *rings;  /* foveation layout, NULL = full resolution */
+    float gaze[2];
 } golden_case;
 
 static const golden_case k_cases[] = {
-    {"forest_t1", "forest", true, 1.0f, 192, 108, 0.01, 0.3},
-    {"fence_t0", "fence", true, 0.0f, 192, 108, 0.01, 0.3},
-    {"bush_common", "assets/quaternius_megakit_set_a/Bush_Common.gltf", false, 0.0f, 128, 96, 0.01, 0.3},
+    {"forest_t1", "forest", true, 1.0f, 192, 108, 0.01, 0.3, NULL, {0, 0}},
+    {"fence_t0", "fence", true, 0.0f, 192, 108, 0.01, 0.3, NULL, {0, 0}},
+    {"bush_common", "assets/quaternius_megakit_set_a/Bush_Common.gltf", false, 0.0f, 128, 96, 0.01, 0.3, NULL, {0, 0}},
+    /* Foveated: four rings down to 1/16 around an off-centre gaze, composited with blend bands. */
+    {"forest_fov", "forest", true, 2.0f, 320, 180, 0.01, 0.3, "6:1:0,14:1/2:0,30:1/4:0.5,*:1/16:0", {0.3f, 0.6f}},
 };
 
 static void write_diff(const golden_case *gc, const exr_image *img, const exr_image *ref)
@@ -61,7 +65,16 @@ static void run_case(const golden_case *gc)
     if (st != FS_OK)
         return;
     exr_image img;
-    CHECK(gpu_render(&sc, ALPHA_MODE_TRADITIONAL, gc->w, gc->h, gc->time, &img) == FS_OK);
+    fov_layout l = fov_layout_off();
+    if (gc->rings) {
+        char err[256];
+        display_desc d = {gc->w, gc->h, sc.display.hfov_deg};
+        CHECK(fov_layout_parse(gc->rings, &d, &l, err, sizeof err) == FS_OK);
+    }
+    gpu_fov fv = {.layout = &l, .gaze = {gc->gaze[0], gc->gaze[1]}};
+    if (!gc->rings)
+        fv.gaze[0] = fv.gaze[1] = 0.5f;
+    CHECK(gpu_render_fov(&sc, ALPHA_MODE_TRADITIONAL, gc->w, gc->h, gc->time, &fv, &img) == FS_OK);
     scene_free(&sc);
     char ref_path[1100];
     snprintf(ref_path, sizeof ref_path, "%s", test_source_path("tests/golden/refs/"));

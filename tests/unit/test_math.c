@@ -74,11 +74,52 @@ TEST(norm_or_falls_back)
     CHECK(isfinite(f.x) && isfinite(f.y));
 }
 
+TEST(box_culling_is_conservative)
+{
+    mat4 vp = m4_mul(m4_perspective_hfov((float)FS_PI / 2, 16.0f / 9.0f, 0.1f, 100.0f),
+                     m4_look_at(v3(0, 0, 0), v3(0, 0, -1), v3(0, 1, 0)));
+    CHECK(!m4_box_outside_clip(vp, v3(-1, -1, -6), v3(1, 1, -4)));     /* straight ahead */
+    CHECK(m4_box_outside_clip(vp, v3(-1, -1, 4), v3(1, 1, 6)));        /* behind the camera */
+    CHECK(m4_box_outside_clip(vp, v3(20, -1, -6), v3(22, 1, -4)));     /* far to the right */
+    CHECK(m4_box_outside_clip(vp, v3(-1, -1, -300), v3(1, 1, -200)));  /* beyond the far plane */
+    CHECK(!m4_box_outside_clip(vp, v3(-50, -50, -50), v3(50, 50, 50))); /* around the camera */
+    /* A box straddling a frustum corner (every corner outside some plane, none all outside the
+     * same one) is kept: conservative. */
+    CHECK(!m4_box_outside_clip(vp, v3(4, 2.5f, -6), v3(8, 6, -4)));
+    /* Random boxes: whenever a box is culled, none of many points inside it is in the frustum. */
+    unsigned seed = 7;
+    int culled = 0;
+    for (int k = 0; k < 2000; k++) {
+        float c[3], h[3];
+        for (int i = 0; i < 3; i++) {
+            seed = seed * 1664525u + 1013904223u;
+            c[i] = ((float)(seed >> 8) / 16777216.0f - 0.5f) * 60.0f;
+            seed = seed * 1664525u + 1013904223u;
+            h[i] = (float)(seed >> 8) / 16777216.0f * 3.0f;
+        }
+        vec3 lo = v3(c[0] - h[0], c[1] - h[1], c[2] - h[2]), hi = v3(c[0] + h[0], c[1] + h[1], c[2] + h[2]);
+        if (!m4_box_outside_clip(vp, lo, hi))
+            continue;
+        culled++;
+        for (int s = 0; s < 64; s++) {
+            vec3 q = v3(lo.x + (hi.x - lo.x) * (float)(s & 3) / 3, lo.y + (hi.y - lo.y) * (float)((s >> 2) & 3) / 3,
+                        lo.z + (hi.z - lo.z) * (float)(s >> 4) / 3);
+            float v[4];
+            for (int r = 0; r < 4; r++)
+                v[r] = vp.m[r] * q.x + vp.m[4 + r] * q.y + vp.m[8 + r] * q.z + vp.m[12 + r];
+            bool inside = fabsf(v[0]) <= v[3] && fabsf(v[1]) <= v[3] && fabsf(v[2]) <= v[3];
+            CHECK(!inside);
+        }
+    }
+    CHECK(culled > 100);
+}
+
 int main(void)
 {
     RUN(look_at_puts_target_on_the_view_axis);
     RUN(perspective_maps_the_horizontal_fov_edge_to_ndc_one);
     RUN(invert_and_trs);
     RUN(norm_or_falls_back);
+    RUN(box_culling_is_conservative);
     return test_summary();
 }

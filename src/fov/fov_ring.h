@@ -1,0 +1,147 @@
+/* fov_ring.h: foveation ring math in plain C — layouts, eccentricity, per-ring footprints and
+ * frusta, composite weights. Used by the renderer and by the unit tests; the GLSL twin of
+ * fov_eccentricity_deg and fov_composite_weight is shaders/common/foveation.glsl (same constants,
+ * common/shared_defs.h).
+ *
+ * Conventions
+ *   - Display pixels: integer coordinates with origin at the TOP-LEFT corner, x right, y down; pixel
+ *     (x, y) covers [x, x+1) x [y, y+1) and its centre is (x + 0.5, y + 0.5). This is the gaze and
+ *     EXR convention; the GL side flips rows where it has to.
+ *   - Gaze: normalised display coordinates (0..1, origin top-left) or display pixels (gaze_px =
+ *     gaze * (width, height)).
+ *   - Eccentricity: the angle in degrees between the view ray through a display point and the view
+ *     ray through the gaze point, for a pinhole camera with the display's horizontal fov.
+ *   - A ring i has block size b = 2^scale_log2: one ring pixel covers exactly b x b display pixels,
+ *     and its footprint rectangle starts on a multiple of b, so ring pixels align with a sub-grid of
+ *     display pixels (no half-pixel drift between rings).
+ *
+ * What it does NOT do: GL, gaze file parsing (src/gaze), choosing which frame uses which gaze.
+ */
+#ifndef FOVSIM_FOV_RING_H
+#define FOVSIM_FOV_RING_H
+
+#include <stdbool.h>
+
+#include "core/config.h"
+#include "core/fmath.h"
+#include "core/status.h"
+#include "scene/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Guenter et al. 2012 linear acuity model MAR(e) = slope * e + omega0 (degrees). */
+#define FOV_ACUITY_SLOPE_DEFAULT 0.0275f
+#define FOV_ACUITY_OMEGA0_DEFAULT (1.0f / 48.0f)
+#define FOV_BLEND_DEG_DEFAULT 2.0f
+/* Ring pixels added around each footprint so bilinear upsampling never reads outside it. */
+#define FOV_MARGIN_BLOCKS 2
+
+typedef struct fov_ring {
+    float outer_deg; /* outer eccentricity radius in degrees; INFINITY for the last ring ("*") */
+    int scale_log2;  /* resolution scale 2^-scale_log2: 0 = full, 1 = 1/2, ... MAX_FOV_SCALE_LOG2 */
+    float mip_bias;  /* extra texture LOD bias in log2 units, default 0 */
+} fov_ring;
+
+typedef enum fov_layout_kind {
+    FOV_LAYOUT_OFF = 0,  /* foveation off: one full-resolution ring, no composite */
+    FOV_LAYOUT_AUTO,     /* from the acuity model */
+    FOV_LAYOUT_EXPLICIT, /* from a scene file or --rings */
+} fov_layout_kind;
+
+typedef struct fov_layout {
+    fov_layout_kind kind;
+    int count;                       /* 1..MAX_FOV_RINGS */
+    fov_ring rings[MAX_FOV_RINGS];   /* innermost first; outer_deg strictly increasing; last = INFINITY */
+    float blend_deg;                 /* blend band inside each ring border, degrees, default
+                                        FOV_BLEND_DEG_DEFAULT; ring i's band is
+                                        min(blend_deg, (outer_i - outer_{i-1}) / 2), outer_{-1} = 0 */
+} fov_layout;
+
+/* >>layouts */
+
+/* Foveation off: one ring, scale 1, bias 0, covering the display. */
+fov_layout fov_layout_off(void);
+/* The acuity layout for a display (DESIGN.md "Foveation"): ring k (block 2^k) starts at the
+ * eccentricity e_k where 2^k times the display's angular pixel pitch at e_k (measured from the
+ * display centre along the horizontal axis) equals MAR(e_k) = slope * e_k + omega0; the innermost
+ * ring is full resolution unless 2^k-pixel blocks already resolve MAR at the centre (e_k = 0: the
+ * empty rings [0, 0) are skipped, so a very fine display starts coarser); rings whose inner edge
+ * lies beyond the display's largest eccentricity (centre to corner) are dropped; scales stop at
+ * MAX_FOV_SCALE_LOG2. slope/omega0 <= 0 mean the defaults. */
+fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0);
+/* Parses "auto", "off", or an explicit list "10:1:0,25:0.5:0,*:0.25:0.5" (outer degrees or "*"
+ * for the last, scale as 1, 0.5, 0.25, ... or 1/2, 1/4, ..., mip bias). On error writes one line
+ * into err (e.g. "ring 2: scale 0.3 is not a power of two (1, 1/2, ... 1/16)") and returns
+ * FS_ERR_USAGE. `d` is needed for "auto". */
+fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *out, char *err, int err_size);
+/* Checks an explicit layout: 1..MAX_FOV_RINGS rings, radii positive, finite and increasing, last
+ * INFINITY, scales in [0, MAX_FOV_SCALE_LOG2] and non-decreasing outwards, biases finite. */
+fs_status fov_layout_check(const fov_layout *l, char *err, int err_size);
+/* "10:1:0,25:0.5:0,*:0.25:0.5" form of a layout (for EXR headers and `fovsim plan`). */
+void fov_layout_format(const fov_layout *l, char *buf, int size);
+
+/* >>angles */
+
+/* Focal length of the display's pinhole camera in pixels: (width / 2) / tan(hfov / 2). */
+float fov_focal_px(const display_desc *d);
+/* Display pixels per degree at the display centre. */
+float fov_pixels_per_degree(const display_desc *d);
+/* Eccentricity in degrees of display point p (pixels, top-left origin, continuous) for gaze point
+ * g (pixels). Stable for p == g (0) and for any finite inputs, including points far outside the
+ * display; uses atan2(|a x b|, a . b), not acos. */
+float fov_eccentricity_deg(const display_desc *d, float gx, float gy, float px, float py);
+
+/* >>footprints */
+
+/* The gaze every footprint is built around: clamped into [0, width] x [0, height] (display
+ * pixels); a NaN or infinite coordinate gives the display centre. The composite must measure
+ * eccentricities from this same gaze (upload it, not the raw one), or a pixel could take a ring
+ * whose footprint does not hold it. */
+void fov_gaze_clamp(const display_desc *d, float *gx, float *gy);
+
+/* One ring's footprint for one gaze position. */
+typedef struct fov_ring_rect {
+    int x0, y0, x1, y1; /* display pixels covered, half-open; x0, y0 multiples of the block size;
+                           x1 - x0 and y1 - y0 multiples of the block size (x1 may exceed the
+                           display width by less than one block, so may y1) */
+    int width, height;  /* ring target pixels: (x1 - x0) / block, (y1 - y0) / block, >= 1 */
+    int block;          /* 2^scale_log2 */
+} fov_ring_rect;
+
+/* Footprint of ring i of layout l for gaze g (pixels): the bounding rectangle of every display
+ * pixel whose eccentricity is <= rings[i].outer_deg, grown by `margin_blocks` ring pixels on each
+ * side (for the upsampling filter), snapped outwards to the block grid and clamped to the display
+ * (rounded up to whole blocks). The last ring, and any ring whose cone reaches 90 degrees from the
+ * gaze, cover the whole display. The footprint of ring i contains that of ring i-1 in display
+ * pixels (frusta nest). Gaze outside the display is clamped to the display first. */
+fov_ring_rect fov_ring_footprint(const display_desc *d, const fov_layout *l, int i, float gx, float gy,
+                                 int margin_blocks);
+/* Projection of a footprint: the sub-rectangle [x0, x1) x [y0, y1) of the display's projection
+ * `display_proj` (an OpenGL perspective matrix for the whole display), as an asymmetric frustum:
+ * NDC (-1,-1)..(1,1) of the result maps exactly onto the rectangle. Multiply on the left of the
+ * display projection: ring_proj = fov_ring_crop(...) * display_proj. */
+mat4 fov_ring_crop(const display_desc *d, const fov_ring_rect *r);
+
+/* >>composite */
+
+/* Which ring a display point takes and how much of the next ring blends in: the innermost ring
+ * whose outer radius exceeds e is `ring`; inside the band [outer - blend, outer) the next ring's
+ * weight rises smoothly (smoothstep) from 0 to 1, so the image is continuous across borders. */
+typedef struct fov_blend {
+    int ring;     /* innermost ring covering e */
+    float next;   /* weight of ring + 1 in [0, 1]; 0 for the last ring */
+} fov_blend;
+fov_blend fov_composite_weight(const fov_layout *l, float ecc_deg);
+
+/* Fraction of display pixels each ring shades (sum of ring target pixels / display pixels) for
+ * gaze g; returns the total shaded pixels. per_ring may be NULL. */
+long long fov_shaded_pixels(const display_desc *d, const fov_layout *l, float gx, float gy, int margin_blocks,
+                            long long per_ring[MAX_FOV_RINGS]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
