@@ -20,7 +20,13 @@ void main()
 {
     vec4 world = a_model * vec4(a_position, 1.0);
     v_world_pos = world.xyz;
-    v_world_normal = transpose(inverse(mat3(a_model))) * a_normal;
+    // Normals transform by the inverse transpose of the model matrix, which is the cofactor matrix
+    // divided by the determinant: three cross products instead of a 3x3 inverse per vertex, and the
+    // determinant's sign keeps mirrored instances' normals pointing out (the length is normalised
+    // in the fragment shader).
+    mat3 m = mat3(a_model);
+    mat3 cof = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1]));
+    v_world_normal = cof * a_normal * sign(determinant(m));
     v_object_pos = a_position;
     v_uv = a_uv;
     v_color = a_color;

@@ -146,6 +146,39 @@ TEST(shipped_scenes)
     scene_free(&sc);
 }
 
+TEST(rings_and_composite_only_when_asked)
+{
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    plan p;
+    /* Rings off, no overlay, no debug channels: no composite pass at all. */
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(!p.rings && !p.composite && p.layout.count == 1 && p.layout.rings[0].scale_log2 == 0);
+    /* Overlay alone needs the composite (it draws into it), with one full-resolution ring. */
+    CHECK(plan_build(&sc, &(plan_options){.overlay = true}, &p) == FS_OK);
+    CHECK(!p.rings && p.composite);
+    CHECK(strcmp(p.composite_pass.defines[0], "FOV_RING_COUNT 1") == 0);
+    CHECK(strcmp(p.composite_pass.defines[1], "OVERLAY 1") == 0);
+    /* The auto layout: several rings, the composite, and debug channels only when asked. */
+    display_desc d = sc.display;
+    plan_options po = {.layout = fov_layout_auto(&d, 0, 0)};
+    CHECK(plan_build(&sc, &po, &p) == FS_OK);
+    CHECK(p.rings && p.composite && p.layout.count >= 3);
+    for (int i = 0; i < p.composite_pass.define_count; i++)
+        CHECK(strncmp(p.composite_pass.defines[i], "DEBUG_CHANNELS", 14) != 0);
+    po.debug_channels = true;
+    CHECK(plan_build(&sc, &po, &p) == FS_OK);
+    bool debug = false;
+    for (int i = 0; i < p.composite_pass.define_count; i++)
+        debug |= strcmp(p.composite_pass.defines[i], "DEBUG_CHANNELS 1") == 0;
+    CHECK(debug);
+    /* The forward passes are the same with or without rings: rings multiply draws, not variants. */
+    plan off;
+    CHECK(plan_build(&sc, NULL, &off) == FS_OK);
+    CHECK(off.pass_count == p.pass_count);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     RUN(opaque_scene_has_no_alpha_variant_whatever_the_mode);
@@ -153,5 +186,6 @@ int main(void)
     RUN(unplaced_assets_cost_nothing);
     RUN(unimplemented_modes_are_refused_only_when_used);
     RUN(shipped_scenes);
+    RUN(rings_and_composite_only_when_asked);
     return test_summary();
 }
