@@ -38,7 +38,16 @@ void main()
     vec3 albedo = tex.rgb / max(tex.a, PREMUL_ALPHA_EPS) * u_base_color.rgb * v_color.rgb;
 
 #ifdef PASS_MASK
-    if (!alpha_test_passes(alpha, u_alpha_cutoff))
+    // The LOD actually sampled (mip bias included) and the footprint's anisotropy, for the
+    // hashed fade-in and mip scaling (seed 000 §5.5.1, seed 002).
+    float lod = 0.0, aniso = 1.0;
+    if (u_has_base_tex) {
+        lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
+        vec2 size = vec2(textureSize(u_base_tex, 0));
+        float lx = length(dFdx(v_uv) * size), ly = length(dFdy(v_uv) * size);
+        aniso = clamp(max(lx, ly) / max(min(lx, ly), 1e-20), 1.0, ALPHA_MAX_ANISO);
+    }
+    if (!alpha_test(alpha, u_alpha_cutoff, v_object_pos, lod, aniso))
         discard;
 #endif
 
@@ -50,6 +59,10 @@ void main()
 #if defined(PASS_BLEND)
     o_color = vec4(rgb * alpha, alpha);
     o_coverage = vec4(alpha, 0.0, 0.0, alpha);
+#elif defined(PASS_MASK) && ALPHA_MODE == ALPHA_MODE_ID_A2C
+    // Alpha-to-coverage turns alpha into a sample mask; GL_SAMPLE_ALPHA_TO_ONE then stores 1.
+    o_color = vec4(rgb, alpha);
+    o_coverage = vec4(1.0, 0.0, 0.0, alpha);
 #elif defined(PASS_MASK)
     o_color = vec4(rgb, 1.0);
     o_coverage = vec4(1.0, 0.0, 0.0, 1.0);

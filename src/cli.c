@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/config.h"
+#include "common/shared_defs.h"
 #include "core/log.h"
 
 static const struct {
@@ -63,6 +64,11 @@ void cli_print_help(command cmd)
            "  --width W, --height H   output size in pixels (default: the scene's display, 1280x720)\n"
            "  --alpha MODE        alpha test for MASK materials: %s\n"
            "                      (implemented so far: traditional)\n"
+           "  --hash-scale S      hashed modes: noise scale in pixels (default 1; 0.3-0.5 suits TAA)\n"
+           "  --hash H            hashed modes: pcg (integer pcg3d, default) or sine (the paper's)\n"
+           "  --hash-aniso        hashed modes: anisotropic (per-axis) pixel-scale noise\n"
+           "  --fade-n N          hashed: mip levels over which noise fades in (default 6)\n"
+           "  --no-fade           hashed: no fade-in, noise at every distance\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
@@ -117,6 +123,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
 {
     memset(d, 0, sizeof *d);
     d->gpu = -1;
+    d->hash_kind = -1;
     d->fps = 24.0f;
     d->warmup = 5;
     if (argc < 2) {
@@ -177,6 +184,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                      : !strcmp(opt, "--gl-debug")       ? &d->gl_debug
                      : !strcmp(opt, "--overlay")        ? &d->overlay
                      : !strcmp(opt, "--debug-channels") ? &d->debug_channels
+                     : !strcmp(opt, "--hash-aniso")     ? &d->hash_aniso
+                     : !strcmp(opt, "--no-fade")        ? &d->no_fade
                                                         : NULL;
         if (flag) {
             if (val) {
@@ -189,7 +198,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         static const char *const with_value[] = {"--scene", "--builtin", "--frames", "--fps", "--out",
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
                                                  "--warmup", "--markdown", "--compression", "--rings",
-                                                 "--gaze", "--gaze-format", "--eye", "--format"};
+                                                 "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
+                                                 "--hash", "--fade-n"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -228,6 +238,15 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = d->eye != GAZE_EYE_AUTO;
             if (!ok)
                 log_error("--eye: expected left, right or average, got '%s'", val);
+        } else if (!strcmp(opt, "--hash-scale"))
+            ok = parse_float(opt, val, 0.0f, 64.0f, &d->hash_scale);
+        else if (!strcmp(opt, "--fade-n"))
+            ok = parse_float(opt, val, 0.0f, 16.0f, &d->fade_n);
+        else if (!strcmp(opt, "--hash")) {
+            d->hash_kind = !strcmp(val, "pcg") ? ALPHA_HASH_PCG : !strcmp(val, "sine") ? ALPHA_HASH_SINE : -1;
+            ok = d->hash_kind >= 0;
+            if (!ok)
+                log_error("--hash: expected pcg or sine, got '%s'", val);
         } else if (!strcmp(opt, "--format")) {
             ok = !strcmp(val, "json") || !strcmp(val, "text");
             d->json = !strcmp(val, "json");
@@ -281,6 +300,10 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if ((d->width > 0) != (d->height > 0)) {
         log_error("--width and --height: give both or neither");
+        return FS_ERR_USAGE;
+    }
+    if (d->no_fade && d->fade_n > 0.0f) {
+        log_error("--no-fade and --fade-n: give one of them, not both");
         return FS_ERR_USAGE;
     }
     if (d->json && d->cmd != CMD_BENCH) {

@@ -44,6 +44,11 @@ typedef struct run_desc {
     bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
     bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
     bool json;               /* bench: --format json */
+    float hash_scale;        /* --hash-scale, 0 = default 1 */
+    int hash_kind;           /* --hash pcg|sine, -1 = default */
+    bool hash_aniso;         /* --hash-aniso */
+    bool no_fade;            /* --no-fade */
+    float fade_n;            /* --fade-n, 0 = default 6 */
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

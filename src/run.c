@@ -12,6 +12,7 @@
 #include <sys/utsname.h>
 #include <unistd.h>
 
+#include "common/shared_defs.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "gl/gl_device.h"
@@ -73,6 +74,14 @@ static fs_status make_dirs(const char *path)
     return FS_OK;
 }
 
+static alpha_params run_alpha_params(const run_desc *d)
+{
+    alpha_params a = {.hash_scale = d->hash_scale, .anisotropic = d->hash_aniso, .no_fade = d->no_fade,
+                      .fade_n = d->fade_n};
+    a.hash_kind = d->hash_kind >= 0 ? d->hash_kind : ALPHA_HASH_DEFAULT;
+    return alpha_params_defaults(&a);
+}
+
 /* The ring layout of a run: --rings, else the scene file's, else auto; checked against the display. */
 static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, int height, fov_layout *out)
 {
@@ -90,7 +99,7 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
 static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
 {
     plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, sc),
-                       .overlay = d->overlay, .debug_channels = d->debug_channels};
+                       .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d)};
     fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
     return st == FS_OK ? plan_build(sc, &po, pl) : st;
 }
@@ -394,7 +403,8 @@ static fs_status run_bench(const run_desc *d)
     int ncfg = 1;
     cfg[0].name = "full resolution";
     if (s.pl.rings) {
-        plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = n};
+        plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = n,
+                           .alpha = s.pl.alpha};
         st = plan_build(&s.sc, &po, &cfg[0].pl);
         if (st == FS_OK)
             cfg[0].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &cfg[0].pl, .timers = true}, &st);

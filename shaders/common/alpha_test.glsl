@@ -1,17 +1,50 @@
 // alpha_test.glsl: the one alpha test of fovsim (STYLE.md: "Put the alpha test in one function").
-// C twin: alpha_test_passes() in src/passes/alpha_test.c. The chosen strategy comes from the plan as
-// ALPHA_MODE (an ALPHA_MODE_ID_* value from shared_defs.h).
+// The strategy comes from the plan as ALPHA_MODE (an ALPHA_MODE_ID_* value from shared_defs.h).
+// The threshold math lives in alpha_hash.glsl, whose C twin is src/passes/alpha_hash.c.
 #ifndef ALPHA_MODE
 #error "alpha_test.glsl needs ALPHA_MODE (set by the plan)"
 #endif
+#include "common/alpha_hash.glsl"
 
-// True when a fragment of opacity `alpha` survives. Traditional: alpha >= cutoff
-// (glTF MASK semantics: "rendered fully opaque if alpha >= alphaCutoff").
-bool alpha_test_passes(float alpha, float cutoff)
+uniform float u_hash_scale;  // noise scale in pixels (seed 000 §5.4.1)
+uniform int u_hash_kind;     // ALPHA_HASH_*
+uniform bool u_hash_aniso;   // anisotropic hash
+uniform float u_fade_n;      // fade-in length in mip levels; <= 0: no fade
+uniform uint u_frame;        // frame index: stochastic thresholds change every frame
+
+// True when a fragment of opacity `alpha` survives the test. `obj` is the object-space position
+// (anchored to the whole instance), `lod` the mip level actually sampled (bias included), `aniso`
+// the footprint's anisotropy (>= 1). Must be called in uniform control flow (derivatives).
+// HASHED_A2C also writes gl_SampleMask; A2C leaves coverage to GL_SAMPLE_ALPHA_TO_COVERAGE.
+bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
 {
-#if ALPHA_MODE == ALPHA_MODE_ID_TRADITIONAL
+#if ALPHA_MODE == ALPHA_MODE_ID_TRADITIONAL || ALPHA_MODE == ALPHA_MODE_ID_CASTANO
+    // glTF MASK: "rendered fully opaque if alpha >= alphaCutoff". Castano differs only in its
+    // texture (coverage-preserving mips).
     return alpha >= cutoff;
+#elif ALPHA_MODE == ALPHA_MODE_ID_STOCHASTIC
+    // Independent per fragment, not just per pixel: overlapping layers at one pixel must not share
+    // a threshold (that would correlate them like a fixed dither). The salt mixes the primitive and
+    // the fragment's depth bits.
+    uint salt = uint(gl_PrimitiveID) * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z);
+    return alpha >= alpha_stochastic_threshold(uint(gl_FragCoord.x), uint(gl_FragCoord.y), u_frame, salt);
+#elif ALPHA_MODE == ALPHA_MODE_ID_HASHED
+    float t = alpha_hashed_threshold(obj, dFdx(obj), dFdy(obj), u_hash_scale, u_hash_kind, u_hash_aniso);
+    return alpha >= alpha_hashed_fade(cutoff, t, lod, aniso, u_fade_n);
+#elif ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
+    // Seed 002: scale alpha up with the mip level so coarse mips keep their coverage.
+    return alpha * (1.0 + max(lod, 0.0) * ALPHA_MIPSCALE_PER_LOD) >= cutoff;
+#elif ALPHA_MODE == ALPHA_MODE_ID_A2C
+    return alpha > 0.0;
+#elif ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C
+    // Seed 000 §6: per-sample thresholds with a hashed offset and odd increment. One hashed value
+    // per fragment gives chi; xi1 and xi2 are derived from it (fract of multiples of a uniform
+    // variable are uniform), so layers with different hashes get decorrelated masks.
+    float t = alpha_hashed_threshold(obj, dFdx(obj), dFdy(obj), u_hash_scale, u_hash_kind, u_hash_aniso);
+    uint m = alpha_hashed_a2c_mask(alpha, MSAA_SAMPLES, fract(t * 7.0), fract(t * 13.0), t);
+    gl_SampleMask[0] = int(m);
+    return m != 0u;
 #else
-#error "this ALPHA_MODE is not implemented yet"
+#error "unknown ALPHA_MODE"
 #endif
 }

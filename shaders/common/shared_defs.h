@@ -30,4 +30,23 @@
 /* Texture units. */
 #define TEX_UNIT_BASE_COLOR 0
 
+/* Samples per pixel of the alpha-to-coverage modes' multisampled targets (a power of two). */
+#define MSAA_SAMPLES 4
+
+/* Seed 002 (Golus): alpha is scaled by 1 + lod * ALPHA_MIPSCALE_PER_LOD in the mipscale mode. */
+#define ALPHA_MIPSCALE_PER_LOD 0.25
+
+/* Hashed / stochastic alpha thresholds (seed 000 §4-6). GLSL: common/alpha_hash.glsl, C twin:
+ * src/passes/alpha_hash.c; docs/hashed-alpha.md explains each choice. */
+#define ALPHA_HASH_PCG 0            /* pcg3d integer hash (Jarzynski & Olano 2020) */
+#define ALPHA_HASH_SINE 1           /* the paper's nested sine hash (seed 000 §5.1) */
+#define ALPHA_HASH_DEFAULT ALPHA_HASH_PCG /* uniform at any coordinate magnitude, cheaper on CPU */
+#define ALPHA_HASH_SCALE_DEFAULT 1.0 /* g_HashScale: noise cell size in pixels (seed 000 §5.4.1) */
+#define ALPHA_FADE_N_DEFAULT 6.0    /* n of seed 000 Eq. 3: mip levels until the noise is full */
+#define ALPHA_THRESHOLD_MIN 1.0e-6  /* smallest threshold: alpha = 0 never passes */
+#define ALPHA_HASH_LOG2_CLAMP 60.0  /* log2(pixScale) and LODs are clamped to [-60, 60] */
+#define ALPHA_MAX_ANISO 16.0        /* largest anisotropy ratio (as GL's max anisotropy) */
+#define ALPHA_MAX_ANISO_LOG2 4      /* log2(ALPHA_MAX_ANISO): per-axis refinement levels */
+#define ALPHA_A2C_MAX_SAMPLES 16    /* hashed A2C: n is a power of two <= this */
+
 #endif

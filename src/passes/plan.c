@@ -5,7 +5,18 @@
 #include <string.h>
 
 #include "core/log.h"
+#include "common/shared_defs.h"
 #include "passes/alpha_test.h"
+
+alpha_params alpha_params_defaults(const alpha_params *p)
+{
+    alpha_params r = p ? *p : (alpha_params){0};
+    if (!(r.hash_scale > 0.0f))
+        r.hash_scale = ALPHA_HASH_SCALE_DEFAULT;
+    if (!(r.fade_n > 0.0f))
+        r.fade_n = ALPHA_FADE_N_DEFAULT;
+    return r;
+}
 
 alpha_mode plan_material_mode(const plan *p, const material *m)
 {
@@ -42,6 +53,8 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
         snprintf(ps->name, sizeof ps->name, "forward.mask[%s]", alpha_mode_name(mode));
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_MASK 1");
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_MODE %d", alpha_mode_shader_id(mode));
+        if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
+            snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "MSAA 1");
         break;
     case PLAN_PASS_FORWARD_BLEND:
         snprintf(ps->name, sizeof ps->name, "forward.blend");
@@ -63,6 +76,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                        : sc->alpha_mode != ALPHA_MODE_DEFAULT ? sc->alpha_mode
                                                               : ALPHA_MODE_TRADITIONAL;
     out->coverage = true;
+    out->alpha = alpha_params_defaults(&o.alpha);
 
     /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front). */
     static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND};
@@ -97,6 +111,8 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                 ps->triangles += (long long)(pr->index_count / 3) * inst;
                 if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
                     out->msaa = true;
+                if (mode == ALPHA_MODE_CASTANO)
+                    out->castano = true;
             }
         }
     }
@@ -135,6 +151,20 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     fprintf(f, "assets     %d, instances %d, triangles/frame %lld, textures %d (premultiplied mips, RGBA16)\n",
             sc->asset_count, sc->instance_count, tris, p->texture_count);
     fprintf(f, "alpha mode %s (global; per-material overrides shown per pass)\n", alpha_mode_name(p->global_mode));
+    bool hashed = false;
+    for (int i = 0; i < p->pass_count; i++)
+        hashed |= p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
+                  (p->passes[i].mode == ALPHA_MODE_HASHED || p->passes[i].mode == ALPHA_MODE_HASHED_A2C);
+    if (hashed)
+    {
+        char fade[64];
+        if (p->alpha.no_fade)
+            snprintf(fade, sizeof fade, "off");
+        else
+            snprintf(fade, sizeof fade, "over %.1f mip levels", p->alpha.fade_n);
+        fprintf(f, "hash       %s, scale %.2f px%s, fade-in %s\n", p->alpha.hash_kind == ALPHA_HASH_SINE ? "sine" : "pcg3d",
+                p->alpha.hash_scale, p->alpha.anisotropic ? ", anisotropic" : "", fade);
+    }
     fprintf(f, "passes (in draw order):\n");
     if (p->pass_count == 0)
         fprintf(f, "  (none: the scene draws nothing; output is the sky colour)\n");
@@ -181,7 +211,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
         fprintf(f, "]%s\n", p->debug_channels ? ", writes ring.id and eccentricity" : "");
     }
     fprintf(f, "targets    per ring: colour RGBA16F + coverage R16F + depth 24%s; display: %s\n",
-            p->msaa ? ", 4x MSAA" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
+            p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     fprintf(f, "off        MSAA (%s), TAA and velocity (not implemented yet)\n",
             p->msaa ? "on" : "no alpha-to-coverage mode in use");
 }

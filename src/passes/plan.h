@@ -39,11 +39,24 @@ typedef struct plan_pass {
     long long triangles;    /* triangles per frame, instances included */
 } plan_pass;
 
+/* Parameters of the hashed-family alpha tests (seed 000 §5), the same for every material. */
+typedef struct alpha_params {
+    float hash_scale;   /* noise scale in pixels, default 1 (below 1 for TAA, seed 000 §5.4.1) */
+    int hash_kind;      /* ALPHA_HASH_* (common/shared_defs.h), default the project's choice */
+    bool anisotropic;   /* per-axis derivative scaling of the hash (option) */
+    bool no_fade;       /* disable the fade-in of hashed noise with LOD (seed 000 §5.5.1) */
+    float fade_n;       /* mip levels over which the noise fades in, default 6 */
+} alpha_params;
+
+/* Fills zero fields with defaults. */
+alpha_params alpha_params_defaults(const alpha_params *p);
+
 typedef struct plan_options {
     alpha_mode alpha_mode; /* --alpha; DEFAULT = the scene's mode, else traditional */
     int width, height;     /* 0 = the scene's display */
     int frames;            /* frames to draw (TAA would need history only when > 1) */
     fov_layout layout;     /* foveation rings; zeroed = off (one full-resolution ring) */
+    alpha_params alpha;    /* hashed-family parameters (zero = defaults) */
     bool overlay;          /* draw ring borders and the gaze marker into the colour */
     bool debug_channels;   /* write ring.id and eccentricity channels */
 } plan_options;
@@ -55,7 +68,9 @@ typedef struct plan {
     plan_pass passes[PLAN_MAX_PASSES];
     int pass_count;
     int texture_count;          /* images uploaded (with premultiplied mips) */
-    bool msaa;                  /* 4x MSAA target: only for A2C modes */
+    bool msaa;                  /* MSAA_SAMPLES x MSAA targets: only for A2C modes */
+    alpha_params alpha;         /* with defaults filled */
+    bool castano;               /* some material uses coverage-preserving mips */
     bool taa, velocity;         /* not implemented yet: always false, with the reason printed */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
     fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */

@@ -41,7 +41,7 @@ enum { OUT_COLOR, OUT_COVERAGE, OUT_DEBUG, OUT_COUNT };
 typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_eye,
-        u_light_dir, u_light_color, u_ambient;
+        u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame;
 } gpu_program;
 
 typedef struct composite_program {
@@ -57,6 +57,8 @@ typedef struct gpu_prim {
 typedef struct gpu_asset {
     gpu_prim *prims;
     GLuint *textures;       /* per image */
+    GLuint *castano;        /* per material: coverage-preserving chain of its image at its cutoff, or 0 */
+    float *fade_n;          /* per material: hashed fade-in length in mip levels, 0 = no fade */
     GLuint *samplers;       /* per material */
     GLuint instance_vbo;    /* mat4 per instance of this asset, in instance_ids order */
     int *instance_ids;      /* scene instance index of each slot */
@@ -71,6 +73,9 @@ typedef struct gpu_asset {
 typedef struct ring_targets {
     GLuint fbo[MAX_FOV_RINGS];
     GLuint color, coverage, depth;
+    /* A2C modes: every ring draws into one shared multisampled target (display-sized), then
+     * resolves its footprint corner into its layer. */
+    GLuint msaa_fbo, msaa_color, msaa_coverage, msaa_depth;
 } ring_targets;
 
 #define RENDERER_MAX_STAGES (MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
@@ -121,6 +126,11 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_light_dir = glGetUniformLocation(p, "u_light_dir");
     out->u_light_color = glGetUniformLocation(p, "u_light_color");
     out->u_ambient = glGetUniformLocation(p, "u_ambient");
+    out->u_hash_scale = glGetUniformLocation(p, "u_hash_scale");
+    out->u_hash_kind = glGetUniformLocation(p, "u_hash_kind");
+    out->u_hash_aniso = glGetUniformLocation(p, "u_hash_aniso");
+    out->u_fade_n = glGetUniformLocation(p, "u_fade_n");
+    out->u_frame = glGetUniformLocation(p, "u_frame");
     return FS_OK;
 }
 
@@ -152,10 +162,10 @@ static fs_status composite_create(const plan_pass *ps, composite_program *out)
  * value k/255 exactly (k/255 = 257k/65535), so a level-0 alpha equal to a material's cutoff
  * compares exactly as glTF says (alpha >= cutoff); RGBA16F would round 51/255 below a 0.2 cutoff.
  * It also keeps 1/65535 precision for dark premultiplied colour in the averaged mips. */
-static GLuint upload_image(const image_rgba8 *img, fs_status *st)
+static GLuint upload_chain(const image_rgba8 *img, float cutoff, bool castano, fs_status *st)
 {
     mip_chain mc;
-    *st = mip_chain_build(img, &mc);
+    *st = castano ? mip_chain_build_castano(img, cutoff, &mc) : mip_chain_build(img, &mc);
     if (*st != FS_OK)
         return 0;
     size_t n0 = (size_t)mc.width[0] * (size_t)mc.height[0] * 4;
@@ -223,6 +233,29 @@ static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo)
     g->index_count = (GLsizei)p->index_count;
 }
 
+/* Fade-in length of the hashed noise for one material (seed 000 §5.5.1, docs/hashed-alpha.md):
+ * fade_n mip levels (default 6), but never later than the level where the traditional test's
+ * coverage of this texture at this cutoff has drifted by a quarter — a thin wire erodes by mip 3,
+ * and noise that arrives at mip 6 would leave it invisible in between. No texture: no mip levels
+ * to fade over, so no fade (the noise is the only way to show a constant partial alpha). */
+static fs_status material_fade(const plan *pl, const material *m, const asset *as, float *out)
+{
+    alpha_mode mode = plan_material_mode(pl, m);
+    *out = 0.0f;
+    if (m->alpha_kind != ALPHA_KIND_MASK || m->base_color_image < 0 || pl->alpha.no_fade ||
+        (mode != ALPHA_MODE_HASHED && mode != ALPHA_MODE_HASHED_A2C))
+        return FS_OK;
+    mip_chain mc;
+    fs_status st = mip_chain_build(&as->images[m->base_color_image], &mc);
+    if (st != FS_OK)
+        return st;
+    int drift = mip_coverage_drift_level(&mc, m->alpha_cutoff, 0.25);
+    mip_chain_free(&mc);
+    *out = fmaxf(1.0f, fminf(pl->alpha.fade_n, (float)drift));
+    log_info("ALPHA: [%s] material \"%s\": hashed noise fades in over %.1f mip levels", as->name, m->name, *out);
+    return FS_OK;
+}
+
 static fs_status upload_scene(renderer *r)
 {
     const scene *sc = r->sc;
@@ -242,7 +275,10 @@ static fs_status upload_scene(renderer *r)
         ga->prims = calloc((size_t)as->prim_count + 1, sizeof *ga->prims);
         ga->textures = calloc((size_t)as->image_count + 1, sizeof(GLuint));
         ga->samplers = calloc((size_t)as->material_count + 1, sizeof(GLuint));
-        if (!ga->instance_ids || !ga->visible || !mats || !ga->prims || !ga->textures || !ga->samplers) {
+        ga->castano = calloc((size_t)as->material_count + 1, sizeof(GLuint));
+        ga->fade_n = calloc((size_t)as->material_count + 1, sizeof(float));
+        if (!ga->instance_ids || !ga->visible || !mats || !ga->prims || !ga->textures || !ga->samplers ||
+            !ga->castano || !ga->fade_n) {
             free(mats);
             return FS_ERR_NOMEM;
         }
@@ -256,12 +292,26 @@ static fs_status upload_scene(renderer *r)
         free(mats);
         for (int i = 0; i < as->image_count; i++) {
             fs_status st;
-            ga->textures[i] = upload_image(&as->images[i], &st);
+            ga->textures[i] = upload_chain(&as->images[i], 0.0f, false, &st);
             if (st != FS_OK)
                 return st;
         }
-        for (int m = 0; m < as->material_count; m++)
-            ga->samplers[m] = make_sampler(&as->materials[m]);
+        for (int m = 0; m < as->material_count; m++) {
+            const material *mt = &as->materials[m];
+            ga->samplers[m] = make_sampler(mt);
+            /* Castano: the traditional test on a chain whose alpha is rescaled per level so each
+             * level keeps level 0's coverage at this material's cutoff (seed 001). */
+            fs_status fst = material_fade(&r->pl, mt, as, &ga->fade_n[m]);
+            if (fst != FS_OK)
+                return fst;
+            if (mt->alpha_kind == ALPHA_KIND_MASK && mt->base_color_image >= 0 &&
+                plan_material_mode(&r->pl, mt) == ALPHA_MODE_CASTANO) {
+                fs_status st;
+                ga->castano[m] = upload_chain(&as->images[mt->base_color_image], mt->alpha_cutoff, true, &st);
+                if (st != FS_OK)
+                    return st;
+            }
+        }
         for (int p = 0; p < as->prim_count; p++)
             upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo);
     }
@@ -297,6 +347,21 @@ static fs_status create_targets(renderer *r)
         glNamedFramebufferTexture(t->fbo[i], GL_DEPTH_ATTACHMENT, t->depth, 0);
         glNamedFramebufferDrawBuffers(t->fbo[i], 2, bufs);
         fs_status st = check_fbo(t->fbo[i], "ring", r->width, r->height);
+        if (st != FS_OK)
+            return st;
+    }
+    if (r->pl.msaa) {
+        glCreateFramebuffers(1, &t->msaa_fbo);
+        GLuint *ms[3] = {&t->msaa_color, &t->msaa_coverage, &t->msaa_depth};
+        static const GLenum att[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_DEPTH_ATTACHMENT};
+        for (int k = 0; k < 3; k++) {
+            glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, ms[k]);
+            glTextureStorage2DMultisample(*ms[k], MSAA_SAMPLES, k_forward_resources[k].format, r->width, r->height,
+                                          GL_TRUE);
+            glNamedFramebufferTexture(t->msaa_fbo, att[k], *ms[k], 0);
+        }
+        glNamedFramebufferDrawBuffers(t->msaa_fbo, 2, bufs);
+        fs_status st = check_fbo(t->msaa_fbo, "MSAA ring", r->width, r->height);
         if (st != FS_OK)
             return st;
     }
@@ -389,10 +454,14 @@ void renderer_destroy(renderer *r)
                 glDeleteTextures(as->image_count, ga->textures);
             if (ga->samplers)
                 glDeleteSamplers(as->material_count, ga->samplers);
+            if (ga->castano)
+                glDeleteTextures(as->material_count, ga->castano);
+            free(ga->fade_n);
             glDeleteBuffers(1, &ga->instance_vbo);
             free(ga->prims);
             free(ga->textures);
             free(ga->samplers);
+            free(ga->castano);
             free(ga->instance_ids);
             free(ga->visible);
         }
@@ -405,6 +474,10 @@ void renderer_destroy(renderer *r)
     glDeleteTextures(1, &r->rt.color);
     glDeleteTextures(1, &r->rt.coverage);
     glDeleteTextures(1, &r->rt.depth);
+    glDeleteFramebuffers(1, &r->rt.msaa_fbo);
+    glDeleteTextures(1, &r->rt.msaa_color);
+    glDeleteTextures(1, &r->rt.msaa_coverage);
+    glDeleteTextures(1, &r->rt.msaa_depth);
     glDeleteFramebuffers(1, &r->out_fbo);
     glDeleteTextures(OUT_COUNT, r->out_tex);
     glDeleteVertexArrays(1, &r->empty_vao);
@@ -427,6 +500,11 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     glProgramUniform3f(pg->id, pg->u_light_color, L->color.x, L->color.y, L->color.z);
     glProgramUniform3f(pg->id, pg->u_ambient, L->ambient.x, L->ambient.y, L->ambient.z);
     glProgramUniform1f(pg->id, pg->u_mip_bias, r->pl.layout.rings[ring].mip_bias);
+    const alpha_params *ap = &r->pl.alpha;
+    glProgramUniform1f(pg->id, pg->u_hash_scale, ap->hash_scale);
+    glProgramUniform1i(pg->id, pg->u_hash_kind, ap->hash_kind);
+    glProgramUniform1i(pg->id, pg->u_hash_aniso, ap->anisotropic);
+    glProgramUniform1ui(pg->id, pg->u_frame, (GLuint)fr->index);
 }
 
 static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi)
@@ -437,7 +515,9 @@ static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset
     glProgramUniform4fv(pg->id, pg->u_base_color, 1, m->base_color);
     glProgramUniform1f(pg->id, pg->u_alpha_cutoff, m->alpha_cutoff);
     glProgramUniform1i(pg->id, pg->u_double_sided, m->double_sided);
-    glBindTextureUnit(TEX_UNIT_BASE_COLOR, tex ? ga->textures[m->base_color_image] : 0);
+    glProgramUniform1f(pg->id, pg->u_fade_n, ga->fade_n[mi]);
+    GLuint t = !tex ? 0 : ga->castano[mi] ? ga->castano[mi] : ga->textures[m->base_color_image];
+    glBindTextureUnit(TEX_UNIT_BASE_COLOR, t);
     glBindSampler(TEX_UNIT_BASE_COLOR, ga->samplers[mi]);
     if (m->double_sided)
         glDisable(GL_CULL_FACE);
@@ -574,7 +654,7 @@ static void stage_end(renderer *r, int k, double *t_prev)
 static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, double *t_prev)
 {
     const light_desc *L = &r->sc->light;
-    GLuint fbo = r->rt.fbo[ring];
+    GLuint fbo = r->pl.msaa ? r->rt.msaa_fbo : r->rt.fbo[ring];
     const fov_ring_rect *rr = &fr->ring_rect[ring];
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, rr->width, rr->height);
@@ -607,6 +687,12 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             draw_blend_sorted(r, pg, ps, fr);
             glDepthMask(GL_TRUE);
             glDisable(GL_BLEND);
+        } else if (ps->kind == PLAN_PASS_FORWARD_MASK && ps->mode == ALPHA_MODE_A2C) {
+            glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+            glEnable(GL_SAMPLE_ALPHA_TO_ONE);
+            draw_instanced(r, pg, ps);
+            glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+            glDisable(GL_SAMPLE_ALPHA_TO_ONE);
         } else {
             draw_instanced(r, pg, ps);
         }
@@ -614,6 +700,17 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             stage_end(r, stage + i, t_prev);
     }
     glDisable(GL_SCISSOR_TEST);
+    if (r->pl.msaa) {
+        /* Resolve the footprint corner, colour and coverage separately, into this ring's layer. */
+        static const GLenum att[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        for (int k = 0; k < 2; k++) {
+            glNamedFramebufferReadBuffer(r->rt.msaa_fbo, att[k]);
+            glNamedFramebufferDrawBuffer(r->rt.fbo[ring], att[k]);
+            glBlitNamedFramebuffer(r->rt.msaa_fbo, r->rt.fbo[ring], 0, 0, rr->width, rr->height, 0, 0, rr->width,
+                                   rr->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        }
+        glNamedFramebufferDrawBuffers(r->rt.fbo[ring], 2, att);
+    }
 }
 
 static void draw_composite(renderer *r, const frame_record *fr)

@@ -23,6 +23,8 @@ typedef struct gpu_fov {
     const fov_layout *layout; /* NULL = off */
     float gaze[2];            /* normalised, origin top-left */
     bool overlay, debug_channels;
+    alpha_params alpha;       /* zero = defaults */
+    int frame;                /* frame index (stochastic thresholds change with it) */
 } gpu_fov;
 
 /* Renders `sc` at time t into *img (R, G, B, A, coverage [, ring.id, eccentricity]) at w x h. */
@@ -36,6 +38,7 @@ static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, 
             po.layout = *fv->layout;
         po.overlay = fv->overlay;
         po.debug_channels = fv->debug_channels;
+        po.alpha = fv->alpha;
     }
     fs_status st = plan_build(sc, &po, &pl);
     if (st != FS_OK)
@@ -43,7 +46,7 @@ static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, 
     renderer *r = renderer_create(&(renderer_desc){.scene = sc, .plan = &pl}, &st);
     if (!r)
         return st;
-    frame_record fr = frame_record_at(sc, 0, t, -1.0f, w, h);
+    frame_record fr = frame_record_at(sc, fv ? fv->frame : 0, t, -1.0f, w, h);
     display_desc dd = {w, h, fr.hfov_deg};
     frame_record_set_gaze(&fr, &pl.layout, &dd, fv ? fv->gaze[0] : 0.5f, fv ? fv->gaze[1] : 0.5f);
     st = renderer_draw(r, &fr);

@@ -96,23 +96,34 @@ TEST(unplaced_assets_cost_nothing)
     scene_free(&sc);
 }
 
-TEST(unimplemented_modes_are_refused_only_when_used)
+TEST(modes_choose_variants_and_targets)
 {
     scene sc;
     scene_init_defaults(&sc);
     add(&sc, ALPHA_KIND_MASK, 1);
     plan p;
-    log_set_quiet_errors(true);
-    CHECK(plan_build(&sc, &(plan_options){.alpha_mode = ALPHA_MODE_HASHED}, &p) == FS_ERR_USAGE);
-    log_set_quiet_errors(false);
-    CHECK(plan_build(&sc, &(plan_options){.alpha_mode = ALPHA_MODE_TRADITIONAL}, &p) == FS_OK);
+    /* Every mode compiles its own MASK variant; only the A2C modes ask for MSAA targets. */
+    for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++) {
+        CHECK(plan_build(&sc, &(plan_options){.alpha_mode = (alpha_mode)m}, &p) == FS_OK);
+        const plan_pass *ps = plan_find(&p, PLAN_PASS_FORWARD_MASK, (alpha_mode)m);
+        CHECK(ps != NULL);
+        bool a2c = m == ALPHA_MODE_A2C || m == ALPHA_MODE_HASHED_A2C;
+        CHECK(p.msaa == a2c);
+        CHECK(p.castano == (m == ALPHA_MODE_CASTANO));
+        bool msaa_define = false;
+        for (int d = 0; ps && d < ps->define_count; d++)
+            msaa_define |= strcmp(ps->defines[d], "MSAA 1") == 0;
+        CHECK(msaa_define == a2c);
+    }
     /* The scene's own mode applies when the CLI gives none; a material override beats both. */
-    sc.alpha_mode = ALPHA_MODE_TRADITIONAL;
-    CHECK(plan_build(&sc, NULL, &p) == FS_OK && p.global_mode == ALPHA_MODE_TRADITIONAL);
+    sc.alpha_mode = ALPHA_MODE_HASHED;
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK && p.global_mode == ALPHA_MODE_HASHED);
     sc.assets[0].materials[0].alpha_mode = ALPHA_MODE_STOCHASTIC;
-    log_set_quiet_errors(true);
-    CHECK(plan_build(&sc, NULL, &p) == FS_ERR_USAGE);
-    log_set_quiet_errors(false);
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_STOCHASTIC) != NULL);
+    CHECK(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED) == NULL);
+    /* Defaults of the hashed parameters. */
+    CHECK(p.alpha.hash_scale == 1.0f && p.alpha.fade_n == 6.0f && !p.alpha.no_fade);
     scene_free(&sc);
 }
 
@@ -184,7 +195,7 @@ int main(void)
     RUN(opaque_scene_has_no_alpha_variant_whatever_the_mode);
     RUN(mask_and_blend_get_their_passes_in_draw_order);
     RUN(unplaced_assets_cost_nothing);
-    RUN(unimplemented_modes_are_refused_only_when_used);
+    RUN(modes_choose_variants_and_targets);
     RUN(shipped_scenes);
     RUN(rings_and_composite_only_when_asked);
     return test_summary();

@@ -13,7 +13,8 @@ TEST(forward_frag_expands_includes)
     CHECK(shader_src_build("shaders/forward.frag", defs, 2, &s) == FS_OK);
     CHECK(strncmp(s.text, "#version 450 core\n#define ALPHA_MODE 1\n#define PASS_MASK 1\n", 58) == 0);
     CHECK(strstr(s.text, "\n#include") == NULL);           /* every include directive replaced */
-    CHECK(strstr(s.text, "bool alpha_test_passes") != NULL); /* alpha_test.glsl is in */
+    CHECK(strstr(s.text, "bool alpha_test(") != NULL);      /* alpha_test.glsl is in */
+    CHECK(strstr(s.text, "float alpha_hashed_threshold(") != NULL); /* and alpha_hash.glsl, nested */
     CHECK(strstr(s.text, "vec3 shade_lambert") != NULL);
     CHECK(s.file_count >= 3);
     CHECK(strcmp(s.files[0], "shaders/forward.frag") == 0);

@@ -1,0 +1,279 @@
+// alpha_hash.glsl: hashed and stochastic alpha-test thresholds (Wyman & McGuire 2017, seed 000
+// §4-6). C twin: src/passes/alpha_hash.c (declared in src/passes/alpha_hash.h, which documents each
+// function); both take their constants from common/shared_defs.h and evaluate the same float
+// operations in the same order. `precise` stops the compiler from fusing multiply-adds the C side
+// does not fuse. NaN and infinity tests look at the bit pattern, because compilers may assume that
+// comparisons never see NaN. tests/gpu/test_alpha_twin.c checks this file against the C twin;
+// docs/hashed-alpha.md explains the choices.
+#ifndef FOVSIM_ALPHA_HASH_GLSL
+#define FOVSIM_ALPHA_HASH_GLSL
+
+#include "common/shared_defs.h"
+
+// >>helpers
+
+// C twin: is_finite_bits.
+bool alpha_hash_is_finite(float x)
+{
+    return (floatBitsToUint(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+// C twin: is_nan_bits.
+bool alpha_hash_is_nan(float x)
+{
+    return (floatBitsToUint(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
+// C twin: nan_to_zero.
+float alpha_hash_nan_to_zero(float x)
+{
+    return alpha_hash_is_nan(x) ? 0.0 : x;
+}
+
+// C twin: clamp_nan (clamp, NaN -> nan_value).
+float alpha_hash_clamp(float x, float lo, float hi, float nan_value)
+{
+    if (alpha_hash_is_nan(x))
+        return nan_value;
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+// C twin: unit_interval ([0, 1), the largest float below 1 is 0x3f7fffff).
+float alpha_hash_unit(float h)
+{
+    return alpha_hash_clamp(h, 0.0, uintBitsToFloat(0x3f7fffffu), 0.0);
+}
+
+// C twin: fractf.
+float alpha_hash_fract(float x)
+{
+    precise float f = x - floor(x);
+    return f;
+}
+
+// C twin: length3 (sqrt of the dot product, summed left to right, no fused multiply-add).
+float alpha_hash_length(vec3 v)
+{
+    precise float d = v.x * v.x + v.y * v.y + v.z * v.z;
+    return sqrt(d);
+}
+
+// >>hashes
+
+// C twin: alpha_hash_pcg3d (Jarzynski & Olano 2020).
+uvec3 alpha_hash_pcg3d(uvec3 v)
+{
+    v = v * 1664525u + 1013904223u;
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    v ^= v >> 16u;
+    v.x += v.y * v.z;
+    v.y += v.z * v.x;
+    v.z += v.x * v.y;
+    return v;
+}
+
+// C twin: alpha_hash_sine2 (seed 000 §5.1, McGuire's 2D hash).
+float alpha_hash_sine2(vec2 v)
+{
+    precise float s1 = sin(17.0 * v.x + 0.1 * v.y);
+    precise float s2 = sin(13.0 * v.y + v.x);
+    precise float h = 1.0e4 * s1 * (0.1 + abs(s2));
+    return alpha_hash_unit(alpha_hash_fract(h));
+}
+
+// C twin: alpha_hash_sine.
+float alpha_hash_sine(vec3 p)
+{
+    return alpha_hash_sine2(vec2(alpha_hash_sine2(p.xy), p.z));
+}
+
+// C twin: hash_key (non-finite or denormal -> 0, floor, clamp to the int32 range, bits as uint).
+uint alpha_hash_key(float v)
+{
+    if (!alpha_hash_is_finite(v) || abs(v) < uintBitsToFloat(0x00800000u))
+        v = 0.0;
+    float q = floor(v);
+    q = q < -2147483648.0 ? -2147483648.0 : (q > 2147483520.0 ? 2147483520.0 : q);
+    return uint(int(q));
+}
+
+// C twin: alpha_hash_pcg.
+float alpha_hash_pcg(vec3 p)
+{
+    uvec3 h = alpha_hash_pcg3d(uvec3(alpha_hash_key(p.x), alpha_hash_key(p.y), alpha_hash_key(p.z)));
+    return float((h.x ^ h.y ^ h.z) >> 8u) * (1.0 / 16777216.0);
+}
+
+// C twin: alpha_hash_kind.
+float alpha_hash_kind(vec3 p, int hash_kind)
+{
+    return hash_kind == ALPHA_HASH_SINE ? alpha_hash_sine(p) : alpha_hash_pcg(p);
+}
+
+// >>threshold
+
+// C twin: alpha_hash_cdf (seed 000 Eq. 1; only the needed branch, denominators >= FLT_MIN).
+float alpha_hash_cdf(float x, float lerp_factor)
+{
+    precise float a = min(lerp_factor, 1.0 - lerp_factor);
+    precise float t;
+    if (x < a) {
+        t = x * x / max(2.0 * a * (1.0 - a), uintBitsToFloat(0x00800000u));
+    } else if (x < 1.0 - a) {
+        t = (x - 0.5 * a) / (1.0 - a);
+    } else {
+        precise float y = 1.0 - x;
+        t = 1.0 - y * y / max(2.0 * a * (1.0 - a), uintBitsToFloat(0x00800000u));
+    }
+    return alpha_hash_clamp(t, 0.0, 1.0, 0.5);
+}
+
+// C twin: alpha_hash_log2_scale (Listing 1's log2(pixScale), clamped; ends decided without log2).
+float alpha_hash_log2_scale(vec3 dx, vec3 dy, float hash_scale)
+{
+    float hs = (alpha_hash_is_finite(hash_scale) && hash_scale > 0.0) ? hash_scale : float(ALPHA_HASH_SCALE_DEFAULT);
+    float max_deriv = max(alpha_hash_nan_to_zero(alpha_hash_length(dx)), alpha_hash_nan_to_zero(alpha_hash_length(dy)));
+    precise float pix_scale = 1.0 / (hs * max_deriv);
+    const float lim = float(ALPHA_HASH_LOG2_CLAMP);
+    if (pix_scale >= ldexp(1.0, 60))
+        return lim;
+    if (pix_scale <= ldexp(1.0, -60))
+        return -lim;
+    return alpha_hash_clamp(log2(pix_scale), -lim, lim, 0.0);
+}
+
+// C twin: aniso_level (per-axis refinement, exact power-of-two comparisons).
+int alpha_hash_aniso_level(float deriv_axis, float max_deriv)
+{
+    int e = 0;
+    for (int j = 1; j <= ALPHA_MAX_ANISO_LOG2; j++)
+        e += deriv_axis * ldexp(1.0, j) <= max_deriv ? 1 : 0;
+    return e;
+}
+
+// C twin: cell (floor(2^level * o), non-finite or denormal -> 0).
+float alpha_hash_cell(float o, int level)
+{
+    float v = ldexp(1.0, level) * o;
+    if (!alpha_hash_is_finite(v) || abs(v) < uintBitsToFloat(0x00800000u))
+        v = 0.0;
+    return floor(v);
+}
+
+// C twin: alpha_hashed_threshold (seed 000 Listing 1).
+float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic)
+{
+    float l = alpha_hash_log2_scale(dx, dy, hash_scale);
+    float lo = floor(l), hi = ceil(l);
+    precise float lerp_factor = l - lo; // fract(l)
+    int ilo = int(lo), ihi = int(hi);
+    ivec3 e = ivec3(0);
+    if (anisotropic) {
+        float m = max(alpha_hash_nan_to_zero(alpha_hash_length(dx)), alpha_hash_nan_to_zero(alpha_hash_length(dy)));
+        vec3 adx = abs(dx), ady = abs(dy);
+        e.x = alpha_hash_aniso_level(max(alpha_hash_nan_to_zero(adx.x), alpha_hash_nan_to_zero(ady.x)), m);
+        e.y = alpha_hash_aniso_level(max(alpha_hash_nan_to_zero(adx.y), alpha_hash_nan_to_zero(ady.y)), m);
+        e.z = alpha_hash_aniso_level(max(alpha_hash_nan_to_zero(adx.z), alpha_hash_nan_to_zero(ady.z)), m);
+    }
+    vec3 c_lo = vec3(alpha_hash_cell(obj.x, ilo + e.x), alpha_hash_cell(obj.y, ilo + e.y), alpha_hash_cell(obj.z, ilo + e.z));
+    vec3 c_hi = vec3(alpha_hash_cell(obj.x, ihi + e.x), alpha_hash_cell(obj.y, ihi + e.y), alpha_hash_cell(obj.z, ihi + e.z));
+    float h_lo = alpha_hash_kind(c_lo, hash_kind);
+    float h_hi = alpha_hash_kind(c_hi, hash_kind);
+    precise float x = (1.0 - lerp_factor) * h_lo + lerp_factor * h_hi;
+    float t = alpha_hash_cdf(x, lerp_factor);
+    return alpha_hash_clamp(t, float(ALPHA_THRESHOLD_MIN), 1.0, 1.0);
+}
+
+// >>fade
+
+// C twin: alpha_hashed_fade (seed 000 Eq. 2-3 around the material cutoff).
+float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
+{
+    const float tmin = float(ALPHA_THRESHOLD_MIN);
+    float c = alpha_hash_clamp(cutoff, tmin, 1.0, 0.5);
+    float t = alpha_hash_clamp(threshold, tmin, 1.0, c);
+    if (alpha_hash_is_nan(fade_n) || fade_n <= 0.0)
+        return t;
+    float r = alpha_hash_clamp(aniso_ratio, 1.0, float(ALPHA_MAX_ANISO), 1.0);
+    precise float x = lod + log2(r);
+    float b;
+    if (alpha_hash_is_nan(x)) {
+        b = 1.0;
+    } else if (x <= 0.0) {
+        b = 0.0;
+    } else if (x >= fade_n) {
+        b = 1.0;
+    } else {
+        precise float q = x / fade_n;
+        b = q * q;
+    }
+    precise float f = c + (t - c) * b;
+    return alpha_hash_clamp(f, tmin, 1.0, c);
+}
+
+// C twin: alpha_texture_lod (the GL spec's isotropic LOD; the forward shader uses textureQueryLod).
+float alpha_texture_lod(vec2 duv_dx, vec2 duv_dy, vec2 tex_size, out float aniso_ratio)
+{
+    precise vec2 tx = duv_dx * tex_size, ty = duv_dy * tex_size;
+    precise float px2 = tx.x * tx.x + tx.y * tx.y, py2 = ty.x * ty.x + ty.y * ty.y;
+    float px = sqrt(px2), py = sqrt(py2);
+    float ratio = 1.0, lod = 0.0;
+    if (!alpha_hash_is_nan(px) && !alpha_hash_is_nan(py)) {
+        float pmax = max(px, py), pmin = min(px, py);
+        if (pmax > 0.0) {
+            const float lim = float(ALPHA_HASH_LOG2_CLAMP);
+            ratio = alpha_hash_clamp(pmax / pmin, 1.0, float(ALPHA_MAX_ANISO), 1.0);
+            lod = pmax >= ldexp(1.0, 60) ? lim : alpha_hash_clamp(log2(pmax), -lim, lim, 0.0);
+        }
+    }
+    aniso_ratio = ratio;
+    return lod;
+}
+
+// >>stochastic
+
+// C twin: alpha_stochastic_threshold (seed 000 §4), uniform in (0, 1].
+float alpha_stochastic_threshold(uint pixel_x, uint pixel_y, uint frame, uint salt)
+{
+    uvec3 h = alpha_hash_pcg3d(uvec3(pixel_x, pixel_y, frame ^ salt));
+    return float(((h.x ^ h.y ^ h.z) >> 8u) + 1u) * (1.0 / 16777216.0);
+}
+
+// >>a2c
+
+// C twin: a2c_n (n rounded down to a power of two in [1, ALPHA_A2C_MAX_SAMPLES]).
+int alpha_hash_a2c_n(int n)
+{
+    int p = 1;
+    while (p * 2 <= n && p * 2 <= ALPHA_A2C_MAX_SAMPLES)
+        p *= 2;
+    return p;
+}
+
+// C twin: alpha_hashed_a2c_threshold (seed 000 §6).
+float alpha_hashed_a2c_threshold(int i, int n, float xi1, float xi2, float chi)
+{
+    int nn = alpha_hash_a2c_n(n);
+    float fn = float(nn);
+    float x1 = alpha_hash_clamp(xi1, 0.0, 1.0, 0.0), x2 = alpha_hash_clamp(xi2, 0.0, 1.0, 0.0);
+    float c = alpha_hash_clamp(chi, float(ALPHA_THRESHOLD_MIN), 1.0, 1.0);
+    uint a_o = uint(int(floor(fn * x1)));
+    uint a_plus = 2u * uint(int(floor(0.5 * fn * x2))) + 1u;
+    uint k = (a_o + uint(i) * a_plus) & uint(nn - 1);
+    return (c + float(k)) / fn;
+}
+
+// C twin: alpha_hashed_a2c_mask.
+uint alpha_hashed_a2c_mask(float alpha, int n, float xi1, float xi2, float chi)
+{
+    int nn = alpha_hash_a2c_n(n);
+    uint m = 0u;
+    for (int i = 0; i < nn; i++)
+        if (alpha >= alpha_hashed_a2c_threshold(i, nn, xi1, xi2, chi))
+            m |= 1u << uint(i);
+    return m;
+}
+
+#endif
