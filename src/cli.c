@@ -88,7 +88,9 @@ void cli_print_help(command cmd)
     if (cmd == CMD_BENCH)
         printf("  --warmup W          frames drawn before timing (default 5)\n"
                "  --markdown FILE     append the result as a Markdown section to FILE\n"
-               "  --format F          text (default) or json (machine-readable, on stdout)\n");
+               "  --format F          text (default) or json (machine-readable, on stdout)\n"
+               "  --modes M,M,...     alpha modes to compare in one run (or all); each gets its time\n"
+               "                      relative to traditional, A2C modes also traditional+MSAA\n");
     printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 6 I/O error,\n"
            "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 130 interrupted\n");
 }
@@ -199,7 +201,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
-                                                 "--hash", "--fade-n"};
+                                                 "--hash", "--fade-n", "--modes"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -240,7 +242,29 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 log_error("--eye: expected left, right or average, got '%s'", val);
         } else if (!strcmp(opt, "--hash-scale"))
             ok = parse_float(opt, val, 0.0f, 64.0f, &d->hash_scale);
-        else if (!strcmp(opt, "--fade-n"))
+        else if (!strcmp(opt, "--modes")) {
+            d->bench_mode_count = 0;
+            if (!strcmp(val, "all")) {
+                for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++)
+                    d->bench_modes[d->bench_mode_count++] = (alpha_mode)m;
+            } else {
+                char buf[256];
+                snprintf(buf, sizeof buf, "%s", val);
+                for (char *tok = strtok(buf, ","); tok && ok; tok = strtok(NULL, ",")) {
+                    alpha_mode m = alpha_mode_parse(tok);
+                    bool dup = false;
+                    for (int k = 0; k < d->bench_mode_count; k++)
+                        dup |= d->bench_modes[k] == m;
+                    ok = m != ALPHA_MODE_DEFAULT && !dup;
+                    if (!ok)
+                        log_error("--modes: '%s' is %s (modes: %s, or all)", tok, dup ? "given twice" : "not a mode",
+                                  alpha_mode_list());
+                    else
+                        d->bench_modes[d->bench_mode_count++] = m;
+                }
+                ok = ok && d->bench_mode_count > 0;
+            }
+        } else if (!strcmp(opt, "--fade-n"))
             ok = parse_float(opt, val, 0.0f, 16.0f, &d->fade_n);
         else if (!strcmp(opt, "--hash")) {
             d->hash_kind = !strcmp(val, "pcg") ? ALPHA_HASH_PCG : !strcmp(val, "sine") ? ALPHA_HASH_SINE : -1;
@@ -304,6 +328,10 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if (d->no_fade && d->fade_n > 0.0f) {
         log_error("--no-fade and --fade-n: give one of them, not both");
+        return FS_ERR_USAGE;
+    }
+    if (d->bench_mode_count > 0 && d->cmd != CMD_BENCH) {
+        log_error("--modes is an option of fovsim bench (render and plan take --alpha)");
         return FS_ERR_USAGE;
     }
     if (d->json && d->cmd != CMD_BENCH) {

@@ -49,6 +49,8 @@ typedef struct run_desc {
     bool hash_aniso;         /* --hash-aniso */
     bool no_fade;            /* --no-fade */
     float fade_n;            /* --fade-n, 0 = default 6 */
+    alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench: --modes a,b,c or all */
+    int bench_mode_count;
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

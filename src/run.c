@@ -320,7 +320,10 @@ static void cpu_name(char *buf, size_t n)
 
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
-    const char *name;
+    char name[64];
+    alpha_mode mode;    /* the global alpha mode of this configuration */
+    bool foveated;      /* the run's ring layout (else full resolution) */
+    bool msaa_only;     /* traditional test drawn through the MSAA targets (A2C cost split) */
     plan pl;
     renderer *r;
     double *wall, *stage_wall, *stage_gl, *frags, *shaded; /* n, n * stages, n * stages, n, n */
@@ -398,21 +401,40 @@ static fs_status run_bench(const run_desc *d)
     if (st != FS_OK)
         return st;
     int n = d->frames > 0 ? d->frames : 30;
-    /* Config 0 is always full resolution; config 1 the run's ring layout when it has rings. */
-    bench_config cfg[2] = {{0}};
-    int ncfg = 1;
-    cfg[0].name = "full resolution";
-    if (s.pl.rings) {
-        plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = n,
-                           .alpha = s.pl.alpha};
-        st = plan_build(&s.sc, &po, &cfg[0].pl);
+    /* Configurations: for each alpha mode asked for (--modes, default the run's), full resolution
+     * and, when the run has rings, foveated; plus traditional through the MSAA targets when an A2C
+     * mode is measured, so the MSAA cost can be told from the A2C test's own. The run's own plan
+     * and renderer serve the first foveated (or only) configuration. */
+    alpha_mode modes[ALPHA_MODE_COUNT];
+    int nmodes = 0;
+    bool want_msaa = false;
+    for (int m = 0; m < d->bench_mode_count; m++)
+        modes[nmodes++] = d->bench_modes[m];
+    if (nmodes == 0)
+        modes[nmodes++] = s.pl.global_mode;
+    for (int m = 0; m < nmodes; m++)
+        want_msaa |= modes[m] == ALPHA_MODE_A2C || modes[m] == ALPHA_MODE_HASHED_A2C;
+    enum { MAX_CFG = 2 * (ALPHA_MODE_COUNT + 1) };
+    bench_config cfg[MAX_CFG];
+    memset(cfg, 0, sizeof cfg);
+    int ncfg = 0;
+    for (int lay = 0; lay < (s.pl.rings ? 2 : 1); lay++)
+        for (int m = 0; m < nmodes + (want_msaa ? 1 : 0); m++) {
+            bench_config *c = &cfg[ncfg++];
+            c->foveated = lay == 1;
+            c->msaa_only = m == nmodes;
+            c->mode = c->msaa_only ? ALPHA_MODE_TRADITIONAL : modes[m];
+            snprintf(c->name, sizeof c->name, "%s%s, %s", alpha_mode_name(c->mode), c->msaa_only ? "+MSAA" : "",
+                     c->foveated ? "foveated" : "full resolution");
+        }
+    for (int c = 0; c < ncfg && st == FS_OK; c++) {
+        plan_options po = {.alpha_mode = cfg[c].mode, .width = d->width, .height = d->height, .frames = n,
+                           .alpha = s.pl.alpha, .force_msaa = cfg[c].msaa_only};
+        if (cfg[c].foveated)
+            po.layout = s.pl.layout;
+        st = plan_build(&s.sc, &po, &cfg[c].pl);
         if (st == FS_OK)
-            cfg[0].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &cfg[0].pl, .timers = true}, &st);
-        cfg[1] = (bench_config){.name = "foveated", .pl = s.pl, .r = s.r};
-        ncfg = 2;
-    } else {
-        cfg[0].pl = s.pl;
-        cfg[0].r = s.r;
+            cfg[c].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &cfg[c].pl, .timers = true}, &st);
     }
     for (int c = 0; c < ncfg && st == FS_OK; c++)
         if (!bench_alloc(&cfg[c], n))
@@ -438,8 +460,8 @@ static fs_status run_bench(const run_desc *d)
     double px = (double)s.pl.width * s.pl.height;
     char rings[256];
     fov_layout_format(&s.pl.layout, rings, sizeof rings);
-    summary wall[2], shaded[2], frags[2];
-    summary stage_wall[2][RENDERER_STATS_MAX], stage_gl[2][RENDERER_STATS_MAX];
+    summary wall[MAX_CFG], shaded[MAX_CFG], frags[MAX_CFG];
+    summary stage_wall[MAX_CFG][RENDERER_STATS_MAX], stage_gl[MAX_CFG][RENDERER_STATS_MAX];
     for (int c = 0; c < ncfg && st == FS_OK; c++) {
         wall[c] = summarise(cfg[c].wall, n);
         shaded[c] = summarise(cfg[c].shaded, n);
@@ -449,9 +471,19 @@ static fs_status run_bench(const run_desc *d)
             stage_gl[c][p] = summarise(&cfg[c].stage_gl[(size_t)p * (size_t)n], n);
         }
     }
-    double speedup = ncfg == 2 ? wall[0].median / wall[1].median : 1.0;
-    double ideal = ncfg == 2 ? px / shaded[1].median : 1.0;
+    /* Foveation's speedup: the first mode, full resolution vs foveated. */
+    int per_layout = ncfg / (s.pl.rings ? 2 : 1);
+    bool has_fov = s.pl.rings && st == FS_OK;
+    double speedup = has_fov ? wall[0].median / wall[per_layout].median : 1.0;
+    double ideal = has_fov ? px / shaded[per_layout].median : 1.0;
 
+    /* Each configuration's frame time relative to traditional in the same layout (seed 000
+     * Table 1's comparison); 0 when traditional was not measured. */
+    double rel[MAX_CFG] = {0};
+    for (int c = 0; c < ncfg && st == FS_OK; c++)
+        for (int b = 0; b < ncfg; b++)
+            if (cfg[b].mode == ALPHA_MODE_TRADITIONAL && !cfg[b].msaa_only && cfg[b].foveated == cfg[c].foveated)
+                rel[c] = wall[c].median / wall[b].median;
     char *report = malloc(65536);
     int o = 0;
     if (!report)
@@ -466,7 +498,10 @@ static fs_status run_bench(const run_desc *d)
         for (int c = 0; c < ncfg; c++) {
             char spec[256];
             fov_layout_format(&cfg[c].pl.layout, spec, sizeof spec);
-            OUT("    {\"name\": \"%s\", \"rings\": \"%s\", \"shaded_pixels\": %.0f,\n", cfg[c].name, spec, shaded[c].median);
+            OUT("    {\"name\": \"%s\", \"alpha_mode\": \"%s\", \"msaa_only\": %s, \"rings\": \"%s\", "
+                "\"shaded_pixels\": %.0f, \"relative_to_traditional\": %.4f,\n",
+                cfg[c].name, alpha_mode_name(cfg[c].mode), cfg[c].msaa_only ? "true" : "false", spec,
+                shaded[c].median, rel[c]);
             OUT("     \"frame_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
                 wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
             OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags[c].median >= 0 ? frags[c].median / px : -1.0);
@@ -503,9 +538,15 @@ static fs_status run_bench(const run_desc *d)
                     cfg[c].name, frags[c].median / px, frags[c].p10 / px, frags[c].p90 / px, frags[c].min / px,
                     frags[c].max / px);
         }
-        if (ncfg == 2)
-            OUT("\nfoveated vs full resolution: speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
-                "shaded pixels), achieved %.0f %% of ideal\n", speedup, ideal, 100.0 * speedup / ideal);
+        if (ncfg > 1) {
+            OUT("\n| configuration | frame (ms, median) | relative to traditional |\n|---|---|---|\n");
+            for (int c = 0; c < ncfg; c++)
+                OUT("| %s | %.2f | %.2fx |\n", cfg[c].name, wall[c].median, rel[c]);
+        }
+        if (has_fov)
+            OUT("\nfoveated vs full resolution (%s): speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
+                "shaded pixels), achieved %.0f %% of ideal\n", alpha_mode_name(cfg[0].mode), speedup, ideal,
+                100.0 * speedup / ideal);
 #undef OUT
     }
     if (st == FS_OK) {
@@ -521,10 +562,10 @@ static fs_status run_bench(const run_desc *d)
         }
     }
     free(report);
-    for (int c = 0; c < ncfg; c++)
+    for (int c = 0; c < ncfg; c++) {
         bench_free(&cfg[c]);
-    if (ncfg == 2)
-        renderer_destroy(cfg[0].r);
+        renderer_destroy(cfg[c].r);
+    }
     session_end(&s);
     return st;
 }

@@ -77,6 +77,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                                                               : ALPHA_MODE_TRADITIONAL;
     out->coverage = true;
     out->alpha = alpha_params_defaults(&o.alpha);
+    out->msaa = o.force_msaa;
 
     /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front). */
     static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND};

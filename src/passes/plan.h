@@ -59,6 +59,7 @@ typedef struct plan_options {
     alpha_params alpha;    /* hashed-family parameters (zero = defaults) */
     bool overlay;          /* draw ring borders and the gaze marker into the colour */
     bool debug_channels;   /* write ring.id and eccentricity channels */
+    bool force_msaa;       /* draw through MSAA targets even without an A2C mode (bench: cost split) */
 } plan_options;
 
 typedef struct plan {
