@@ -23,13 +23,23 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
     // texture (coverage-preserving mips).
     return alpha >= cutoff;
 #elif ALPHA_MODE == ALPHA_MODE_ID_STOCHASTIC
+    if (alpha <= 0.0 || alpha >= 1.0)
+        return alpha >= 1.0; /* as any threshold in (0, 1] would decide */
     // Independent per fragment, not just per pixel: overlapping layers at one pixel must not share
     // a threshold (that would correlate them like a fixed dither). The salt mixes the primitive and
     // the fragment's depth bits.
     uint salt = uint(gl_PrimitiveID) * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z);
     return alpha >= alpha_stochastic_threshold(uint(gl_FragCoord.x), uint(gl_FragCoord.y), u_frame, salt);
 #elif ALPHA_MODE == ALPHA_MODE_ID_HASHED
-    float t = alpha_hashed_threshold(obj, dFdx(obj), dFdy(obj), u_hash_scale, u_hash_kind, u_hash_aniso);
+    // Derivatives first (uniform control flow), then skip the hash where no threshold can change
+    // the answer: thresholds lie in (0, 1], so alpha 0 never passes and alpha 1 always does. Most
+    // texels of foliage at fine mips are exactly 0 or 1, and whole SIMD groups skip the hashing.
+    vec3 dx = dFdx(obj), dy = dFdy(obj);
+    if (alpha <= 0.0)
+        return false;
+    if (alpha >= 1.0)
+        return true;
+    float t = alpha_hashed_threshold(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso);
     return alpha >= alpha_hashed_fade(cutoff, t, lod, aniso, u_fade_n);
 #elif ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
     // Seed 002: scale alpha up with the mip level so coarse mips keep their coverage.
