@@ -428,6 +428,33 @@ TEST(build_speed_2048)
     free(im.rgba);
 }
 
+/* The level where the traditional test's coverage drifts (renderer: end of the hashed fade-in). */
+TEST(coverage_drift_level)
+{
+    asset a;
+    CHECK(gen_fence(&(gen_fence_desc){0}, &a) == FS_OK);
+    mip_chain p;
+    CHECK(mip_chain_build(&a.images[0], &p) == FS_OK);
+    /* Fence coverage per level: 0.150, 0.180 (+20 %), 0.125 (-17 %), 0 at level 3. */
+    CHECK(mip_coverage_drift_level(&p, 0.5f, 0.25) == 3);
+    CHECK(mip_coverage_drift_level(&p, 0.5f, 0.10) == 1);
+    CHECK(mip_coverage_drift_level(&p, 0.0f, 0.25) == p.level_count); /* everything always passes */
+    mip_chain_free(&p);
+    asset_free(&a);
+    int w = 0, h = 0;
+    uint8_t *px = load_png("assets/quaternius_megakit_set_a/Leaves.png", &w, &h);
+    if (!px)
+        return;
+    image_rgba8 im = {.width = w, .height = h, .rgba = px};
+    CHECK(mip_chain_build(&im, &p) == FS_OK);
+    /* Leaves at 0.2: +11 % at level 5, +22 % at 6, +41 % at 7. */
+    int l = mip_coverage_drift_level(&p, 0.2f, 0.25);
+    fprintf(stderr, "Leaves.png drifts by a quarter at mip %d\n", l);
+    CHECK(l == 7);
+    mip_chain_free(&p);
+    stbi_image_free(px);
+}
+
 int main(void)
 {
     log_set_quiet_errors(false);
@@ -441,5 +468,6 @@ int main(void)
     RUN(nan_cutoff_rejected);
     RUN(plain_chain_scales_one_and_coverage_api);
     RUN(build_speed_2048);
+    RUN(coverage_drift_level);
     return test_summary();
 }
