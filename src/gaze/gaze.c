@@ -11,6 +11,7 @@
 #include "gaze/gaze.h"
 
 #include "core/config.h"
+#include "core/file_read.h"
 
 #include <errno.h>
 #include <math.h>
@@ -1275,64 +1276,11 @@ fs_status gaze_load(const char *path, const gaze_load_desc *desc, gaze_trace *ou
         log_error("GAZE: no file name given");
         return FS_ERR_IO;
     }
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        log_error("%s: cannot open: %s", path, strerror(errno));
-        return FS_ERR_IO;
-    }
-    struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        log_error("%s: is a directory, expected a gaze trace file", path);
-        return FS_ERR_IO;
-    }
-    /* Regular files are read in one go (+2: room to see the end of the file without growing). */
-    const size_t limit = MAX_GAZE_FILE_BYTES;
-    size_t cap = 1 << 16, size = 0;
-    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0 &&
-        (unsigned long long)st.st_size <= limit)
-        cap = (size_t)st.st_size + 2;
-    char *text = malloc(cap);
-    int err = 0;
-    bool too_big = false;
-    while (text) {
-        if (size + 1 >= cap) {
-            if (cap > limit) {
-                too_big = true;
-                break;
-            }
-            size_t ncap = cap * 2 > limit + 2 ? limit + 2 : cap * 2;
-            char *grown = realloc(text, ncap);
-            if (!grown) {
-                free(text);
-                text = NULL;
-                break;
-            }
-            text = grown;
-            cap = ncap;
-        }
-        size_t got = fread(text + size, 1, cap - 1 - size, f);
-        size += got;
-        if (got == 0) {
-            if (ferror(f))
-                err = errno ? errno : EIO;
-            break;
-        }
-    }
-    fclose(f);
-    if (!text) {
-        log_error("%s: out of memory reading the file", path);
-        return FS_ERR_NOMEM;
-    }
-    if (too_big || err) {
-        free(text);
-        if (too_big)
-            log_error("%s: larger than %u MiB, expected a gaze trace", path, MAX_GAZE_FILE_BYTES >> 20);
-        else
-            log_error("%s: cannot read: %s", path, strerror(err));
-        return too_big ? FS_ERR_GAZE : FS_ERR_IO;
-    }
-    text[size] = '\0';
+    char *text;
+    size_t size;
+    fs_status rs = file_read_all(path, MAX_GAZE_FILE_BYTES, "a gaze trace", FS_ERR_GAZE, &text, &size);
+    if (rs != FS_OK)
+        return rs;
     fs_status s = gaze_parse(text, (long)size, path, desc, out);
     free(text);
     return s;

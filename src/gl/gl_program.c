@@ -34,27 +34,34 @@ static GLuint compile_stage(GLenum stage, const char *path, const gl_program_des
 fs_status gl_program_build(const gl_program_desc *d, gpu_program_handle *out)
 {
     out->id = 0;
-    fs_status st;
-    GLuint vs = compile_stage(GL_VERTEX_SHADER, d->vs, d, &st);
-    if (!vs)
-        return st;
-    GLuint fs = compile_stage(GL_FRAGMENT_SHADER, d->fs, d, &st);
-    if (!fs) {
-        glDeleteShader(vs);
+    fs_status st = FS_OK;
+    GLuint stages[2] = {0, 0};
+    int n = 0;
+    if (d->cs) {
+        stages[n++] = compile_stage(GL_COMPUTE_SHADER, d->cs, d, &st);
+    } else {
+        stages[n++] = compile_stage(GL_VERTEX_SHADER, d->vs, d, &st);
+        if (stages[0])
+            stages[n++] = compile_stage(GL_FRAGMENT_SHADER, d->fs, d, &st);
+    }
+    if (!stages[n - 1]) {
+        for (int i = 0; i < n; i++)
+            glDeleteShader(stages[i]);
         return st;
     }
     GLuint p = glCreateProgram();
-    glAttachShader(p, vs);
-    glAttachShader(p, fs);
+    for (int i = 0; i < n; i++) {
+        glAttachShader(p, stages[i]);
+        glDeleteShader(stages[i]); /* flagged; freed with the program */
+    }
     glLinkProgram(p);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
     GLint ok = 0;
     glGetProgramiv(p, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[4096];
         glGetProgramInfoLog(p, sizeof log, NULL, log);
-        log_error("%s + %s (%s): link failed: %s", d->vs, d->fs, d->label ? d->label : "-", log);
+        log_error("%s%s%s (%s): link failed: %s", d->cs ? d->cs : d->vs, d->cs ? "" : " + ", d->cs ? "" : d->fs,
+                  d->label ? d->label : "-", log);
         glDeleteProgram(p);
         return FS_ERR_SHADER;
     }

@@ -17,6 +17,7 @@ typedef struct gpu_program_handle {
 
 typedef struct gl_program_desc {
     const char *vs, *fs;            /* embedded paths, e.g. "shaders/forward.vert" */
+    const char *cs;                 /* or a compute shader alone (vs and fs NULL) */
     const char *const *defines;     /* "NAME VALUE" strings */
     int define_count;
     const char *label;              /* for messages, e.g. the plan pass name */

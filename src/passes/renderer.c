@@ -103,19 +103,26 @@ struct renderer {
 };
 
 /* >>programs */
-static fs_status program_create(const plan_pass *ps, gpu_program *out)
+/* Builds the program of a plan pass (its shaders and sorted defines). */
+static fs_status build_pass_program(const plan_pass *ps, GLuint *id)
 {
     const char *defs[PLAN_MAX_DEFINES];
     for (int i = 0; i < ps->define_count; i++)
         defs[i] = ps->defines[i];
-    gpu_program_handle h;
+    gpu_program_handle h = {0};
     fs_status st = gl_program_build(&(gl_program_desc){.vs = ps->vs, .fs = ps->fs, .defines = defs,
                                                        .define_count = ps->define_count, .label = ps->name},
                                     &h);
+    *id = h.id;
+    return st;
+}
+
+static fs_status program_create(const plan_pass *ps, gpu_program *out)
+{
+    fs_status st = build_pass_program(ps, &out->id);
     if (st != FS_OK)
         return st;
-    GLuint p = h.id;
-    out->id = p;
+    GLuint p = out->id;
     out->u_view_proj = glGetUniformLocation(p, "u_view_proj");
     out->u_has_base_tex = glGetUniformLocation(p, "u_has_base_tex");
     out->u_base_color = glGetUniformLocation(p, "u_base_color");
@@ -136,24 +143,18 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
 
 static fs_status composite_create(const plan_pass *ps, composite_program *out)
 {
-    const char *defs[PLAN_MAX_DEFINES];
-    for (int i = 0; i < ps->define_count; i++)
-        defs[i] = ps->defines[i];
-    gpu_program_handle h;
-    fs_status st = gl_program_build(&(gl_program_desc){.vs = ps->vs, .fs = ps->fs, .defines = defs,
-                                                       .define_count = ps->define_count, .label = ps->name},
-                                    &h);
+    fs_status st = build_pass_program(ps, &out->id);
     if (st != FS_OK)
         return st;
-    out->id = h.id;
-    out->u_display_px = glGetUniformLocation(h.id, "u_display_px");
-    out->u_focal_px = glGetUniformLocation(h.id, "u_focal_px");
-    out->u_gaze_px = glGetUniformLocation(h.id, "u_gaze_px");
-    out->u_ring_outer = glGetUniformLocation(h.id, "u_ring_outer");
-    out->u_ring_band = glGetUniformLocation(h.id, "u_ring_band");
-    out->u_ring_rect = glGetUniformLocation(h.id, "u_ring_rect");
-    out->u_ring_block = glGetUniformLocation(h.id, "u_ring_block");
-    out->u_array_px = glGetUniformLocation(h.id, "u_array_px");
+    GLuint h = out->id;
+    out->u_display_px = glGetUniformLocation(h, "u_display_px");
+    out->u_focal_px = glGetUniformLocation(h, "u_focal_px");
+    out->u_gaze_px = glGetUniformLocation(h, "u_gaze_px");
+    out->u_ring_outer = glGetUniformLocation(h, "u_ring_outer");
+    out->u_ring_band = glGetUniformLocation(h, "u_ring_band");
+    out->u_ring_rect = glGetUniformLocation(h, "u_ring_rect");
+    out->u_ring_block = glGetUniformLocation(h, "u_ring_block");
+    out->u_array_px = glGetUniformLocation(h, "u_array_px");
     return FS_OK;
 }
 

@@ -15,6 +15,7 @@
 #include "core/embedded.h"
 #include "core/log.h"
 #include "scene/gltf_shim.h"
+#include "core/file_read.h"
 #include "scene/scene_json.h"
 
 
@@ -480,50 +481,11 @@ fs_status scene_load_file(const char *path, scene *out)
         return load_gltf_scene(path, out);
 
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        log_error("%s: cannot open: %s", path, strerror(errno));
-        return FS_ERR_IO;
-    }
-    size_t cap = 4096, size = 0;
-    char *text = malloc(cap);
-    int err = 0;
-    while (text) {
-        if (size + 1 >= cap) {
-            if (cap >= MAX_SCENE_FILE_BYTES) {
-                free(text);
-                fclose(f);
-                log_error("%s: larger than %u MiB, not a scene file", path, MAX_SCENE_FILE_BYTES >> 20);
-                return FS_ERR_SCENE;
-            }
-            char *grown = realloc(text, cap * 2);
-            if (!grown) {
-                free(text);
-                text = NULL;
-                break;
-            }
-            text = grown;
-            cap *= 2;
-        }
-        size_t got = fread(text + size, 1, cap - 1 - size, f);
-        size += got;
-        if (got == 0) {
-            if (ferror(f))
-                err = errno ? errno : EIO;
-            break;
-        }
-    }
-    fclose(f);
-    if (!text) {
-        log_error("%s: out of memory reading the file", path);
-        return FS_ERR_NOMEM;
-    }
-    if (err) {
-        free(text);
-        log_error("%s: cannot read: %s", path, strerror(err));
-        return FS_ERR_IO;
-    }
-    text[size] = '\0';
+    char *text;
+    size_t size;
+    fs_status rs = file_read_all(path, MAX_SCENE_FILE_BYTES, "a scene file", FS_ERR_SCENE, &text, &size);
+    if (rs != FS_OK)
+        return rs;
 
     /* Relative glTF paths resolve against the scene file's directory. */
     char dir[4096];

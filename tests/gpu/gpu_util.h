@@ -62,6 +62,43 @@ static inline fs_status gpu_render(const scene *sc, alpha_mode mode, int w, int 
     return gpu_render_fov(sc, mode, w, h, t, NULL, img);
 }
 
+/* A one-quad asset: corners `pos` (4 x xyz, counter-clockwise seen from +Z), `uv` (4 x uv),
+ * normals +Z, white vertex colours, one material `m`, and `img` (moved in: the asset owns its
+ * pixels) when m.base_color_image is 0. */
+static inline asset quad_asset(const char *name, const float pos[12], const float uv[8], material m, image_rgba8 *img)
+{
+    asset a = {0};
+    snprintf(a.name, sizeof a.name, "%s", name);
+    a.prim_count = a.material_count = 1;
+    a.prims = calloc(1, sizeof(prim));
+    a.materials = calloc(1, sizeof(material));
+    a.materials[0] = m;
+    if (img) {
+        a.image_count = 1;
+        a.images = calloc(1, sizeof(image_rgba8));
+        a.images[0] = *img;
+        memset(img, 0, sizeof *img);
+    }
+    prim *p = &a.prims[0];
+    static const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+    p->vertex_count = 4;
+    p->index_count = 6;
+    p->positions = malloc(12 * sizeof(float));
+    p->uvs = malloc(8 * sizeof(float));
+    p->indices = malloc(sizeof idx);
+    p->normals = calloc(12, sizeof(float));
+    p->colors = malloc(16 * sizeof(float));
+    memcpy(p->positions, pos, 12 * sizeof(float));
+    memcpy(p->uvs, uv, 8 * sizeof(float));
+    memcpy(p->indices, idx, sizeof idx);
+    for (int i = 0; i < 4; i++)
+        p->normals[3 * i + 2] = 1.0f;
+    for (int i = 0; i < 16; i++)
+        p->colors[i] = 1.0f;
+    asset_compute_bounds(&a);
+    return a;
+}
+
 static inline double plane_mean(const exr_image *img, const char *ch)
 {
     const float *p = exr_image_channel(img, ch);

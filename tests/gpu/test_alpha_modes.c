@@ -97,33 +97,11 @@ static bool leaves_card_scene(scene *sc)
     if (!px)
         return false;
     scene_init_defaults(sc);
-    asset a = {0};
-    snprintf(a.name, sizeof a.name, "leaves_card");
-    a.prim_count = a.material_count = a.image_count = 1;
-    a.prims = calloc(1, sizeof(prim));
-    a.materials = calloc(1, sizeof(material));
-    a.images = calloc(1, sizeof(image_rgba8));
-    a.images[0] = (image_rgba8){.width = w, .height = h, .rgba = px};
-    a.materials[0] = (material){.base_color = {1, 1, 1, 1}, .base_color_image = 0, .alpha_kind = ALPHA_KIND_MASK,
-                                .alpha_cutoff = 0.2f, .double_sided = true};
-    prim *p = &a.prims[0];
-    p->vertex_count = 4;
-    p->index_count = 6;
+    image_rgba8 img = {.width = w, .height = h, .rgba = px};
+    material m = {.base_color = {1, 1, 1, 1}, .base_color_image = 0, .alpha_kind = ALPHA_KIND_MASK,
+                  .alpha_cutoff = 0.2f, .double_sided = true};
     float pos[12] = {-8, -8, 0, 8, -8, 0, 8, 8, 0, -8, 8, 0}, uv[8] = {0, 8, 8, 8, 8, 0, 0, 0};
-    uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
-    p->positions = malloc(sizeof pos);
-    memcpy(p->positions, pos, sizeof pos);
-    p->uvs = malloc(sizeof uv);
-    memcpy(p->uvs, uv, sizeof uv);
-    p->indices = malloc(sizeof idx);
-    memcpy(p->indices, idx, sizeof idx);
-    p->normals = calloc(12, sizeof(float));
-    p->colors = malloc(16 * sizeof(float));
-    for (int i = 0; i < 4; i++)
-        p->normals[3 * i + 2] = 1.0f;
-    for (int i = 0; i < 16; i++)
-        p->colors[i] = 1.0f;
-    asset_compute_bounds(&a);
+    asset a = quad_asset("leaves_card", pos, uv, m, &img);
     scene_add_asset(sc, &a);
     scene_add_instance(sc, 0, m4_identity());
     float d[] = {2.5f, 6, 14, 34, 80};

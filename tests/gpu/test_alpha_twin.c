@@ -29,6 +29,7 @@
 
 #include "common/shared_defs.h"
 #include "gl/gl_device.h"
+#include "gl/gl_program.h"
 #include "gl/shader_src.h"
 #include "passes/alpha_hash.h"
 #include "test.h"
@@ -185,38 +186,8 @@ static void run_cpu(const twin_in *a, twin_out *r)
 
 static GLuint compile_compute(const char *path)
 {
-    shader_src src;
-    if (shader_src_build(path, NULL, 0, &src) != FS_OK)
-        return 0;
-    GLuint sh = glCreateShader(GL_COMPUTE_SHADER);
-    const char *text = src.text;
-    glShaderSource(sh, 1, &text, NULL);
-    glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[8192], out[16384];
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        shader_src_translate_log(&src, log, out, sizeof out);
-        fprintf(stderr, "%s: compile failed:\n%s\n", path, out);
-        glDeleteShader(sh);
-        shader_src_free(&src);
-        return 0;
-    }
-    shader_src_free(&src);
-    GLuint p = glCreateProgram();
-    glAttachShader(p, sh);
-    glLinkProgram(p);
-    glDeleteShader(sh);
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[8192];
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        fprintf(stderr, "%s: link failed:\n%s\n", path, log);
-        glDeleteProgram(p);
-        return 0;
-    }
-    return p;
+    gpu_program_handle h;
+    return gl_program_build(&(gl_program_desc){.cs = path, .label = "alpha twin"}, &h) == FS_OK ? h.id : 0;
 }
 
 TEST(glsl_compiles_and_runs)

@@ -7,30 +7,10 @@
 static void constant_scene(scene *sc)
 {
     scene_init_defaults(sc);
-    asset a = {0};
-    snprintf(a.name, sizeof a.name, "wall");
-    a.prim_count = a.material_count = 1;
-    a.prims = calloc(1, sizeof(prim));
-    a.materials = calloc(1, sizeof(material));
-    a.materials[0] = (material){.base_color = {0.5f, 0.3f, 0.2f, 1.0f}, .base_color_image = -1,
-                                .alpha_kind = ALPHA_KIND_OPAQUE, .alpha_cutoff = 0.5f};
-    prim *p = &a.prims[0];
-    p->vertex_count = 4;
-    p->index_count = 6;
-    float pos[12] = {-100, -100, 0, 100, -100, 0, 100, 100, 0, -100, 100, 0};
-    uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
-    p->positions = malloc(sizeof pos);
-    memcpy(p->positions, pos, sizeof pos);
-    p->indices = malloc(sizeof idx);
-    memcpy(p->indices, idx, sizeof idx);
-    p->normals = calloc(12, sizeof(float));
-    p->uvs = calloc(8, sizeof(float));
-    p->colors = malloc(16 * sizeof(float));
-    for (int i = 0; i < 4; i++)
-        p->normals[3 * i + 2] = 1.0f;
-    for (int i = 0; i < 16; i++)
-        p->colors[i] = 1.0f;
-    asset_compute_bounds(&a);
+    static const float pos[12] = {-100, -100, 0, 100, -100, 0, 100, 100, 0, -100, 100, 0}, uv[8] = {0};
+    material m = {.base_color = {0.5f, 0.3f, 0.2f, 1.0f}, .base_color_image = -1, .alpha_kind = ALPHA_KIND_OPAQUE,
+                  .alpha_cutoff = 0.5f};
+    asset a = quad_asset("wall", pos, uv, m, NULL);
     scene_add_asset(sc, &a);
     scene_add_instance(sc, 0, m4_identity());
     sc->light.direction = v3(0, 0, -1);

@@ -51,48 +51,22 @@ TEST(glsl_traditional_test_agrees_with_the_c_twin)
     enum { W = 256, H = 16 };
     scene sc;
     scene_init_defaults(&sc);
-    asset a = {0};
-    snprintf(a.name, sizeof a.name, "ramp");
-    a.prim_count = a.material_count = a.image_count = 1;
-    a.prims = calloc(1, sizeof(prim));
-    a.materials = calloc(1, sizeof(material));
-    a.images = calloc(1, sizeof(image_rgba8));
-    image_rgba8 *img = &a.images[0];
-    img->width = W;
-    img->height = 1;
-    img->rgba = malloc(W * 4);
+    image_rgba8 img = {.width = W, .height = 1, .rgba = malloc(W * 4)};
     for (int x = 0; x < W; x++) {
-        img->rgba[4 * x] = 200;
-        img->rgba[4 * x + 1] = 100;
-        img->rgba[4 * x + 2] = 50;
-        img->rgba[4 * x + 3] = (uint8_t)x;
+        img.rgba[4 * x] = 200;
+        img.rgba[4 * x + 1] = 100;
+        img.rgba[4 * x + 2] = 50;
+        img.rgba[4 * x + 3] = (uint8_t)x;
     }
-    material *m = &a.materials[0];
-    *m = (material){.base_color = {1, 1, 1, 1}, .base_color_image = 0, .alpha_kind = ALPHA_KIND_MASK,
-                    .alpha_cutoff = 0.5f, .double_sided = true, .mag_filter = TEX_FILTER_NEAREST,
-                    .wrap_s = TEX_WRAP_CLAMP, .wrap_t = TEX_WRAP_CLAMP};
+    material m = {.base_color = {1, 1, 1, 1}, .base_color_image = 0, .alpha_kind = ALPHA_KIND_MASK,
+                  .alpha_cutoff = 0.5f, .double_sided = true, .mag_filter = TEX_FILTER_NEAREST,
+                  .wrap_s = TEX_WRAP_CLAMP, .wrap_t = TEX_WRAP_CLAMP};
     /* Quad covering exactly the view of an orthographic-like setup: the camera at distance d with
      * hfov 90 sees x in [-d, d]; the quad spans it exactly. */
-    prim *p = &a.prims[0];
-    p->vertex_count = 4;
-    p->index_count = 6;
     float d = 1.0f, hy = d * (float)H / (float)W;
     float pos[12] = {-d, -hy, 0, d, -hy, 0, d, hy, 0, -d, hy, 0};
     float uv[8] = {0, 0.5f, 1, 0.5f, 1, 0.5f, 0, 0.5f};
-    uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
-    p->positions = malloc(sizeof pos);
-    memcpy(p->positions, pos, sizeof pos);
-    p->uvs = malloc(sizeof uv);
-    memcpy(p->uvs, uv, sizeof uv);
-    p->indices = malloc(sizeof idx);
-    memcpy(p->indices, idx, sizeof idx);
-    p->normals = calloc(12, sizeof(float));
-    p->colors = malloc(16 * sizeof(float));
-    for (int i = 0; i < 12; i += 3)
-        p->normals[i + 2] = 1.0f;
-    for (int i = 0; i < 16; i++)
-        p->colors[i] = 1.0f;
-    asset_compute_bounds(&a);
+    asset a = quad_asset("ramp", pos, uv, m, &img);
     CHECK(scene_add_asset(&sc, &a) == 0);
     CHECK(scene_add_instance(&sc, 0, m4_identity()));
     sc.camera.count = 1;
