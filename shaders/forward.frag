@@ -41,13 +41,20 @@ void main()
     // The LOD actually sampled (mip bias included) and the footprint's anisotropy, for the
     // hashed fade-in and mip scaling (seed 000 §5.5.1, seed 002).
     float lod = 0.0, aniso = 1.0;
-#if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C || ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
+#if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C || ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE || defined(A2C_SHARPEN)
     if (u_has_base_tex) {
         lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
         vec2 size = vec2(textureSize(u_base_tex, 0));
         float lx = length(dFdx(v_uv) * size), ly = length(dFdy(v_uv) * size);
         aniso = clamp(max(lx, ly) / max(min(lx, ly), 1e-20), 1.0, ALPHA_MAX_ANISO);
     }
+#endif
+#ifdef A2C_SHARPEN
+    // Seed 002 (Golus): keep the mips' density (alpha scaled up per level), then sharpen alpha to
+    // one pixel around the cutoff so alpha-to-coverage draws crisp, antialiased edges instead of
+    // a soft, banded blend.
+    alpha *= 1.0 + lod * ALPHA_MIPSCALE_PER_LOD;
+    alpha = clamp((alpha - u_alpha_cutoff) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
 #endif
     if (!alpha_test(alpha, u_alpha_cutoff, v_object_pos, lod, aniso))
         discard;

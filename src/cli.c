@@ -69,6 +69,7 @@ void cli_print_help(command cmd)
            "  --hash-aniso        hashed modes: anisotropic (per-axis) pixel-scale noise\n"
            "  --fade-n N          hashed: mip levels over which noise fades in (default 6)\n"
            "  --no-fade           hashed: no fade-in, noise at every distance\n"
+           "  --a2c-sharpen       a2c: mip-level alpha scaling and fwidth sharpening (Golus)\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
@@ -188,6 +189,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                      : !strcmp(opt, "--debug-channels") ? &d->debug_channels
                      : !strcmp(opt, "--hash-aniso")     ? &d->hash_aniso
                      : !strcmp(opt, "--no-fade")        ? &d->no_fade
+                     : !strcmp(opt, "--a2c-sharpen")    ? &d->a2c_sharpen
                                                         : NULL;
         if (flag) {
             if (val) {

@@ -48,6 +48,7 @@ typedef struct run_desc {
     int hash_kind;           /* --hash pcg|sine, -1 = default */
     bool hash_aniso;         /* --hash-aniso */
     bool no_fade;            /* --no-fade */
+    bool a2c_sharpen;        /* --a2c-sharpen */
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench: --modes a,b,c or all */
     int bench_mode_count;

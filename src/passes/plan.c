@@ -55,6 +55,8 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_MODE %d", alpha_mode_shader_id(mode));
         if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "MSAA 1");
+        if (mode == ALPHA_MODE_A2C && p->alpha.a2c_sharpen)
+            snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "A2C_SHARPEN 1");
         if (mode == ALPHA_MODE_HASHED || mode == ALPHA_MODE_HASHED_A2C)
         {
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_HASH_KIND %d", p->alpha.hash_kind);

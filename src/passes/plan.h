@@ -46,6 +46,7 @@ typedef struct alpha_params {
     bool anisotropic;   /* per-axis derivative scaling of the hash (option) */
     bool no_fade;       /* disable the fade-in of hashed noise with LOD (seed 000 §5.5.1) */
     float fade_n;       /* mip levels over which the noise fades in, default 6 */
+    bool a2c_sharpen;   /* a2c: Golus's mip-level alpha scaling and fwidth sharpening (seed 002) */
 } alpha_params;
 
 /* Fills zero fields with defaults. */
