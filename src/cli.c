@@ -63,7 +63,6 @@ void cli_print_help(command cmd)
            "  --fps F             frames per second of the sequence (default 24)\n"
            "  --width W, --height H   output size in pixels (default: the scene's display, 1280x720)\n"
            "  --alpha MODE        alpha test for MASK materials: %s\n"
-           "                      (implemented so far: traditional)\n"
            "  --hash-scale S      hashed modes: noise scale in pixels (default 1; 0.3-0.5 suits TAA)\n"
            "  --hash H            hashed modes: pcg (integer pcg3d, default) or sine (the paper's)\n"
            "  --hash-aniso        hashed modes: anisotropic (per-axis) pixel-scale noise\n"

@@ -21,7 +21,3 @@ int alpha_mode_shader_id(alpha_mode m)
     }
 }
 
-bool alpha_mode_is_implemented(alpha_mode m)
-{
-    return m > ALPHA_MODE_DEFAULT && m < ALPHA_MODE_COUNT;
-}

@@ -1,7 +1,7 @@
-/* alpha_test.h: C twin of shaders/common/alpha_test.glsl (same constants: common/shared_defs.h).
- *
- * Unit tests call these directly; a GPU test checks the shader agrees. Only the traditional test
- * exists so far; stochastic, hashed and the A2C variants come with the alpha-strategies issue.
+/* alpha_test.h: C twin of the traditional test in shaders/common/alpha_test.glsl, and the mapping
+ * from alpha modes to the shader's ALPHA_MODE_ID_* (common/shared_defs.h). The thresholds of the
+ * stochastic, hashed and A2C tests have their twins in alpha_hash.h. tests/gpu/test_gl.c checks the
+ * GLSL traditional test against alpha_test_traditional on every 8-bit alpha.
  */
 #ifndef FOVSIM_ALPHA_TEST_H
 #define FOVSIM_ALPHA_TEST_H
@@ -14,7 +14,5 @@
 bool alpha_test_traditional(float alpha, float cutoff);
 /* The ALPHA_MODE_ID_* value the shader is compiled with for `m`. */
 int alpha_mode_shader_id(alpha_mode m);
-/* True for modes the forward pass can draw today. */
-bool alpha_mode_is_implemented(alpha_mode m);
 
 #endif

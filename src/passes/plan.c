@@ -105,11 +105,6 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                 if (kind != order[k])
                     continue;
                 alpha_mode mode = kind == PLAN_PASS_FORWARD_MASK ? plan_material_mode(out, m) : ALPHA_MODE_DEFAULT;
-                if (kind == PLAN_PASS_FORWARD_MASK && !alpha_mode_is_implemented(mode)) {
-                    log_error("alpha mode '%s' (material \"%s\" of %s) is not implemented yet; available: traditional",
-                              alpha_mode_name(mode), m->name, as->name);
-                    return FS_ERR_USAGE;
-                }
                 plan_pass *ps = get_pass(out, kind, mode);
                 if (!ps) {
                     log_error("plan: more than %d passes", PLAN_MAX_PASSES);

@@ -82,7 +82,7 @@ typedef struct plan {
     plan_pass composite_pass;   /* shaders and defines of the composite (valid when composite) */
 } plan;
 
-/* Builds the plan; FS_ERR_USAGE (with a message) when a requested mode is not implemented yet. */
+/* Builds the plan (FS_ERR_INTERNAL only if the scene needs more than PLAN_MAX_PASSES passes). */
 fs_status plan_build(const scene *sc, const plan_options *opt, plan *out);
 /* The pass of a kind (and mode for MASK), or NULL when the scene does not need it. */
 const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode);

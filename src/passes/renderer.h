@@ -8,7 +8,8 @@
  * Passes declare their resources (STYLE.md, Falcor): see k_forward_resources in renderer.c.
  * With foveation the forward passes run once per ring into the ring's own target (cropped frustum,
  * ring mip bias), and a composite pass upsamples and blends the rings at display resolution.
- * What it does NOT do (yet): TAA, MSAA, alpha modes other than traditional.
+ * A2C modes draw each ring through a shared 4x MSAA target and resolve it into the ring's layer.
+ * What it does NOT do (yet): TAA, per-object motion.
  */
 #ifndef FOVSIM_RENDERER_H
 #define FOVSIM_RENDERER_H
