@@ -39,6 +39,10 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
         return false;
     if (alpha >= 1.0)
         return true;
+    // Where the fade-in has not started (b = 0: magnified or mip-0 texels), alpha_hashed_fade
+    // returns the cutoff whatever the hash: the traditional test, without hashing.
+    if (u_fade_n > 0.0 && lod + log2(aniso) <= 0.0)
+        return alpha >= max(cutoff, float(ALPHA_THRESHOLD_MIN));
     float t = alpha_hashed_threshold(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso);
     return alpha >= alpha_hashed_fade(cutoff, t, lod, aniso, u_fade_n);
 #elif ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
