@@ -35,8 +35,9 @@ void cli_print_help(command cmd)
         break;
     case CMD_DEMO:
         printf("usage: fovsim demo [options]\n\n"
-               "Renders the built-in forest (camera dollying back through trees and a fence) to ./out/demo/\n"
-               "and prints how to look at the frames. Accepts the render options below.\n\n");
+               "Renders the built-in forest (camera dollying back through trees and a fence) with foveation\n"
+               "following a built-in trace of fixations and saccades, to ./out/demo/, and prints how to look\n"
+               "at the frames. Accepts the render options below.\n\n");
         break;
     case CMD_BENCH:
         printf("usage: fovsim bench [SCENE | --scene FILE | --builtin NAME] [--frames N] [--warmup W] [--markdown FILE]\n\n"
@@ -72,7 +73,9 @@ void cli_print_help(command cmd)
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
-           "                      Tobii livedata.json (default: fixation at the display centre)\n"
+           "                      Tobii livedata.json, or builtin:NAME for a scripted trace in\n"
+           "                      gaze_paths/ (default: fixation at the display centre; the demo\n"
+           "                      uses builtin:fixation_saccade)\n"
            "  --gaze-format F     csv, pupil, eyelink or tobii (default: detected from the content)\n"
            "  --eye E             binocular traces: left, right or average (default: average of valid eyes)\n"
            "  --overlay           draw ring borders and the gaze marker into the frames\n"

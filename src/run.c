@@ -247,6 +247,11 @@ static fs_status run_render(const run_desc *d, const char *default_out)
 
 static fs_status run_demo(const run_desc *d)
 {
+    /* The demo follows a built-in trace of fixations and saccades, so the rings visibly move. */
+    run_desc dd = *d;
+    if (!dd.gaze_path)
+        dd.gaze_path = "builtin:fixation_saccade";
+    d = &dd;
     fs_status st = run_render(d, "out/demo");
     if (st != FS_OK)
         return st;

@@ -11,6 +11,7 @@
 #include "gaze/gaze.h"
 
 #include "core/config.h"
+#include "core/embedded.h"
 #include "core/file_read.h"
 
 #include <errno.h>
@@ -1276,6 +1277,17 @@ fs_status gaze_load(const char *path, const gaze_load_desc *desc, gaze_trace *ou
         log_error("GAZE: no file name given");
         return FS_ERR_IO;
     }
+    /* "builtin:NAME" is gaze_paths/NAME.csv, compiled into the binary. */
+    if (strncmp(path, "builtin:", 8) == 0) {
+        char rel[256];
+        snprintf(rel, sizeof rel, "gaze_paths/%s.csv", path + 8);
+        const embedded_file *e = embedded_find(rel);
+        if (!e) {
+            log_error("%s: no built-in gaze trace of that name (built-in: %s)", path, gaze_builtin_list());
+            return FS_ERR_IO;
+        }
+        return gaze_parse(e->data, (long)e->size, path, desc, out);
+    }
     char *text;
     size_t size;
     fs_status rs = file_read_all(path, MAX_GAZE_FILE_BYTES, "a gaze trace", FS_ERR_GAZE, &text, &size);
@@ -1354,4 +1366,22 @@ gaze_point gaze_at(const gaze_trace *t, double time, bool *beyond_end)
     g.y = clamp01(y);
     g.held = held;
     return g;
+}
+
+const char *gaze_builtin_list(void)
+{
+    static char list[512];
+    if (!list[0]) {
+        size_t o = 0;
+        for (int i = 0; i < embedded_file_count; i++) {
+            const char *p = embedded_files[i].path;
+            if (strncmp(p, "gaze_paths/", 11) != 0)
+                continue;
+            int n = snprintf(list + o, sizeof list - o, "%s%.*s", o ? ", " : "", (int)(strlen(p) - 15), p + 11);
+            if (n < 0 || (size_t)n >= sizeof list - o)
+                break;
+            o += (size_t)n;
+        }
+    }
+    return list;
 }

@@ -81,7 +81,11 @@ typedef struct gaze_load_desc {
 const char *gaze_format_name(gaze_format f); /* "csv", "pupil", "eyelink", "tobii", "auto" */
 gaze_format gaze_format_parse(const char *name); /* AUTO for unknown names */
 
+/* Loads a trace file, or a scripted trace compiled into the binary: "builtin:NAME" for
+ * gaze_paths/NAME.csv (gaze_builtin_list() names them). */
 fs_status gaze_load(const char *path, const gaze_load_desc *desc, gaze_trace *out);
+/* Comma-separated names of the built-in traces. Borrowed, static. */
+const char *gaze_builtin_list(void);
 /* Parses a trace held in memory (same rules; `name` is used in messages). */
 fs_status gaze_parse(const char *text, long size, const char *name, const gaze_load_desc *desc, gaze_trace *out);
 void gaze_free(gaze_trace *t);

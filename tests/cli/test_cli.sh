@@ -71,6 +71,16 @@ import json,sys; j=json.load(open('$T/bench.json')); c=j['configs']
 assert len(c)==2 and c[0]['shaded_pixels']==160*90 and 0<c[1]['shaded_pixels']<160*90, c
 assert j['ideal_speedup']>1 and j['speedup']>0 and 'achieved_fraction_of_ideal' in j"
 
+"$BIN" render fence --gaze builtin:pursuit_circle --frames 2 --width 64 --height 36 --out "$T/bgaze" --quiet >/dev/null 2>&1
+check "built-in gaze trace" bash -c "exrheader '$T/bgaze/frame.0001.exr' | grep -q 'builtin:pursuit_circle'"
+expect_exit "unknown built-in gaze -> 6" 6 "$BIN" render --gaze builtin:nope --out "$T/bad13"
+check "unknown built-in gaze lists the valid ones" grep -q "fixation_saccade" "$T/err.txt"
+
+# ---- the demo (small): built-in forest, built-in saccade trace, instructions printed
+"$BIN" demo --width 96 --height 54 --frames 3 --out "$T/demo" --quiet >"$T/demo.txt" 2>&1
+check "demo exits 0 and says how to look" bash -c "grep -q 'oiiotool' '$T/demo.txt' && test -f '$T/demo/frame.0002.exr'"
+check "demo follows the saccade trace" bash -c "exrheader '$T/demo/frame.0000.exr' | grep -q 'builtin:fixation_saccade'"
+
 # ---- a glTF file is a scene by itself
 "$BIN" render --scene "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" --frames 1 --width 64 --height 64 --out "$T/gltf" --quiet >/dev/null 2>&1
 check "render a .gltf directly" test -f "$T/gltf/frame.0000.exr"
