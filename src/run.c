@@ -93,6 +93,14 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
         log_error("%s: %s", d->rings ? "--rings" : sc->path, err);
         return FS_ERR_USAGE;
     }
+    /* An auto layout that would shade as many pixels as the display (small or coarse displays,
+     * where the fovea already spans most of the view) only adds work: foveation off. */
+    if (out->kind == FOV_LAYOUT_AUTO && out->count > 1 &&
+        fov_shaded_pixels(&dd, out, 0.5f * (float)dd.width, 0.5f * (float)dd.height, FOV_MARGIN_BLOCKS, NULL) >=
+            (long long)dd.width * dd.height) {
+        log_info("FOV: auto rings would not save pixels on a %dx%d display; foveation off", dd.width, dd.height);
+        *out = fov_layout_off();
+    }
     return FS_OK;
 }
 
@@ -120,9 +128,9 @@ static void session_end(session *s)
     scene_free(&s->sc);
 }
 
-/* Scene, plan, gaze trace, GL context, renderer: everything that can reject bad input, before
- * anything is written. */
-static fs_status session_begin(const run_desc *d, session *s, bool timers)
+/* Scene, plan, gaze trace, GL context and (with `with_renderer`) the renderer: everything that can
+ * reject bad input, before anything is written. */
+static fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
 {
     memset(s, 0, sizeof *s);
     fs_status st = load_scene(d, &s->sc);
@@ -139,7 +147,8 @@ static fs_status session_begin(const run_desc *d, session *s, bool timers)
         if (s->gaze.count > 0)
             log_info("GAZE: [%s] %s, %d samples (%d valid) over %.2f s", s->gaze.path,
                      gaze_format_name(s->gaze.format), s->gaze.count, s->gaze.valid_count, s->gaze.duration);
-        s->r = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &s->pl, .timers = timers}, &st);
+        if (with_renderer)
+            s->r = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &s->pl}, &st);
     }
     if (st != FS_OK)
         session_end(s);
@@ -190,7 +199,7 @@ static void set_frame_attrs(exr_image *img, const session *s, const frame_record
 static fs_status run_render(const run_desc *d, const char *default_out)
 {
     session s;
-    fs_status st = session_begin(d, &s, false);
+    fs_status st = session_begin(d, &s, true);
     if (st != FS_OK)
         return st;
     const char *out = d->out_dir ? d->out_dir : default_out;
@@ -402,14 +411,13 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
 static fs_status run_bench(const run_desc *d)
 {
     session s;
-    fs_status st = session_begin(d, &s, true);
+    fs_status st = session_begin(d, &s, false); /* every configuration gets its own renderer */
     if (st != FS_OK)
         return st;
     int n = d->frames > 0 ? d->frames : 30;
     /* Configurations: for each alpha mode asked for (--modes, default the run's), full resolution
      * and, when the run has rings, foveated; plus traditional through the MSAA targets when an A2C
-     * mode is measured, so the MSAA cost can be told from the A2C test's own. The run's own plan
-     * and renderer serve the first foveated (or only) configuration. */
+     * mode is measured, so the MSAA cost can be told from the A2C test's own. */
     alpha_mode modes[ALPHA_MODE_COUNT];
     int nmodes = 0;
     bool want_msaa = false;
