@@ -70,6 +70,10 @@ void cli_print_help(command cmd)
            "  --fade-n N          hashed: mip levels over which noise fades in (default 6)\n"
            "  --no-fade           hashed: no fade-in, noise at every distance\n"
            "  --a2c-sharpen       a2c: mip-level alpha scaling and fwidth sharpening (Golus)\n"
+           "  --taa on|off        temporal antialiasing per ring (default on for more than one frame)\n"
+           "  --taa-blend W       weight of the current frame in the history (default 0.1)\n"
+           "  --taa-gamma G       history clipping box, in standard deviations (default 1)\n"
+           "  --jitter-length N   Halton (2,3) jitter period in frames (default 16)\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
@@ -205,7 +209,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
-                                                 "--hash", "--fade-n", "--modes"};
+                                                 "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
+                                                 "--taa-gamma", "--jitter-length"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -246,6 +251,17 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 log_error("--eye: expected left, right or average, got '%s'", val);
         } else if (!strcmp(opt, "--hash-scale"))
             ok = parse_float(opt, val, 0.0f, 64.0f, &d->hash_scale);
+        else if (!strcmp(opt, "--taa")) {
+            ok = !strcmp(val, "on") || !strcmp(val, "off");
+            d->no_taa = !strcmp(val, "off");
+            if (!ok)
+                log_error("--taa: expected on or off, got '%s'", val);
+        } else if (!strcmp(opt, "--taa-blend"))
+            ok = parse_float(opt, val, 0.0f, 1.0f, &d->taa_blend);
+        else if (!strcmp(opt, "--taa-gamma"))
+            ok = parse_float(opt, val, 0.0f, 16.0f, &d->taa_gamma);
+        else if (!strcmp(opt, "--jitter-length"))
+            ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
         else if (!strcmp(opt, "--modes")) {
             d->bench_mode_count = 0;
             if (!strcmp(val, "all")) {

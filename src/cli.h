@@ -49,6 +49,10 @@ typedef struct run_desc {
     bool hash_aniso;         /* --hash-aniso */
     bool no_fade;            /* --no-fade */
     bool a2c_sharpen;        /* --a2c-sharpen */
+    bool no_taa;             /* --taa off (default on for sequences of more than one frame) */
+    float taa_blend;         /* --taa-blend, 0 = default 0.1 */
+    float taa_gamma;         /* --taa-gamma, 0 = default 1 */
+    int jitter_length;       /* --jitter-length, 0 = default 16 */
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench: --modes a,b,c or all */
     int bench_mode_count;

@@ -107,7 +107,9 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
 static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
 {
     plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, sc),
-                       .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d)};
+                       .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
+                       .taa = !d->no_taa,
+                       .taa_controls = {.blend = d->taa_blend, .gamma = d->taa_gamma, .jitter_length = d->jitter_length}};
     fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
     return st == FS_OK ? plan_build(sc, &po, pl) : st;
 }
@@ -191,6 +193,13 @@ static void set_frame_attrs(exr_image *img, const session *s, const frame_record
     fov_layout_format(&s->pl.layout, rings, sizeof rings);
     exr_image_set_string(img, "fovsim:rings", rings);
     exr_image_set_string(img, "fovsim:gaze_trace", s->gaze.count > 0 ? s->gaze.path : "centre fixation");
+    char taa[128];
+    if (s->pl.taa)
+        snprintf(taa, sizeof taa, "on: blend %.3f, gamma %.2f, jitter Halton(2,3) x %d", s->pl.taa_controls.blend,
+                 s->pl.taa_controls.gamma, s->pl.taa_controls.jitter_length);
+    else
+        snprintf(taa, sizeof taa, "off");
+    exr_image_set_string(img, "fovsim:taa", taa);
     exr_image_set_float(img, "fovsim:hfov_deg", fr->hfov_deg);
     exr_image_set_string(img, "fovsim:channels",
                          "RGBA: linear premultiplied radiance; coverage: opacity of alpha-mapped surfaces");

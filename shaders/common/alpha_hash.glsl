@@ -305,4 +305,15 @@ uint alpha_hashed_a2c_mask(float alpha, int n, float xi1, float xi2, float chi)
     return m;
 }
 
+// C twin: alpha_hashed_frame_offset in src/passes/alpha_hash.c (same steps).
+float alpha_hashed_frame_offset(float t, uint frame)
+{
+    float k = float(frame & 0xffffu);
+    precise float off = k * float(ALPHA_FRAME_OFFSET_STEP);
+    off = off - floor(off);
+    precise float u = t + off;
+    u = u - floor(u);
+    return u > 0.0 ? u : 1.0;
+}
+
 #endif

@@ -44,6 +44,9 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
     if (u_fade_n > 0.0 && lod + log2(aniso) <= 0.0)
         return alpha >= max(cutoff, float(ALPHA_THRESHOLD_MIN));
     float t = alpha_hashed_threshold(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso);
+#ifdef TAA_HASH_OFFSET
+    t = alpha_hashed_frame_offset(t, u_frame);
+#endif
     return alpha >= alpha_hashed_fade(cutoff, t, lod, aniso, u_fade_n);
 #elif ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
     // Seed 002: scale alpha up with the mip level so coarse mips keep their coverage.
@@ -55,6 +58,9 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
     // per fragment gives chi; xi1 and xi2 are derived from it (fract of multiples of a uniform
     // variable are uniform), so layers with different hashes get decorrelated masks.
     float t = alpha_hashed_threshold(obj, dFdx(obj), dFdy(obj), u_hash_scale, u_hash_kind, u_hash_aniso);
+#ifdef TAA_HASH_OFFSET
+    t = alpha_hashed_frame_offset(t, u_frame);
+#endif
     uint m = alpha_hashed_a2c_mask(alpha, MSAA_SAMPLES, fract(t * 7.0), fract(t * 13.0), t);
     gl_SampleMask[0] = int(m);
     return m != 0u;

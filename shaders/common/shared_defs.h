@@ -48,5 +48,17 @@
 #define ALPHA_MAX_ANISO 16.0        /* largest anisotropy ratio (as GL's max anisotropy) */
 #define ALPHA_MAX_ANISO_LOG2 4      /* log2(ALPHA_MAX_ANISO): per-axis refinement levels */
 #define ALPHA_A2C_MAX_SAMPLES 16    /* hashed A2C: n is a power of two <= this */
+/* With TAA, hashed thresholds shift by frame * this (mod 1), a low-discrepancy sequence: each pixel
+ * cycles through thresholds spread evenly over (0, 1], which TAA averages (docs/hashed-alpha.md). */
+#define ALPHA_FRAME_OFFSET_STEP 0.61803398875
+
+/* TAA: temporal antialiasing (DESIGN.md "Temporal antialiasing"). GLSL: common/taa.glsl, C twin:
+ * src/passes/taa_math.c (taa_math.h documents each function). */
+#define TAA_JITTER_LENGTH_DEFAULT 16 /* Halton(2,3) jitter period in frames */
+#define TAA_JITTER_LENGTH_MAX 4096   /* longest period (keeps the 24-bit Halton values nonzero) */
+#define TAA_HALTON_BITS 24           /* taa_halton is truncated to this many fraction bits (exact) */
+#define TAA_GAMMA_DEFAULT 1.0        /* variance clipping box: mean +- gamma * sigma */
+#define TAA_BLEND_DEFAULT 0.1        /* weight of the current sample in the exponential blend */
+#define TAA_MAX_VALUE 65504.0        /* half-float max: history is RGBA16F, larger values clamp */
 
 #endif

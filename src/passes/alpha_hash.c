@@ -306,3 +306,15 @@ uint32_t alpha_hashed_a2c_mask(float alpha, int n, float xi1, float xi2, float c
             m |= 1u << (uint32_t)i;
     return m;
 }
+
+float alpha_hashed_frame_offset(float t, uint32_t frame)
+{
+    /* The offset is reduced modulo 1 in float from the frame's fractional multiple, computed on
+     * the frame modulo 2^16 so it stays exact in float: the same steps as the GLSL twin. */
+    float k = (float)(frame & 0xffffu);
+    float off = k * (float)ALPHA_FRAME_OFFSET_STEP;
+    off = off - floorf(off);
+    float u = t + off;
+    u = u - floorf(u);
+    return u > 0.0f ? u : 1.0f; /* (0, 1]: 0 wraps to 1 */
+}

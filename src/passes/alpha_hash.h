@@ -86,6 +86,10 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
  * NaN threshold -> the cutoff; cutoff clamped to [ALPHA_THRESHOLD_MIN, 1] (NaN -> 0.5).
  * Result in [ALPHA_THRESHOLD_MIN, 1]. GLSL twin: alpha_hashed_fade. */
 float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n);
+/* Threshold t in (0, 1] shifted by frame * ALPHA_FRAME_OFFSET_STEP modulo 1, kept in (0, 1]: the
+ * per-frame variation TAA averages (used only when TAA is on). A uniform t stays uniform.
+ * GLSL twin: alpha_hashed_frame_offset in alpha_hash.glsl. */
+float alpha_hashed_frame_offset(float t, uint32_t frame);
 
 /* The LOD a trilinear lookup selects, log2(max(|duv_dx * size|, |duv_dy * size|)) (the GL spec's
  * isotropic approximation; not clamped to the mip range; clamped to [-60, 60]), and in

@@ -18,6 +18,18 @@ alpha_params alpha_params_defaults(const alpha_params *p)
     return r;
 }
 
+taa_controls taa_controls_defaults(const taa_controls *c)
+{
+    taa_controls r = c ? *c : (taa_controls){0};
+    if (!(r.blend > 0.0f && r.blend <= 1.0f))
+        r.blend = TAA_BLEND_DEFAULT;
+    if (!(r.gamma > 0.0f))
+        r.gamma = TAA_GAMMA_DEFAULT;
+    if (r.jitter_length <= 0)
+        r.jitter_length = TAA_JITTER_LENGTH_DEFAULT;
+    return r;
+}
+
 alpha_mode plan_material_mode(const plan *p, const material *m)
 {
     return m->alpha_mode != ALPHA_MODE_DEFAULT ? m->alpha_mode : p->global_mode;
@@ -122,6 +134,26 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     for (int a = 0; a < sc->asset_count; a++)
         out->texture_count += sc->assets[a].image_count;
 
+    /* TAA: history only when there is more than one frame to accumulate. With TAA the hashed
+     * thresholds move every frame so the history averages them (seed 000 §5.4.1). */
+    out->taa = o.taa && o.frames > 1;
+    for (int i = 0; i < out->pass_count && out->taa; i++) {
+        plan_pass *ps = &out->passes[i];
+        if (ps->kind == PLAN_PASS_FORWARD_MASK && (ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C) &&
+            ps->define_count < PLAN_MAX_DEFINES) {
+            snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "TAA_HASH_OFFSET 1");
+            qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
+        }
+    }
+    out->taa_controls = taa_controls_defaults(&o.taa_controls);
+    if (out->taa) {
+        plan_pass *t = &out->taa_pass;
+        memset(t, 0, sizeof *t);
+        snprintf(t->name, sizeof t->name, "taa");
+        t->vs = "shaders/fullscreen.vert";
+        t->fs = "shaders/taa.frag";
+    }
+
     /* Foveation: the rings, and a composite pass only when something needs one. */
     out->layout = o.layout.count > 0 ? o.layout : fov_layout_off();
     out->rings = out->layout.count > 1 || out->layout.rings[0].scale_log2 > 0;
@@ -215,6 +247,11 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     }
     fprintf(f, "targets    per ring: colour RGBA16F + coverage R16F + depth 24%s; display: %s\n",
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
-    fprintf(f, "off        MSAA (%s), TAA and velocity (not implemented yet)\n",
-            p->msaa ? "on" : "no alpha-to-coverage mode in use");
+    if (p->taa)
+        fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
+                   "blend %.2f, gamma %.2f, Halton(2,3) jitter of %d frames\n",
+                p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
+                p->taa_controls.jitter_length);
+    fprintf(f, "off        %s%s%sper-object motion (static scenes)\n", p->msaa ? "" : "MSAA (no alpha-to-coverage mode), ",
+            p->taa ? "" : "TAA (--taa off, or a single frame), ", "");
 }

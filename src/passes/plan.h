@@ -52,6 +52,15 @@ typedef struct alpha_params {
 /* Fills zero fields with defaults. */
 alpha_params alpha_params_defaults(const alpha_params *p);
 
+/* Temporal antialiasing controls (DESIGN.md "Temporal antialiasing"); zero = default. */
+typedef struct taa_controls {
+    float blend;        /* weight of the current frame, default TAA_BLEND_DEFAULT (0.1) */
+    float gamma;        /* variance-box half-width in sigmas, default TAA_GAMMA_DEFAULT (1) */
+    int jitter_length;  /* Halton (2,3) period in frames, default TAA_JITTER_LENGTH_DEFAULT (16) */
+} taa_controls;
+
+taa_controls taa_controls_defaults(const taa_controls *c);
+
 typedef struct plan_options {
     alpha_mode alpha_mode; /* --alpha; DEFAULT = the scene's mode, else traditional */
     int width, height;     /* 0 = the scene's display */
@@ -61,6 +70,8 @@ typedef struct plan_options {
     bool overlay;          /* draw ring borders and the gaze marker into the colour */
     bool debug_channels;   /* write ring.id and eccentricity channels */
     bool force_msaa;       /* draw through MSAA targets even without an A2C mode (bench: cost split) */
+    bool taa;              /* temporal antialiasing per ring (only when frames > 1) */
+    taa_controls taa_controls;
 } plan_options;
 
 typedef struct plan {
@@ -73,7 +84,10 @@ typedef struct plan {
     bool msaa;                  /* MSAA_SAMPLES x MSAA targets: only for A2C modes */
     alpha_params alpha;         /* with defaults filled */
     bool castano;               /* some material uses coverage-preserving mips */
-    bool taa, velocity;         /* not implemented yet: always false, with the reason printed */
+    bool taa;                   /* TAA per ring: asked for and more than one frame */
+    taa_controls taa_controls;  /* with defaults filled */
+    plan_pass taa_pass;         /* shaders of the TAA resolve (valid when taa) */
+    bool velocity;              /* per-object motion: not implemented (scenes are static) */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
     fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */
     bool rings;                 /* foveation on: more than one ring or a reduced scale */

@@ -11,6 +11,7 @@
 #include "core/progress.h"
 #include "gl/gl_device.h"
 #include "gl/gl_program.h"
+#include "passes/taa_math.h"
 #include "scene/mip.h"
 
 /* >>resources
@@ -48,6 +49,12 @@ typedef struct composite_program {
     GLuint id;
     GLint u_display_px, u_focal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
 } composite_program;
+
+typedef struct taa_program {
+    GLuint id;
+    GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
+        u_gamma;
+} taa_program;
 
 typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
@@ -98,6 +105,17 @@ struct renderer {
     double stage_wall_ms[RENDERER_MAX_STAGES];
     GLuint frag_query;
     bool stats_pending;
+    /* >>taa state: resolved rings ping-pong between two pairs of arrays (no read/write of one
+     * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
+    taa_program taa;
+    GLuint taa_color[2], taa_coverage[2], taa_fbo[2][MAX_FOV_RINGS];
+    int parity;                             /* the pair this frame writes */
+    int out_parity;                         /* the pair the last frame wrote */
+    bool have_prev;
+    int prev_index;
+    mat4 prev_vp[MAX_FOV_RINGS];
+    fov_ring_rect prev_rect[MAX_FOV_RINGS];
+    mat4 draw_vp;                           /* the view-projection the ring being drawn uses */
     bool pass_sync;
     long long shaded_pixels;               /* ring target pixels drawn by the last frame */
 };
@@ -138,6 +156,24 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_hash_aniso = glGetUniformLocation(p, "u_hash_aniso");
     out->u_fade_n = glGetUniformLocation(p, "u_fade_n");
     out->u_frame = glGetUniformLocation(p, "u_frame");
+    return FS_OK;
+}
+
+static fs_status taa_create(const plan_pass *ps, taa_program *out)
+{
+    fs_status st = build_pass_program(ps, &out->id);
+    if (st != FS_OK)
+        return st;
+    GLuint h = out->id;
+    out->u_layer = glGetUniformLocation(h, "u_layer");
+    out->u_size = glGetUniformLocation(h, "u_size");
+    out->u_prev_size = glGetUniformLocation(h, "u_prev_size");
+    out->u_array_px = glGetUniformLocation(h, "u_array_px");
+    out->u_inv_view_proj = glGetUniformLocation(h, "u_inv_view_proj");
+    out->u_prev_view_proj = glGetUniformLocation(h, "u_prev_view_proj");
+    out->u_history_valid = glGetUniformLocation(h, "u_history_valid");
+    out->u_blend = glGetUniformLocation(h, "u_blend");
+    out->u_gamma = glGetUniformLocation(h, "u_gamma");
     return FS_OK;
 }
 
@@ -366,6 +402,26 @@ static fs_status create_targets(renderer *r)
         if (st != FS_OK)
             return st;
     }
+    if (r->pl.taa) {
+        static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        for (int k = 0; k < 2; k++) {
+            glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_color[k]);
+            glTextureStorage3D(r->taa_color[k], 1, GL_RGBA16F, r->width, r->height, n);
+            glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_coverage[k]);
+            glTextureStorage3D(r->taa_coverage[k], 1, GL_R16F, r->width, r->height, n);
+            for (int i = 0; i < n; i++) {
+                glCreateFramebuffers(1, &r->taa_fbo[k][i]);
+                glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT0, r->taa_color[k], 0, i);
+                glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT1, r->taa_coverage[k], 0, i);
+                glNamedFramebufferDrawBuffers(r->taa_fbo[k][i], 2, two);
+                fs_status st = check_fbo(r->taa_fbo[k][i], "TAA history", r->width, r->height);
+                if (st != FS_OK)
+                    return st;
+            }
+        }
+        if (!r->empty_vao)
+            glCreateVertexArrays(1, &r->empty_vao);
+    }
     if (!r->pl.composite)
         return FS_OK;
     int outs = r->pl.debug_channels ? OUT_COUNT : OUT_DEBUG; /* the debug target only when asked */
@@ -376,7 +432,8 @@ static fs_status create_targets(renderer *r)
         glNamedFramebufferTexture(r->out_fbo, bufs[k], r->out_tex[k], 0);
     }
     glNamedFramebufferDrawBuffers(r->out_fbo, outs, bufs);
-    glCreateVertexArrays(1, &r->empty_vao);
+    if (!r->empty_vao)
+        glCreateVertexArrays(1, &r->empty_vao);
     glCreateSamplers(1, &r->ring_sampler);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -392,6 +449,8 @@ static void name_stages(renderer *r)
     if (!r->pl.composite) {
         for (int i = 0; i < r->pl.pass_count; i++)
             snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "%s", r->pl.passes[i].name);
+        if (r->pl.taa)
+            snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "taa resolve");
         return;
     }
     for (int i = 0; i < r->pl.layout.count; i++)
@@ -419,6 +478,8 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = program_create(&r->pl.passes[i], &r->programs[i]);
     if (st == FS_OK && r->pl.composite)
         st = composite_create(&r->pl.composite_pass, &r->comp);
+    if (st == FS_OK && r->pl.taa)
+        st = taa_create(&r->pl.taa_pass, &r->taa);
     if (st == FS_OK)
         st = upload_scene(r);
     if (st == FS_OK)
@@ -479,6 +540,12 @@ void renderer_destroy(renderer *r)
     glDeleteTextures(1, &r->rt.msaa_color);
     glDeleteTextures(1, &r->rt.msaa_coverage);
     glDeleteTextures(1, &r->rt.msaa_depth);
+    glDeleteProgram(r->taa.id);
+    for (int k = 0; k < 2; k++) {
+        glDeleteFramebuffers(MAX_FOV_RINGS, r->taa_fbo[k]);
+        glDeleteTextures(1, &r->taa_color[k]);
+        glDeleteTextures(1, &r->taa_coverage[k]);
+    }
     glDeleteFramebuffers(1, &r->out_fbo);
     glDeleteTextures(OUT_COUNT, r->out_tex);
     glDeleteVertexArrays(1, &r->empty_vao);
@@ -495,7 +562,8 @@ void renderer_destroy(renderer *r)
 static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
 {
     const light_desc *L = &r->sc->light;
-    glProgramUniformMatrix4fv(pg->id, pg->u_view_proj, 1, GL_FALSE, fr->ring_view_proj[ring].m);
+    (void)fr;
+    glProgramUniformMatrix4fv(pg->id, pg->u_view_proj, 1, GL_FALSE, r->draw_vp.m);
     glProgramUniform3f(pg->id, pg->u_eye, fr->camera.position.x, fr->camera.position.y, fr->camera.position.z);
     glProgramUniform3f(pg->id, pg->u_light_dir, L->direction.x, L->direction.y, L->direction.z);
     glProgramUniform3f(pg->id, pg->u_light_color, L->color.x, L->color.y, L->color.z);
@@ -650,6 +718,43 @@ static void stage_end(renderer *r, int k, double *t_prev)
     }
 }
 
+/* TAA of one ring: current (jittered) ring + last frame's resolved ring -> this frame's resolved
+ * ring, in the `parity` pair of arrays. History is valid when there was a previous frame, it was
+ * the frame just before, and no camera cut lies between (frame_record.cut). */
+static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
+{
+    const taa_program *p = &r->taa;
+    const fov_ring_rect *rr = &fr->ring_rect[ring];
+    bool valid = r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
+    mat4 inv;
+    m4_invert(fr->ring_view_proj[ring], &inv);
+    const fov_ring_rect *pr = valid ? &r->prev_rect[ring] : rr;
+    glBindFramebuffer(GL_FRAMEBUFFER, r->taa_fbo[r->parity][ring]);
+    glViewport(0, 0, rr->width, rr->height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(p->id);
+    glProgramUniform1i(p->id, p->u_layer, ring);
+    glProgramUniform2f(p->id, p->u_size, (float)rr->width, (float)rr->height);
+    glProgramUniform2f(p->id, p->u_prev_size, (float)pr->width, (float)pr->height);
+    glProgramUniform2f(p->id, p->u_array_px, (float)r->width, (float)r->height);
+    glProgramUniformMatrix4fv(p->id, p->u_inv_view_proj, 1, GL_FALSE, inv.m);
+    glProgramUniformMatrix4fv(p->id, p->u_prev_view_proj, 1, GL_FALSE,
+                              (valid ? r->prev_vp[ring] : fr->ring_view_proj[ring]).m);
+    glProgramUniform1i(p->id, p->u_history_valid, valid);
+    glProgramUniform1f(p->id, p->u_blend, r->pl.taa_controls.blend);
+    glProgramUniform1f(p->id, p->u_gamma, r->pl.taa_controls.gamma);
+    glBindTextureUnit(0, r->rt.color);
+    glBindTextureUnit(1, r->rt.coverage);
+    glBindTextureUnit(2, r->rt.depth);
+    glBindTextureUnit(3, r->taa_color[1 - r->parity]);
+    glBindTextureUnit(4, r->taa_coverage[1 - r->parity]);
+    glBindVertexArray(r->empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEnable(GL_DEPTH_TEST);
+}
+
 /* The forward passes of one ring into its target. `stage` >= 0: time each pass as a stage from
  * there (rings off); < 0: the caller times the ring as a whole. */
 static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, double *t_prev)
@@ -674,6 +779,14 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
     cull_instances(r, &fr->ring_view_proj[ring]);
+    r->draw_vp = fr->ring_view_proj[ring];
+    if (r->pl.taa) {
+        /* Sub-pixel jitter (Halton 2,3), in this ring's own pixels: an NDC offset of 2 j / size. */
+        float j[2];
+        taa_jitter((uint32_t)fr->index, r->pl.taa_controls.jitter_length, j);
+        mat4 t = m4_translate(v3(2.0f * j[0] / (float)rr->width, 2.0f * j[1] / (float)rr->height, 0.0f));
+        r->draw_vp = m4_mul(t, fr->ring_view_proj[ring]);
+    }
     for (int i = 0; i < r->pl.pass_count; i++) {
         const plan_pass *ps = &r->pl.passes[i];
         const gpu_program *pg = &r->programs[i];
@@ -711,6 +824,16 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
                                    rr->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         }
         glNamedFramebufferDrawBuffers(r->rt.fbo[ring], 2, att);
+        if (r->pl.taa) /* TAA reprojects through this ring's depth */
+            glBlitNamedFramebuffer(r->rt.msaa_fbo, r->rt.fbo[ring], 0, 0, rr->width, rr->height, 0, 0, rr->width,
+                                   rr->height, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    }
+    if (r->pl.taa) {
+        if (stage >= 0)
+            stage_begin(r, stage + r->pl.pass_count);
+        taa_resolve_ring(r, fr, ring);
+        if (stage >= 0)
+            stage_end(r, stage + r->pl.pass_count, t_prev);
     }
 }
 
@@ -731,8 +854,9 @@ static void draw_composite(renderer *r, const frame_record *fr)
         rect[4 * i + 3] = (float)rr->y1;
         block[i] = (float)rr->block;
     }
-    glBindTextureUnit(0, r->rt.color);
-    glBindTextureUnit(1, r->rt.coverage);
+    /* With TAA the composite reads the resolved rings this frame wrote. */
+    glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);
+    glBindTextureUnit(1, r->pl.taa ? r->taa_coverage[r->parity] : r->rt.coverage);
     glBindSampler(0, r->ring_sampler);
     glBindSampler(1, r->ring_sampler);
     glProgramUniform2f(c->id, c->u_display_px, (float)r->width, (float)r->height);
@@ -780,6 +904,16 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
     }
     if (r->frag_query)
         glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
+    if (r->pl.taa) {
+        for (int i = 0; i < fr->ring_count; i++) {
+            r->prev_vp[i] = fr->ring_view_proj[i];
+            r->prev_rect[i] = fr->ring_rect[i];
+        }
+        r->prev_index = fr->index;
+        r->have_prev = true;
+        r->out_parity = r->parity; /* what renderer_read and the next frame's history use */
+        r->parity = 1 - r->parity;
+    }
     r->stats_pending = r->timers;
     glBindVertexArray(0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -855,8 +989,10 @@ fs_status renderer_read(renderer *r, exr_image *img)
             return FS_ERR_NOMEM;
         }
     /* Composite: the display targets; rings off: layer 0 of the ring arrays (display-sized). */
-    GLuint color = r->pl.composite ? r->out_tex[OUT_COLOR] : r->rt.color;
-    GLuint coverage = r->pl.composite ? r->out_tex[OUT_COVERAGE] : r->rt.coverage;
+    GLuint color = r->pl.composite ? r->out_tex[OUT_COLOR] : r->pl.taa ? r->taa_color[r->out_parity] : r->rt.color;
+    GLuint coverage = r->pl.composite ? r->out_tex[OUT_COVERAGE]
+                      : r->pl.taa  ? r->taa_coverage[r->out_parity]
+                                   : r->rt.coverage;
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glGetTextureSubImage(color, 0, 0, 0, 0, r->width, r->height, 1, GL_RGBA, GL_FLOAT,
                          (GLsizei)(sizeof(float) * 4 * n), rgba);

@@ -1,0 +1,102 @@
+// taa.frag: temporal antialiasing of one foveation ring (DESIGN.md "Temporal antialiasing").
+// Runs over the ring's footprint in ring pixels, right after the ring was drawn with sub-pixel
+// jitter. Each pixel reprojects through its depth into the PREVIOUS frame's ring (the ring frustum
+// moves with the gaze), fetches that history with a Catmull-Rom filter, clips it to the variance
+// box of the current 3x3 neighbourhood in YCoCg, and blends. History that falls outside the
+// previous ring's footprint (a saccade) or behind the previous camera is not used: the pixel takes
+// the current sample. NaN and Inf never enter history. The math is in common/taa.glsl (C twin:
+// src/passes/taa_math.c).
+#include "common/taa.glsl"
+
+layout(binding = 0) uniform sampler2DArray u_cur_color;     // this frame's rings (jittered)
+layout(binding = 1) uniform sampler2DArray u_cur_coverage;
+layout(binding = 2) uniform sampler2D u_depth;              // this ring's depth
+layout(binding = 3) uniform sampler2DArray u_hist_color;    // last frame's resolved rings
+layout(binding = 4) uniform sampler2DArray u_hist_coverage;
+uniform int u_layer;             // this ring's layer in both arrays
+uniform vec2 u_size;             // this frame's footprint, ring pixels
+uniform vec2 u_prev_size;        // last frame's footprint of this ring, ring pixels
+uniform vec2 u_array_px;         // size of the array layers, texels
+uniform mat4 u_inv_view_proj;    // this ring, this frame, unjittered: NDC -> world
+uniform mat4 u_prev_view_proj;   // this ring, last frame, unjittered: world -> clip
+uniform bool u_history_valid;    // false on the first frame and after a camera cut
+uniform float u_blend;           // weight of the current sample, default 0.1
+uniform float u_gamma;           // variance box half-width in sigmas, default 1
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_coverage;
+
+vec4 fetch_cur(ivec2 p)
+{
+    p = clamp(p, ivec2(0), ivec2(u_size) - 1);
+    return taa_sanitize4(texelFetch(u_cur_color, ivec3(p, u_layer), 0));
+}
+
+// Catmull-Rom history fetch (9 taps as separable 4x4 weights) at ring-pixel position p of the
+// previous footprint, clamped to its rendered texels.
+vec4 fetch_history(vec2 p, out float cov)
+{
+    vec2 t = p - 0.5;
+    vec2 f = fract(t);
+    ivec2 base = ivec2(floor(t)) - 1;
+    vec4 wx = taa_catmull_rom_weights(f.x), wy = taa_catmull_rom_weights(f.y);
+    vec4 c = vec4(0.0);
+    cov = 0.0;
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++) {
+            ivec2 q = clamp(base + ivec2(i, j), ivec2(0), ivec2(u_prev_size) - 1);
+            float w = wx[i] * wy[j];
+            c += w * taa_sanitize4(texelFetch(u_hist_color, ivec3(q, u_layer), 0));
+            cov += w * taa_sanitize(texelFetch(u_hist_coverage, ivec3(q, u_layer), 0).r);
+        }
+    return max(c, vec4(0.0)); // Catmull-Rom rings below 0 at sharp edges
+}
+
+void main()
+{
+    ivec2 pix = ivec2(gl_FragCoord.xy);
+    vec4 cur = fetch_cur(pix);
+    float cur_cov = taa_sanitize(texelFetch(u_cur_coverage, ivec3(pix, u_layer), 0).r);
+
+    // Neighbourhood statistics in YCoCg (variance clipping).
+    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+    float a_min = 1e9, a_max = -1e9, c_min = 1e9, c_max = -1e9;
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++) {
+            vec4 s = fetch_cur(pix + ivec2(i, j));
+            vec3 y = taa_rgb_to_ycocg(s.rgb);
+            m1 += y;
+            m2 += y * y;
+            a_min = min(a_min, s.a);
+            a_max = max(a_max, s.a);
+            ivec2 q = clamp(pix + ivec2(i, j), ivec2(0), ivec2(u_size) - 1);
+            float cv = taa_sanitize(texelFetch(u_cur_coverage, ivec3(q, u_layer), 0).r);
+            c_min = min(c_min, cv);
+            c_max = max(c_max, cv);
+        }
+    vec3 mean = m1 / 9.0;
+    vec3 sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3(0.0)));
+
+    // Reproject through depth into last frame's ring.
+    bool valid = u_history_valid;
+    vec2 prev = vec2(0.0);
+    if (valid) {
+        vec2 ndc = (vec2(pix) + 0.5) / u_size * 2.0 - 1.0;
+        float z = texelFetch(u_depth, pix, 0).r * 2.0 - 1.0;
+        vec2 prev_ndc;
+        valid = taa_reproject(vec3(ndc, z), u_inv_view_proj, u_prev_view_proj, prev_ndc);
+        prev = (prev_ndc * 0.5 + 0.5) * u_prev_size;
+        // Outside last frame's footprint of this ring (a saccade moved it): no history there.
+        valid = valid && all(greaterThanEqual(prev, vec2(0.5))) && all(lessThanEqual(prev, u_prev_size - 0.5));
+    }
+    vec4 hist = cur;
+    float hist_cov = cur_cov;
+    if (valid) {
+        hist = fetch_history(prev, hist_cov);
+        vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), mean, sigma, u_gamma);
+        hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, a_min, a_max));
+        hist_cov = clamp(hist_cov, c_min, c_max);
+    }
+    o_color = taa_resolve4(cur, hist, valid, u_blend);
+    o_coverage = vec4(taa_resolve(cur_cov, hist_cov, valid, u_blend), 0.0, 0.0, 1.0);
+}

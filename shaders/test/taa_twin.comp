@@ -1,0 +1,57 @@
+// taa_twin.comp: evaluates every function of common/taa.glsl on a buffer of inputs, for
+// tests/gpu/test_taa_twin.c, which compares each result with the C twin (src/passes/taa_math.c).
+// Used only by that test. The structs match twin_in / twin_out of the test (std430, vec4 / mat4
+// fields, mat4 column-major as the C float[16]).
+#include "common/taa.glsl"
+
+layout(local_size_x = 64) in;
+
+struct twin_in {
+    vec4 a;    // xyz: colour / history (clip) / current (resolve) / ycocg; w: sanitize input
+    vec4 b;    // xyz: clip mean / resolve history; w: blend
+    vec4 c;    // xyz: clip sigma; w: gamma
+    vec4 d;    // xyz: reproject ndc; w: catmull-rom frac
+    uvec4 u;   // halton index, halton base, jitter frame, jitter length
+    uvec4 v;   // x: resolve history_valid
+    mat4 inv;  // reproject: inverse jittered view-projection
+    mat4 prev; // reproject: previous view-projection
+};
+
+struct twin_out {
+    vec4 o0;   // taa_halton, taa_jitter.xy, taa_sanitize(a.w)
+    vec4 o1;   // taa_rgb_to_ycocg(a.xyz), taa_sanitize_color(a.xyz).x
+    vec4 o2;   // taa_ycocg_to_rgb(a.xyz), 0
+    vec4 o3;   // taa_clip_to_box(a, b, c, c.w), 0
+    vec4 o4;   // taa_catmull_rom_weights(d.w)
+    vec4 o5;   // taa_resolve(a, b, v.x != 0, b.w), 0
+    vec4 o6;   // taa_reproject(d.xyz, inv, prev), valid ? 1 : 0
+    vec4 o7;   // taa_resolve4(a, vec4(b.xyz, c.w), v.x != 0, b.w)
+    vec4 o8;   // taa_sanitize4(a)
+    vec4 o9;   // taa_resolve(a.w, c.w, v.x != 0, b.w) (one channel), 0, 0, 0
+};
+
+layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
+layout(std430, binding = 1) writeonly buffer twin_outputs { twin_out tout[]; };
+uniform uint u_count;
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= u_count)
+        return;
+    twin_in p = tin[i];
+    twin_out r;
+    r.o0 = vec4(taa_halton(p.u.x, p.u.y), taa_jitter(p.u.z, p.u.w), taa_sanitize(p.a.w));
+    r.o1 = vec4(taa_rgb_to_ycocg(p.a.xyz), taa_sanitize_color(p.a.xyz).x);
+    r.o2 = vec4(taa_ycocg_to_rgb(p.a.xyz), 0.0);
+    r.o3 = vec4(taa_clip_to_box(p.a.xyz, p.b.xyz, p.c.xyz, p.c.w), 0.0);
+    r.o4 = taa_catmull_rom_weights(p.d.w);
+    r.o5 = vec4(taa_resolve(p.a.xyz, p.b.xyz, p.v.x != 0u, p.b.w), 0.0);
+    vec3 prev_ndc;
+    bool valid = taa_reproject(p.d.xyz, p.inv, p.prev, prev_ndc);
+    r.o6 = vec4(prev_ndc, valid ? 1.0 : 0.0);
+    r.o7 = taa_resolve4(p.a, vec4(p.b.xyz, p.c.w), p.v.x != 0u, p.b.w);
+    r.o8 = taa_sanitize4(p.a);
+    r.o9 = vec4(taa_resolve(p.a.w, p.c.w, p.v.x != 0u, p.b.w), 0.0, 0.0, 0.0);
+    tout[i] = r;
+}

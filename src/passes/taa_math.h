@@ -1,0 +1,107 @@
+/* taa_math.h: the math of temporal antialiasing (DESIGN.md "Temporal antialiasing"), the C twin of
+ * shaders/common/taa.glsl.
+ *
+ * Every function has a GLSL function of the same name and the same float operations in the same
+ * order (no FMA on either side: C11 does not contract, the GLSL marks its results `precise`), so
+ * tests/gpu/test_taa_twin.c can compare them input by input. Constants (TAA_*) come from
+ * common/shared_defs.h, shared with the GLSL.
+ *
+ *   taa_halton / taa_jitter         Halton(2,3) sub-pixel jitter, offsets in (-0.5, 0.5) ring pixels
+ *   taa_rgb_to_ycocg / _to_rgb      the colour space of the neighbourhood clip
+ *   taa_clip_to_box                 variance clipping (Salvi 2016, Karis 2014): AABB clip of the
+ *                                   history towards the neighbourhood mean
+ *   taa_catmull_rom_weights         4-tap cubic weights of one axis, for the history fetch
+ *   taa_resolve / 4 / 1             exponential blend of history and current sample (RGB, RGBA, one
+ *                                   channel)
+ *   taa_sanitize / _color / 4       NaN -> 0, +-Inf -> +-TAA_MAX_VALUE (colours also clamped >= 0)
+ *   taa_reproject                   current NDC + depth -> previous frame's NDC
+ *
+ * Usage, per ring pixel (what the resolve shader does):
+ *   taa_reproject(ndc, inv_vp_jittered, prev_vp, &prev, &valid);      // -> history uv
+ *   vec3 c = taa_rgb_to_ycocg(taa_sanitize_color(current));
+ *   vec3 h = taa_rgb_to_ycocg(taa_sanitize_color(history_catmull_rom));
+ *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT);           // mean/sigma: 3x3 YCoCg
+ *   out = taa_resolve(current, taa_ycocg_to_rgb(h), valid && inside, TAA_BLEND_DEFAULT);
+ *
+ * Guarantees: taa_sanitize, taa_sanitize_color, taa_clip_to_box, taa_catmull_rom_weights and
+ * taa_resolve return finite values for every input (NaN and infinities included), so NaN/Inf never
+ * enters history. taa_reproject returns finite NDC with valid = false where it cannot reproject.
+ *
+ * What it does NOT do: fetch textures, compute the neighbourhood statistics, choose the fallback
+ * ring after a saccade, or detect camera cuts (the TAA pass does).
+ */
+#ifndef FOVSIM_TAA_MATH_H
+#define FOVSIM_TAA_MATH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/fmath.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Radical inverse of index in base (>= 2; other bases -> 0), in [0, 1): the digits of index
+ * mirrored about the radix point, computed exactly in integers and truncated to TAA_HALTON_BITS
+ * fraction bits (so the GPU gives the same bits). Digits beyond base^k > 2^31 / base are dropped
+ * (they are below 2^-29). GLSL twin: float taa_halton(uint, uint). */
+float taa_halton(uint32_t index, uint32_t base);
+
+/* Jitter of a frame: i = frame % length + 1 (index 0 is skipped), out = (halton(i, 2) - 0.5,
+ * halton(i, 3) - 0.5) in (-0.5, 0.5) pixels of the ring. length 0 -> TAA_JITTER_LENGTH_DEFAULT,
+ * clamped to TAA_JITTER_LENGTH_MAX. Exact. GLSL twin: vec2 taa_jitter(uint, uint). */
+void taa_jitter(uint32_t frame, uint32_t length, float out[2]);
+
+/* Y = R/4 + G/2 + B/4, Co = R/2 - B/2, Cg = -R/4 + G/2 - B/4, and its inverse (R = Y - Cg + Co,
+ * G = Y + Cg, B = Y - Cg - Co): inverse up to float rounding. GLSL twins: same names. */
+vec3 taa_rgb_to_ycocg(vec3 rgb);
+vec3 taa_ycocg_to_rgb(vec3 ycocg);
+
+/* NaN -> 0, then clamped to [-TAA_MAX_VALUE, TAA_MAX_VALUE] (+Inf -> 65504, -Inf -> -65504; finite
+ * values beyond the half-float range would turn into Inf in the RGBA16F history). Denormals pass
+ * through (GPUs may flush them to 0). GLSL twin: taa_sanitize. */
+float taa_sanitize(float v);
+/* taa_sanitize per channel, then clamped to [0, TAA_MAX_VALUE]. GLSL twin: taa_sanitize_color. */
+vec3 taa_sanitize_color(vec3 c);
+
+/* taa_sanitize_color for RGBA (alpha / coverage included). GLSL twin: vec4 taa_sanitize4(vec4). */
+void taa_sanitize4(const float c[4], float out[4]);
+
+/* Variance clipping in YCoCg. Box = mean +- gamma * |sigma| (inputs sanitized; gamma NaN ->
+ * TAA_GAMMA_DEFAULT, negative -> 0). History inside the box is returned unchanged; outside, it moves
+ * along the segment to the mean until it meets the box: mean + (history - mean) * t, t = min over
+ * the axes where |d| > extent of extent / |d|. A zero extent on such an axis gives t = 0: the mean.
+ * GLSL twin: taa_clip_to_box. */
+vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma);
+
+/* Catmull-Rom weights of the taps at -1, 0, 1, 2 for a sample at frac in [0, 1] (clamped, NaN -> 0)
+ * past tap 0. They sum to 1 (up to rounding) and reproduce linear functions.
+ * GLSL twin: vec4 taa_catmull_rom_weights(float). */
+void taa_catmull_rom_weights(float frac, float w[4]);
+
+/* Exponential blend: history + (current - history) * blend, both colours through
+ * taa_sanitize_color first; blend NaN -> TAA_BLEND_DEFAULT, clamped to [0, 1]. history_valid false
+ * -> the sanitized current. GLSL twin: taa_resolve. */
+vec3 taa_resolve(vec3 current, vec3 history, bool history_valid, float blend);
+
+/* taa_resolve for RGBA through taa_sanitize4. GLSL twin: vec4 taa_resolve4(vec4, vec4, bool, float). */
+void taa_resolve4(const float current[4], const float history[4], bool history_valid, float blend, float out[4]);
+/* taa_resolve of one channel (coverage). GLSL twin: float taa_resolve(float, float, bool, float). */
+float taa_resolve1(float current, float history, bool history_valid, float blend);
+
+/* Reprojection of a current-frame point (ndc.xy in [-1, 1], ndc.z = depth in [-1, 1]) through
+ * inv_view_proj_jittered (the inverse of the matrix the frame was rendered with) and
+ * prev_view_proj (the previous frame's, with or without its jitter as the caller wants) into the
+ * previous frame's NDC (*out: x, y, depth). *valid is true when the previous clip w is > 0, the
+ * homogeneous world point has a w of the same sign, and everything is finite. Where invalid, *out
+ * is taa_sanitize of ndc. The world point is kept homogeneous (prev * (inv * ndc)): one division.
+ * GLSL twin: bool taa_reproject(vec3, mat4, mat4, out vec3 prev_ndc) (returns valid; an overload
+ * with out vec2 gives xy only). */
+void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj, vec3 *out, bool *valid);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

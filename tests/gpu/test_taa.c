@@ -1,0 +1,326 @@
+/* Temporal antialiasing per ring: convergence on a static view, NaN/Inf never propagate, camera
+ * cuts and saccades drop history, hashed alpha + TAA flickers less and covers closer to the
+ * reference than hashed alone. */
+#include "gpu_util.h"
+
+/* A renderer kept across frames (TAA needs consecutive frames). */
+typedef struct seq {
+    plan pl;
+    renderer *r;
+} seq;
+
+static bool seq_begin(seq *q, const scene *sc, alpha_mode mode, int w, int h, const fov_layout *l, bool taa,
+                      alpha_params ap)
+{
+    plan_options po = {.alpha_mode = mode, .width = w, .height = h, .frames = 1000, .taa = taa, .alpha = ap};
+    if (l)
+        po.layout = *l;
+    fs_status st = plan_build(sc, &po, &q->pl);
+    if (st != FS_OK)
+        return false;
+    q->r = renderer_create(&(renderer_desc){.scene = sc, .plan = &q->pl}, &st);
+    return q->r != NULL;
+}
+
+/* Draws frame `index` at time t with gaze (gx, gy) and reads it. */
+static fs_status seq_frame(seq *q, const scene *sc, int index, float t, float prev_t, float gx, float gy, exr_image *img)
+{
+    frame_record fr = frame_record_at(sc, index, t, prev_t, q->pl.width, q->pl.height);
+    display_desc dd = {q->pl.width, q->pl.height, fr.hfov_deg};
+    frame_record_set_gaze(&fr, &q->pl.layout, &dd, gx, gy);
+    fs_status st = renderer_draw(q->r, &fr);
+    return st == FS_OK && img ? renderer_read(q->r, img) : st;
+}
+
+/* RMSE of R, G, B between two images. */
+static double rmse_rgb(const exr_image *a, const exr_image *b)
+{
+    double se = 0;
+    long n = 0;
+    static const char *const ch[] = {"R", "G", "B"};
+    for (int c = 0; c < 3; c++) {
+        const float *x = exr_image_channel(a, ch[c]), *y = exr_image_channel(b, ch[c]);
+        for (int i = 0; i < a->width * a->height; i++, n++)
+            se += (x[i] - y[i]) * (x[i] - y[i]);
+    }
+    return sqrt(se / (double)n);
+}
+
+/* Box-downsamples every channel of `hi` by `k` into `lo` (initialised here). */
+static void downsample(const exr_image *hi, int k, exr_image *lo)
+{
+    exr_image_init(lo, hi->width / k, hi->height / k);
+    for (int c = 0; c < hi->channel_count; c++) {
+        float *d = exr_image_add_channel(lo, hi->channel_names[c]);
+        for (int y = 0; y < lo->height; y++)
+            for (int x = 0; x < lo->width; x++) {
+                double s = 0;
+                for (int j = 0; j < k; j++)
+                    for (int i = 0; i < k; i++)
+                        s += hi->planes[c][(y * k + j) * hi->width + x * k + i];
+                d[y * lo->width + x] = (float)(s / (k * k));
+            }
+    }
+}
+
+static void still_camera(scene *sc, float t)
+{
+    camera_state cs = camera_path_eval(&sc->camera, t);
+    sc->camera.count = 1;
+    sc->camera.keys[0] = (camera_key){.time = 0, .position = cs.position, .target = cs.target, .hfov_deg = cs.hfov_deg};
+    sc->duration = 0;
+}
+
+TEST(static_view_converges_towards_the_supersampled_image)
+{
+    enum { W = 160, H = 90, K = 4 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    still_camera(&sc, 1.0f);
+    exr_image hi, ref;
+    CHECK(gpu_render(&sc, ALPHA_MODE_TRADITIONAL, W * K, H * K, 0, &hi) == FS_OK);
+    downsample(&hi, K, &ref);
+    exr_image_free(&hi);
+    seq q;
+    CHECK(seq_begin(&q, &sc, ALPHA_MODE_TRADITIONAL, W, H, NULL, true, (alpha_params){0}));
+    double err[3] = {0};
+    int at[3] = {1, 16, 64}, k = 0;
+    for (int f = 1; f <= 64; f++) {
+        exr_image img;
+        CHECK(seq_frame(&q, &sc, f - 1, 0, -1, 0.5f, 0.5f, f == at[k] ? &img : NULL) == FS_OK);
+        if (f == at[k]) {
+            err[k++] = rmse_rgb(&img, &ref);
+            exr_image_free(&img);
+        }
+    }
+    exr_image no_taa;
+    CHECK(gpu_render(&sc, ALPHA_MODE_TRADITIONAL, W, H, 0, &no_taa) == FS_OK);
+    double e_plain = rmse_rgb(&no_taa, &ref);
+    fprintf(stderr, "RMSE vs 4x4 supersampled: no TAA %.4f; TAA frame 1 %.4f, 16 %.4f, 64 %.4f\n", e_plain, err[0],
+            err[1], err[2]);
+    CHECK(err[1] < err[0]);
+    CHECK(err[2] <= err[1] * 1.02);     /* converged: no worse than at 16 (2 %: rounding of half floats) */
+    CHECK(err[2] < 0.75 * e_plain);     /* and clearly closer to the supersampled image than no TAA */
+    exr_image_free(&no_taa);
+    exr_image_free(&ref);
+    renderer_destroy(q.r);
+    scene_free(&sc);
+}
+
+/* Sets the base colour of the materials named `name` to (v, v, v). */
+static void set_colour(scene *sc, const char *name, float v)
+{
+    for (int a = 0; a < sc->asset_count; a++)
+        for (int m = 0; m < sc->assets[a].material_count; m++)
+            if (!strcmp(sc->assets[a].materials[m].name, name))
+                for (int c = 0; c < 3; c++)
+                    sc->assets[a].materials[m].base_color[c] = v;
+}
+
+TEST(nan_and_inf_never_enter_history)
+{
+    /* The bark shades to NaN (then Inf): TAA sanitises the current sample (NaN -> 0, Inf -> 65504)
+     * before it can reach the neighbourhood or the history. With NaN bark the sequence must equal
+     * the one with black bark exactly, and stay finite everywhere with Inf bark. */
+    enum { W = 160, H = 90, N = 6 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    display_desc d = {W, H, sc.display.hfov_deg};
+    fov_layout l;
+    char err[128];
+    CHECK(fov_layout_parse("10:1:0,*:1/4:0", &d, &l, err, sizeof err) == FS_OK);
+    exr_image out[3][N];
+    const float bark[3] = {NAN, 0.0f, INFINITY};
+    for (int v = 0; v < 3; v++) {
+        set_colour(&sc, "bark", bark[v]);
+        seq q;
+        CHECK(seq_begin(&q, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+        for (int f = 0; f < N; f++)
+            CHECK(seq_frame(&q, &sc, f, 0.5f + f / 24.0f, f ? 0.5f + (f - 1) / 24.0f : -1, 0.4f, 0.5f, &out[v][f]) == FS_OK);
+        renderer_destroy(q.r);
+    }
+    int nonfinite = 0, differ = 0;
+    for (int f = 0; f < N; f++) {
+        for (int v = 0; v < 3; v++)
+            nonfinite += !all_finite(&out[v][f]);
+        for (int c = 0; c < out[0][f].channel_count; c++)
+            for (int i = 0; i < W * H; i++)
+                differ += out[0][f].planes[c][i] != out[1][f].planes[c][i];
+    }
+    fprintf(stderr, "non-finite frames: %d; values differing between NaN and black bark: %d\n", nonfinite, differ);
+    CHECK(nonfinite == 0);
+    CHECK(differ == 0);
+    for (int f = 0; f < N; f++)
+        for (int v = 0; v < 3; v++)
+            exr_image_free(&out[v][f]);
+    scene_free(&sc);
+}
+
+TEST(camera_cut_and_saccade_drop_history)
+{
+    enum { W = 192, H = 108 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    display_desc d = {W, H, sc.display.hfov_deg};
+    fov_layout l;
+    char err[128];
+    CHECK(fov_layout_parse("8:1:0,20:1/2:0,*:1/4:0", &d, &l, err, sizeof err) == FS_OK);
+    /* A cut at frame 8: the camera jumps to another key. The output of the cut frame must equal
+     * that of a renderer that never saw the earlier frames (same frame index, so same jitter). */
+    sc.camera.count = 3;
+    sc.camera.keys[0] = (camera_key){.time = 0, .position = v3(0, 1.6f, 0.5f), .target = v3(0, 2.2f, -14)};
+    sc.camera.keys[1] = (camera_key){.time = 0.2f, .position = v3(0.2f, 1.6f, 1.0f), .target = v3(0, 2.2f, -14)};
+    sc.camera.keys[2] = (camera_key){.time = 8.0f / 24.0f, .position = v3(6, 2, 4), .target = v3(-2, 1.5f, -10),
+                                     .cut = true};
+    seq a, b;
+    CHECK(seq_begin(&a, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    CHECK(seq_begin(&b, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    exr_image x, y;
+    for (int f = 0; f < 8; f++)
+        CHECK(seq_frame(&a, &sc, f, f / 24.0f, f ? (f - 1) / 24.0f : -1, 0.5f, 0.5f, NULL) == FS_OK);
+    CHECK(seq_frame(&a, &sc, 8, 8 / 24.0f, 7 / 24.0f, 0.5f, 0.5f, &x) == FS_OK);
+    CHECK(seq_frame(&b, &sc, 8, 8 / 24.0f, -1, 0.5f, 0.5f, &y) == FS_OK);
+    double e = rmse_rgb(&x, &y);
+    fprintf(stderr, "camera cut: RMSE to a fresh history %.6f\n", e);
+    CHECK(e == 0.0);
+    exr_image_free(&x);
+    exr_image_free(&y);
+    renderer_destroy(a.r);
+    renderer_destroy(b.r);
+
+    /* A saccade across the display (still camera): inside the new fovea, where the eccentricity
+     * is below the inner ring's blend band, the output equals a fresh history's: no colour from
+     * where the gaze used to be. */
+    still_camera(&sc, 0.0f);
+    CHECK(seq_begin(&a, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    CHECK(seq_begin(&b, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    for (int f = 0; f < 8; f++)
+        CHECK(seq_frame(&a, &sc, f, 0, -1, 0.05f, 0.05f, NULL) == FS_OK);
+    CHECK(seq_frame(&a, &sc, 8, 0, -1, 0.95f, 0.95f, &x) == FS_OK);
+    CHECK(seq_frame(&b, &sc, 8, 0, -1, 0.95f, 0.95f, &y) == FS_OK);
+    float gx = 0.95f * W, gy = 0.95f * H;
+    long inside = 0, differ = 0;
+    const float *xr = exr_image_channel(&x, "G"), *yr = exr_image_channel(&y, "G");
+    for (int py = 0; py < H; py++)
+        for (int px = 0; px < W; px++)
+            if (fov_eccentricity_deg(&d, gx, gy, px + 0.5f, py + 0.5f) < l.rings[0].outer_deg - 2.0f) {
+                inside++;
+                differ += xr[py * W + px] != yr[py * W + px];
+            }
+    fprintf(stderr, "saccade: %ld new-fovea pixels, %ld differ from a fresh history\n", inside, differ);
+    CHECK(inside > 100 && differ == 0);
+    exr_image_free(&x);
+    exr_image_free(&y);
+    /* The new fovea converges again: 16 frames after the saccade it matches (RMSE < 0.005 in the
+     * new fovea) a history that has looked at the new gaze point from the start. */
+    for (int f = 9; f <= 24; f++) {
+        CHECK(seq_frame(&a, &sc, f, 0, -1, 0.95f, 0.95f, f == 24 ? &x : NULL) == FS_OK);
+        CHECK(seq_frame(&b, &sc, f, 0, -1, 0.95f, 0.95f, f == 24 ? &y : NULL) == FS_OK);
+    }
+    seq c;
+    CHECK(seq_begin(&c, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    exr_image z;
+    for (int f = 0; f <= 24; f++)
+        CHECK(seq_frame(&c, &sc, f, 0, -1, 0.95f, 0.95f, f == 24 ? &z : NULL) == FS_OK);
+    const float *xa = exr_image_channel(&x, "G"), *za = exr_image_channel(&z, "G");
+    double se = 0;
+    long n = 0;
+    for (int py = 0; py < H; py++)
+        for (int px = 0; px < W; px++)
+            if (fov_eccentricity_deg(&d, gx, gy, px + 0.5f, py + 0.5f) < l.rings[0].outer_deg - 2.0f) {
+                se += (xa[py * W + px] - za[py * W + px]) * (xa[py * W + px] - za[py * W + px]);
+                n++;
+            }
+    fprintf(stderr, "saccade: 16 frames later, new-fovea RMSE to a settled history %.5f\n", sqrt(se / n));
+    CHECK(sqrt(se / n) < 0.005);
+    exr_image_free(&x);
+    exr_image_free(&y);
+    exr_image_free(&z);
+    renderer_destroy(a.r);
+    renderer_destroy(b.r);
+    renderer_destroy(c.r);
+    scene_free(&sc);
+}
+
+/* Seed 000 and the TAA issue: with TAA, hashed alpha's thresholds change every frame (a golden-ratio
+ * offset) and the history averages them: coverage moves towards the converged reference and
+ * flickers less under slow camera motion than hashed without TAA. */
+TEST(hashed_with_taa_flickers_less_and_covers_closer)
+{
+    enum { W = 320, H = 180, N = 24 };
+    scene sc;
+    CHECK(scene_load_builtin("fence", &sc) == FS_OK);
+    scene moving = sc; /* shares assets; only the camera differs and only sc is freed */
+    still_camera(&sc, 2.0f); /* 7.75 m: the traditional test has lost the wire */
+    exr_image hi;
+    /* Reference coverage: a 4x4 supersampled stochastic test averaged over 8 frames. */
+    exr_image ref;
+    exr_image_init(&ref, W, H);
+    float *rc = exr_image_add_channel(&ref, "coverage");
+    for (int f = 0; f < 8; f++) {
+        gpu_fov fv = {.gaze = {0.5f, 0.5f}, .frame = f};
+        CHECK(gpu_render_fov(&sc, ALPHA_MODE_STOCHASTIC, W * 4, H * 4, 0, &fv, &hi) == FS_OK);
+        exr_image lo;
+        downsample(&hi, 4, &lo);
+        const float *c = exr_image_channel(&lo, "coverage");
+        for (int i = 0; i < W * H; i++)
+            rc[i] += c[i] / 8.0f;
+        exr_image_free(&lo);
+        exr_image_free(&hi);
+    }
+    double flicker[2], err[2];
+    for (int taa = 0; taa < 2; taa++) {
+        /* Coverage error: still camera, the last 8 of 24 frames. */
+        seq q;
+        CHECK(seq_begin(&q, &sc, ALPHA_MODE_HASHED, W, H, NULL, taa, (alpha_params){0}));
+        double e = 0;
+        for (int f = 0; f < N; f++) {
+            exr_image cur;
+            CHECK(seq_frame(&q, &sc, f, 0, -1, 0.5f, 0.5f, &cur) == FS_OK);
+            const float *c = exr_image_channel(&cur, "coverage");
+            for (int i = 0; f >= N - 8 && i < W * H; i++)
+                e += (c[i] - rc[i]) * (c[i] - rc[i]);
+            exr_image_free(&cur);
+        }
+        err[taa] = sqrt(e / (8.0 * W * H));
+        renderer_destroy(q.r);
+        /* Flicker: the fence's own dolly at 0.01 s per frame (about 10 cm, ~2 pixels at 7.75 m),
+         * mean |coverage change| between consecutive frames over the last 8. (For sub-pixel steps
+         * hashed alone is already stable: measured 0.0050 without TAA, 0.0058 with, at 1 ms.) */
+        CHECK(seq_begin(&q, &moving, ALPHA_MODE_HASHED, W, H, NULL, taa, (alpha_params){0}));
+        exr_image prev = {0};
+        double fl = 0;
+        for (int f = 0; f < N; f++) {
+            exr_image cur;
+            float t = 2.0f + f * 0.01f;
+            CHECK(seq_frame(&q, &moving, f, t, f ? t - 0.01f : -1, 0.5f, 0.5f, &cur) == FS_OK);
+            if (f >= N - 8) {
+                const float *c = exr_image_channel(&cur, "coverage"), *p = exr_image_channel(&prev, "coverage");
+                for (int i = 0; i < W * H; i++)
+                    fl += fabsf(c[i] - p[i]);
+            }
+            exr_image_free(&prev);
+            prev = cur;
+        }
+        exr_image_free(&prev);
+        flicker[taa] = fl / (8.0 * W * H);
+        renderer_destroy(q.r);
+    }
+    fprintf(stderr, "hashed: coverage RMSE vs reference %.4f without TAA, %.4f with; flicker under ~2 px/frame "
+                    "motion %.4f without, %.4f with\n", err[0], err[1], flicker[0], flicker[1]);
+    CHECK(err[1] < 0.8 * err[0]);
+    CHECK(flicker[1] < 0.5 * flicker[0]);
+    exr_image_free(&ref);
+    scene_free(&sc);
+}
+
+int main(void)
+{
+    gpu_begin();
+    RUN(static_view_converges_towards_the_supersampled_image);
+    RUN(nan_and_inf_never_enter_history);
+    RUN(camera_cut_and_saccade_drop_history);
+    RUN(hashed_with_taa_flickers_less_and_covers_closer);
+    gl_device_destroy();
+    return test_summary();
+}

@@ -1,0 +1,398 @@
+/* Unit tests of the TAA math (src/passes/taa_math.c, C twin of shaders/common/taa.glsl): Halton
+ * jitter, YCoCg, variance clipping, Catmull-Rom weights, resolve, sanitize, reprojection, and the
+ * hard cases of DESIGN.md (NaN/Inf in the current frame, history or matrices). */
+#include <float.h>
+#include <stdint.h>
+
+#include "common/shared_defs.h"
+#include "passes/taa_math.h"
+#include "test.h"
+
+static bool v3_finite(vec3 v)
+{
+    return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+
+static bool v3_eq(vec3 a, vec3 b)
+{
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+/* >>jitter */
+
+TEST(halton_known_values)
+{
+    CHECK(taa_halton(0, 2) == 0.0f);
+    CHECK(taa_halton(1, 2) == 0.5f);
+    CHECK(taa_halton(2, 2) == 0.25f);
+    CHECK(taa_halton(3, 2) == 0.75f);
+    CHECK(taa_halton(4, 2) == 0.125f);
+    CHECK(taa_halton(5, 2) == 0.625f);
+    /* base 3 is truncated to 24 bits: within 2^-24 below the exact value */
+    const double b3[] = {0, 1.0 / 3, 2.0 / 3, 1.0 / 9, 4.0 / 9, 7.0 / 9, 2.0 / 9, 5.0 / 9, 8.0 / 9, 1.0 / 27};
+    for (uint32_t i = 0; i < 10; i++) {
+        double h = taa_halton(i, 3);
+        CHECK(h <= b3[i] && b3[i] - h < 0x1p-24);
+    }
+    CHECK_NEAR(taa_halton(1, 5), 0.2, 1e-7);
+    CHECK_NEAR(taa_halton(7, 5), 0.4 + 1.0 / 25, 1e-7); /* 7 = 12 in base 5 -> 0.21 */
+    /* bad bases, huge indices and bases: defined, in [0, 1) */
+    CHECK(taa_halton(7, 0) == 0.0f);
+    CHECK(taa_halton(7, 1) == 0.0f);
+    const uint32_t idx[] = {UINT32_MAX, 0x80000000u, 123456789u}, bases[] = {2, 3, 7, 65537, UINT32_MAX};
+    for (int i = 0; i < 3; i++)
+        for (int b = 0; b < 5; b++) {
+            float h = taa_halton(idx[i], bases[b]);
+            CHECK(h >= 0.0f && h < 1.0f);
+        }
+    CHECK(taa_halton(UINT32_MAX, 2) == 1.0f - 0x1p-24f); /* all ones */
+}
+
+TEST(jitter_one_period)
+{
+    /* |mean| < 1 / length for the usual periods; Halton's discrepancy is O(log N / N), so long
+     * periods (1000 here) only get |mean| < log2(N) / N. */
+    const uint32_t lengths[] = {TAA_JITTER_LENGTH_DEFAULT, 4, 8, 32, 64, 512, 1000};
+    for (int l = 0; l < 7; l++) {
+        uint32_t len = lengths[l];
+        double mx = 0, my = 0;
+        float j[1000][2];
+        for (uint32_t f = 0; f < len; f++) {
+            taa_jitter(f, len, j[f]);
+            CHECK(j[f][0] > -0.5f && j[f][0] < 0.5f && j[f][1] > -0.5f && j[f][1] < 0.5f);
+            mx += j[f][0];
+            my += j[f][1];
+            for (uint32_t g = 0; g < f; g++)
+                CHECK(!(j[g][0] == j[f][0] && j[g][1] == j[f][1]));
+        }
+        mx /= len;
+        my /= len;
+        double bound = len <= 512 ? 1.0 / len : log2(len) / len;
+        CHECK(fabs(mx) < bound && fabs(my) < bound);
+        /* periodic, frame 0 is Halton index 1 */
+        float a[2], b[2];
+        taa_jitter(len * 7u + 3u, len, a);
+        taa_jitter(3u, len, b);
+        CHECK(a[0] == b[0] && a[1] == b[1]);
+    }
+    float a[2], b[2];
+    taa_jitter(0, TAA_JITTER_LENGTH_DEFAULT, a);
+    CHECK(a[0] == 0.0f && fabsf(a[1] - (1.0f / 3 - 0.5f)) < 1e-7f);
+    taa_jitter(5, 0, b); /* 0 -> default length */
+    taa_jitter(5, TAA_JITTER_LENGTH_DEFAULT, a);
+    CHECK(a[0] == b[0] && a[1] == b[1]);
+    taa_jitter(UINT32_MAX, UINT32_MAX, a); /* clamped to TAA_JITTER_LENGTH_MAX: still inside */
+    CHECK(a[0] > -0.5f && a[0] < 0.5f && a[1] > -0.5f && a[1] < 0.5f);
+}
+
+/* >>colour */
+
+TEST(ycocg_round_trip)
+{
+    const vec3 cs[] = {{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.2f, 0.7f, 0.1f}, {100, 3, 0.001f}, {65504, 0, 65504}};
+    for (size_t i = 0; i < sizeof cs / sizeof cs[0]; i++) {
+        vec3 y = taa_rgb_to_ycocg(cs[i]), r = taa_ycocg_to_rgb(y);
+        float m = fmaxf(fmaxf(cs[i].x, cs[i].y), cs[i].z);
+        CHECK_NEAR(r.x, cs[i].x, 4 * FLT_EPSILON * m);
+        CHECK_NEAR(r.y, cs[i].y, 4 * FLT_EPSILON * m);
+        CHECK_NEAR(r.z, cs[i].z, 4 * FLT_EPSILON * m);
+    }
+    vec3 g = taa_rgb_to_ycocg(v3(0.5f, 0.5f, 0.5f)); /* grey: Y = value, no chroma */
+    CHECK(g.x == 0.5f && g.y == 0.0f && g.z == 0.0f);
+}
+
+/* >>clip */
+
+TEST(clip_inside_is_unchanged)
+{
+    vec3 mean = v3(0.5f, 0.1f, -0.1f), sigma = v3(0.1f, 0.05f, 0.05f);
+    vec3 h = v3(0.55f, 0.12f, -0.14f);
+    CHECK(v3_eq(taa_clip_to_box(h, mean, sigma, 1.0f), h));
+    CHECK(v3_eq(taa_clip_to_box(mean, mean, v3(0, 0, 0), 1.0f), mean));
+}
+
+TEST(clip_outside_lands_on_box_towards_mean)
+{
+    vec3 mean = v3(0.5f, 0.1f, -0.1f), sigma = v3(0.1f, 0.05f, 0.02f);
+    const vec3 hs[] = {{2.0f, 0.1f, -0.1f}, {0.0f, 0.3f, 0.2f}, {0.52f, 0.11f, 1.0f}, {-3, -3, -3}, {0.7f, 0.2f, -0.1f}};
+    const float gammas[] = {1.0f, 0.75f, 1.5f};
+    for (size_t i = 0; i < sizeof hs / sizeof hs[0]; i++)
+        for (int k = 0; k < 3; k++) {
+            float g = gammas[k];
+            vec3 r = taa_clip_to_box(hs[i], mean, sigma, g);
+            float e[3] = {g * sigma.x, g * sigma.y, g * sigma.z};
+            float d[3] = {hs[i].x - mean.x, hs[i].y - mean.y, hs[i].z - mean.z};
+            float rd[3] = {r.x - mean.x, r.y - mean.y, r.z - mean.z};
+            /* inside the box (up to rounding), and one axis on its face */
+            double worst = -1;
+            for (int a = 0; a < 3; a++) {
+                CHECK(fabsf(rd[a]) <= e[a] * (1 + 1e-5f));
+                worst = fmax(worst, fabs(fabsf(rd[a]) / e[a]));
+            }
+            CHECK_NEAR(worst, 1.0, 1e-5);
+            /* on the segment: rd = t d with one t in (0, 1) for every axis (t from the longest
+             * axis of d; rd and d carry the rounding of the subtractions, ~1e-7 of |mean|, |h|) */
+            int big = 0;
+            for (int a = 1; a < 3; a++)
+                big = fabsf(d[a]) > fabsf(d[big]) ? a : big;
+            double t = rd[big] / d[big];
+            CHECK(t > 0 && t < 1);
+            for (int a = 0; a < 3; a++)
+                CHECK_NEAR(rd[a], t * d[a], 1e-6 * (1.0 + fabsf(d[big])));
+        }
+}
+
+TEST(clip_is_not_a_clamp)
+{
+    /* A clamp would give (0.6, 0.6); clipping towards the mean keeps the direction (1, 0.5). */
+    vec3 r = taa_clip_to_box(v3(2.0f, 1.0f, 0.0f), v3(0, 0, 0), v3(0.6f, 0.6f, 0.6f), 1.0f);
+    CHECK_NEAR(r.x, 0.6, 1e-6);
+    CHECK_NEAR(r.y, 0.3, 1e-6);
+    CHECK(r.z == 0.0f);
+}
+
+TEST(clip_sigma_zero)
+{
+    vec3 mean = v3(0.3f, 0.0f, 0.1f);
+    CHECK(v3_eq(taa_clip_to_box(v3(1, 0, 0.1f), mean, v3(0, 0, 0), 1.0f), mean));
+    CHECK(v3_eq(taa_clip_to_box(v3(1, 0, 0.1f), mean, v3(1, 1, 1), 0.0f), mean));
+    /* zero extent on one axis where history differs there: the only box point on the segment is the mean */
+    CHECK(v3_eq(taa_clip_to_box(v3(0.31f, 0.01f, 0.1f), mean, v3(1, 0, 1), 1.0f), mean));
+    /* zero extent on an axis where history equals the mean: that axis does not clip */
+    vec3 h = v3(0.35f, 0.0f, 0.1f);
+    CHECK(v3_eq(taa_clip_to_box(h, mean, v3(0.1f, 0, 0.1f), 1.0f), h));
+}
+
+/* >>resolve */
+
+TEST(catmull_rom_weights)
+{
+    for (int i = 0; i <= 64; i++) {
+        float t = (float)i / 64, w[4];
+        taa_catmull_rom_weights(t, w);
+        CHECK_NEAR(w[0] + w[1] + w[2] + w[3], 1.0, 4 * FLT_EPSILON);
+        /* taps at -1, 0, 1, 2 of f(x) = 3x + 2 interpolate f(t) */
+        double f = -1.0 * w[0] + 2.0 * w[1] + 5.0 * w[2] + 8.0 * w[3];
+        CHECK_NEAR(f, 3.0 * t + 2, 1e-5);
+    }
+    float w[4];
+    taa_catmull_rom_weights(0.0f, w);
+    CHECK(w[0] == 0 && w[1] == 1 && w[2] == 0 && w[3] == 0);
+    taa_catmull_rom_weights(1.0f, w);
+    CHECK(w[0] == 0 && w[1] == 0 && w[2] == 1 && w[3] == 0);
+    taa_catmull_rom_weights(0.5f, w);
+    CHECK(w[0] == -0.0625f && w[1] == 0.5625f && w[2] == 0.5625f && w[3] == -0.0625f);
+}
+
+TEST(resolve_blends_and_respects_validity)
+{
+    vec3 c = v3(1, 2, 3), h = v3(0, 0, 0);
+    CHECK(v3_eq(taa_resolve(c, h, false, 0.1f), c));
+    vec3 r = taa_resolve(c, h, true, (float)TAA_BLEND_DEFAULT);
+    CHECK_NEAR(r.x, 0.1, 1e-7);
+    CHECK_NEAR(r.y, 0.2, 1e-7);
+    CHECK_NEAR(r.z, 0.3, 1e-6);
+    CHECK(v3_eq(taa_resolve(c, h, true, 1.0f), c));
+    CHECK(v3_eq(taa_resolve(c, h, true, 0.0f), h));
+    CHECK(v3_eq(taa_resolve(c, h, true, 7.0f), c)); /* blend clamped to [0, 1] */
+    r = taa_resolve(c, h, true, NAN);                /* NaN blend -> default */
+    CHECK_NEAR(r.x, 0.1, 1e-7);
+}
+
+TEST(resolve_rgba_and_one_channel)
+{
+    float c[4] = {1, 2, 3, 1}, h[4] = {0, 0, 0, NAN}, r[4];
+    taa_resolve4(c, h, true, 0.5f, r);
+    CHECK(r[0] == 0.5f && r[1] == 1.0f && r[2] == 1.5f && r[3] == 0.5f); /* NaN history alpha -> 0 */
+    taa_resolve4(c, h, false, 0.5f, r);
+    CHECK(r[0] == 1 && r[1] == 2 && r[2] == 3 && r[3] == 1);
+    CHECK(taa_resolve1(1.0f, 0.0f, true, 0.25f) == 0.25f);
+    CHECK(taa_resolve1(INFINITY, 0.0f, false, 0.25f) == 65504.0f);
+    CHECK(taa_resolve1(NAN, NAN, true, NAN) == 0.0f);
+    /* same as the RGB version */
+    vec3 rgb = taa_resolve(v3(0.3f, 7.0f, 1e-3f), v3(2.0f, 0.1f, 5.0f), true, 0.1f);
+    float c4[4] = {0.3f, 7.0f, 1e-3f, 0}, h4[4] = {2.0f, 0.1f, 5.0f, 0};
+    taa_resolve4(c4, h4, true, 0.1f, r);
+    CHECK(r[0] == rgb.x && r[1] == rgb.y && r[2] == rgb.z);
+    float s[4], in[4] = {NAN, -INFINITY, INFINITY, -2.0f};
+    taa_sanitize4(in, s);
+    CHECK(s[0] == 0.0f && s[1] == 0.0f && s[2] == 65504.0f && s[3] == 0.0f);
+}
+
+TEST(sanitize)
+{
+    CHECK(taa_sanitize(NAN) == 0.0f);
+    CHECK(taa_sanitize(-NAN) == 0.0f);
+    CHECK(taa_sanitize(INFINITY) == 65504.0f);
+    CHECK(taa_sanitize(-INFINITY) == -65504.0f);
+    CHECK(taa_sanitize(1e30f) == 65504.0f);
+    CHECK(taa_sanitize(0.25f) == 0.25f);
+    CHECK(taa_sanitize(-3.0f) == -3.0f);
+    CHECK(taa_sanitize(1e-40f) == 1e-40f); /* denormal: unchanged */
+    CHECK(taa_sanitize(-1e-40f) == -1e-40f);
+    CHECK(!signbit(taa_sanitize(NAN)));
+    vec3 s = taa_sanitize_color(v3(NAN, INFINITY, -INFINITY));
+    CHECK(s.x == 0.0f && s.y == 65504.0f && s.z == 0.0f);
+    s = taa_sanitize_color(v3(-1.0f, 1e-40f, 2.0f));
+    CHECK(s.x == 0.0f && s.y == 1e-40f && s.z == 2.0f);
+}
+
+/* >>reproject */
+
+static mat4 view_proj(vec3 eye, vec3 target)
+{
+    mat4 p = m4_perspective_hfov((float)(FS_PI / 2), 16.0f / 9.0f, 0.1f, 100.0f);
+    return m4_mul(p, m4_look_at(eye, target, v3(0, 1, 0)));
+}
+
+/* NDC of a world point through vp (double-free: float, as the renderer does). */
+static vec3 project(mat4 vp, vec3 p, float *w)
+{
+    float c[4];
+    for (int r = 0; r < 4; r++)
+        c[r] = vp.m[r] * p.x + vp.m[4 + r] * p.y + vp.m[8 + r] * p.z + vp.m[12 + r];
+    *w = c[3];
+    return v3(c[0] / c[3], c[1] / c[3], c[2] / c[3]);
+}
+
+TEST(reproject_identity)
+{
+    mat4 vp = view_proj(v3(1, 2, 5), v3(0, 0, 0)), inv;
+    CHECK(m4_invert(vp, &inv));
+    const vec3 ndcs[] = {{0, 0, 0}, {0.5f, -0.5f, 0.9f}, {-1, 1, -1}, {0.99f, 0.99f, 0.99f}, {-0.3f, 0.7f, 0.2f}};
+    for (size_t i = 0; i < sizeof ndcs / sizeof ndcs[0]; i++) {
+        vec3 o;
+        bool valid;
+        taa_reproject(ndcs[i], &inv, &vp, &o, &valid);
+        CHECK(valid);
+        CHECK_NEAR(o.x, ndcs[i].x, 1e-4);
+        CHECK_NEAR(o.y, ndcs[i].y, 1e-4);
+        CHECK_NEAR(o.z, ndcs[i].z, 1e-4);
+    }
+}
+
+TEST(reproject_translated_camera)
+{
+    /* camera looks down -z from z = 0; it moves +0.5 in x: a point straight ahead at distance 10
+     * moves left in NDC by proj[0] * 0.5 / 10 = 0.05 (proj[0] = 1 for hfov 90 degrees). */
+    mat4 cur = view_proj(v3(0, 0, 0), v3(0, 0, -1)), prev = view_proj(v3(0.5f, 0, 0), v3(0.5f, 0, -1)), inv;
+    CHECK(m4_invert(cur, &inv));
+    float w;
+    vec3 p = v3(0, 0, -10), ndc = project(cur, p, &w);
+    CHECK_NEAR(ndc.x, 0.0, 1e-6);
+    vec3 o;
+    bool valid;
+    taa_reproject(ndc, &inv, &prev, &o, &valid);
+    CHECK(valid);
+    CHECK_NEAR(o.x, -0.05, 1e-4);
+    CHECK_NEAR(o.y, 0.0, 1e-5);
+    CHECK_NEAR(o.z, ndc.z, 1e-4); /* same distance along the view axis */
+    /* any point: matches a direct projection through the previous camera */
+    const vec3 pts[] = {{1, 2, -5}, {-3, 0.5f, -20}, {0.2f, -0.1f, -1}};
+    for (int i = 0; i < 3; i++) {
+        vec3 n = project(cur, pts[i], &w), expect = project(prev, pts[i], &w);
+        taa_reproject(n, &inv, &prev, &o, &valid);
+        CHECK(valid);
+        CHECK_NEAR(o.x, expect.x, 1e-4);
+        CHECK_NEAR(o.y, expect.y, 1e-4);
+        CHECK_NEAR(o.z, expect.z, 1e-4);
+    }
+}
+
+TEST(reproject_behind_previous_camera_is_invalid)
+{
+    /* previous camera at z = -5 looking down -z: the point at z = -2 is behind it */
+    mat4 cur = view_proj(v3(0, 0, 0), v3(0, 0, -1)), prev = view_proj(v3(0, 0, -5), v3(0, 0, -6)), inv;
+    CHECK(m4_invert(cur, &inv));
+    float w;
+    vec3 ndc = project(cur, v3(0.1f, 0.1f, -2), &w), o;
+    bool valid = true;
+    taa_reproject(ndc, &inv, &prev, &o, &valid);
+    CHECK(!valid);
+    CHECK(v3_finite(o));
+    /* a previous camera looking the other way sees it */
+    prev = view_proj(v3(0, 0, -5), v3(0, 0, 0));
+    taa_reproject(ndc, &inv, &prev, &o, &valid);
+    CHECK(valid);
+}
+
+/* >>hard cases */
+
+static const float hard_values[] = {NAN, -NAN, INFINITY, -INFINITY, 0.0f, -0.0f, 1e-40f, -1e-40f, 1e30f, -1e30f, FLT_MAX, 0.5f};
+#define HARD_COUNT ((int)(sizeof hard_values / sizeof hard_values[0]))
+
+TEST(hard_cases_stay_finite)
+{
+    int n = 0;
+    for (int a = 0; a < HARD_COUNT; a++)
+        for (int b = 0; b < HARD_COUNT; b++)
+            for (int c = 0; c < HARD_COUNT; c++) {
+                float x = hard_values[a], y = hard_values[b], z = hard_values[c];
+                vec3 va = v3(x, y, z), vb = v3(z, x, y), vc = v3(y, z, x);
+                CHECK(isfinite(taa_sanitize(x)));
+                vec3 s = taa_sanitize_color(va);
+                CHECK(v3_finite(s) && s.x >= 0 && s.y >= 0 && s.z >= 0 && s.x <= 65504.0f);
+                vec3 clip = taa_clip_to_box(va, vb, vc, hard_values[(a + b) % HARD_COUNT]);
+                CHECK(v3_finite(clip));
+                vec3 r = taa_resolve(va, vb, (a & 1) != 0, hard_values[(b + c) % HARD_COUNT]);
+                CHECK(v3_finite(r) && r.x >= 0 && r.y >= 0 && r.z >= 0);
+                CHECK(r.x <= 65504.0f && r.y <= 65504.0f && r.z <= 65504.0f);
+                float w[4], c4[4] = {x, y, z, x}, h4[4] = {z, y, x, y}, r4[4];
+                taa_resolve4(c4, h4, (a & 1) != 0, hard_values[(b + c) % HARD_COUNT], r4);
+                for (int k = 0; k < 4; k++)
+                    CHECK(isfinite(r4[k]) && r4[k] >= 0 && r4[k] <= 65504.0f);
+                CHECK(isfinite(taa_resolve1(x, y, (c & 1) != 0, z)));
+                taa_catmull_rom_weights(x, w);
+                CHECK(isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]) && isfinite(w[3]));
+                n++;
+            }
+    CHECK(n == HARD_COUNT * HARD_COUNT * HARD_COUNT);
+    /* a history poisoned with NaN, blended over many frames, recovers and never holds NaN */
+    vec3 h = v3(NAN, INFINITY, -INFINITY);
+    for (int f = 0; f < 64; f++) {
+        h = taa_resolve(v3(0.5f, 0.5f, 0.5f), h, true, (float)TAA_BLEND_DEFAULT);
+        CHECK(v3_finite(h));
+    }
+}
+
+TEST(reproject_hard_cases)
+{
+    mat4 vp = view_proj(v3(1, 2, 5), v3(0, 0, 0)), inv, bad = vp, zero;
+    CHECK(m4_invert(vp, &inv));
+    memset(&zero, 0, sizeof zero);
+    bad.m[5] = NAN;
+    for (int a = 0; a < HARD_COUNT; a++)
+        for (int b = 0; b < HARD_COUNT; b++) {
+            vec3 ndc = v3(hard_values[a], hard_values[b], 0.5f), o;
+            bool valid;
+            taa_reproject(ndc, &inv, &vp, &o, &valid);
+            CHECK(v3_finite(o));
+            if (!isfinite(ndc.x) || !isfinite(ndc.y))
+                CHECK(!valid);
+            taa_reproject(ndc, &inv, &bad, &o, &valid);
+            CHECK(v3_finite(o) && !valid);
+            taa_reproject(ndc, &zero, &vp, &o, &valid);
+            CHECK(v3_finite(o) && !valid);
+        }
+}
+
+int main(void)
+{
+    RUN(halton_known_values);
+    RUN(jitter_one_period);
+    RUN(ycocg_round_trip);
+    RUN(clip_inside_is_unchanged);
+    RUN(clip_outside_lands_on_box_towards_mean);
+    RUN(clip_is_not_a_clamp);
+    RUN(clip_sigma_zero);
+    RUN(catmull_rom_weights);
+    RUN(resolve_blends_and_respects_validity);
+    RUN(resolve_rgba_and_one_channel);
+    RUN(sanitize);
+    RUN(reproject_identity);
+    RUN(reproject_translated_camera);
+    RUN(reproject_behind_previous_camera_is_invalid);
+    RUN(hard_cases_stay_finite);
+    RUN(reproject_hard_cases);
+    return test_summary();
+}
