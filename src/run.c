@@ -451,7 +451,8 @@ static fs_status run_bench(const run_desc *d)
         }
     for (int c = 0; c < ncfg && st == FS_OK; c++) {
         plan_options po = {.alpha_mode = cfg[c].mode, .width = d->width, .height = d->height, .frames = n,
-                           .alpha = s.pl.alpha, .force_msaa = cfg[c].msaa_only};
+                           .alpha = s.pl.alpha, .force_msaa = cfg[c].msaa_only, .taa = s.pl.taa,
+                           .taa_controls = s.pl.taa_controls};
         if (cfg[c].foveated)
             po.layout = s.pl.layout;
         st = plan_build(&s.sc, &po, &cfg[c].pl);

@@ -85,7 +85,7 @@ typedef struct ring_targets {
     GLuint msaa_fbo, msaa_color, msaa_coverage, msaa_depth;
 } ring_targets;
 
-#define RENDERER_MAX_STAGES (MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
+#define RENDERER_MAX_STAGES (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
 
 struct renderer {
     const scene *sc;
@@ -453,9 +453,12 @@ static void name_stages(renderer *r)
             snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "taa resolve");
         return;
     }
-    for (int i = 0; i < r->pl.layout.count; i++)
+    for (int i = 0; i < r->pl.layout.count; i++) {
         snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "ring %d (1/%d, all passes)", i,
                  1 << r->pl.layout.rings[i].scale_log2);
+        if (r->pl.taa)
+            snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "ring %d taa resolve", i);
+    }
     snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "composite");
 }
 
@@ -828,13 +831,6 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             glBlitNamedFramebuffer(r->rt.msaa_fbo, r->rt.fbo[ring], 0, 0, rr->width, rr->height, 0, 0, rr->width,
                                    rr->height, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     }
-    if (r->pl.taa) {
-        if (stage >= 0)
-            stage_begin(r, stage + r->pl.pass_count);
-        taa_resolve_ring(r, fr, ring);
-        if (stage >= 0)
-            stage_end(r, stage + r->pl.pass_count, t_prev);
-    }
 }
 
 static void draw_composite(renderer *r, const frame_record *fr)
@@ -890,17 +886,29 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
     r->shaded_pixels = 0;
     if (!r->pl.composite) {
         draw_ring(r, fr, 0, 0, &t_prev);
+        if (r->pl.taa) {
+            stage_begin(r, r->pl.pass_count);
+            taa_resolve_ring(r, fr, 0);
+            stage_end(r, r->pl.pass_count, &t_prev);
+        }
         r->shaded_pixels = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
     } else {
+        /* Stages: each ring's passes, then its TAA resolve (when on), then the composite. */
+        int k = 0;
         for (int i = 0; i < r->pl.layout.count; i++) {
-            stage_begin(r, i);
+            stage_begin(r, k);
             draw_ring(r, fr, i, -1, &t_prev);
-            stage_end(r, i, &t_prev);
+            stage_end(r, k++, &t_prev);
+            if (r->pl.taa) {
+                stage_begin(r, k);
+                taa_resolve_ring(r, fr, i);
+                stage_end(r, k++, &t_prev);
+            }
             r->shaded_pixels += (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
         }
-        stage_begin(r, r->pl.layout.count);
+        stage_begin(r, k);
         draw_composite(r, fr);
-        stage_end(r, r->pl.layout.count, &t_prev);
+        stage_end(r, k, &t_prev);
     }
     if (r->frag_query)
         glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);

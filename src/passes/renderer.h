@@ -28,10 +28,10 @@ typedef struct renderer_desc {
     bool timers;        /* GL timer queries around each pass (for bench) */
 } renderer_desc;
 
-#define RENDERER_STATS_MAX (MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
+#define RENDERER_STATS_MAX (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
 
-/* Timed stages of the last frame: the forward passes when foveation is off; each ring (all its
- * passes) and the composite when it is on. */
+/* Timed stages of the last frame: the forward passes (and the TAA resolve) when foveation is off;
+ * each ring's passes, its TAA resolve and the composite when it is on. */
 typedef struct renderer_stats {
     int pass_count;
     char pass_names[RENDERER_STATS_MAX][48];
