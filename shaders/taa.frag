@@ -32,24 +32,33 @@ vec4 fetch_cur(ivec2 p)
     return taa_sanitize4(texelFetch(u_cur_color, ivec3(p, u_layer), 0));
 }
 
-// Catmull-Rom history fetch (9 taps as separable 4x4 weights) at ring-pixel position p of the
-// previous footprint, clamped to its rendered texels.
+// Catmull-Rom history fetch at ring-pixel position p of the previous footprint, with 5 bilinear
+// taps instead of 16 point taps (the 4x4 Catmull-Rom kernel's inner 2x2 taps merged into one
+// bilinear fetch per row/column and the four corner taps, whose weights are tiny, dropped:
+// Jimenez's approximation). Tap positions are clamped to the rendered texels' centres.
 vec4 fetch_history(vec2 p, out float cov)
 {
-    vec2 t = p - 0.5;
-    vec2 f = fract(t);
-    ivec2 base = ivec2(floor(t)) - 1;
+    vec2 t1 = floor(p - 0.5) + 0.5;
+    vec2 f = p - t1;
     vec4 wx = taa_catmull_rom_weights(f.x), wy = taa_catmull_rom_weights(f.y);
+    vec2 w0 = vec2(wx.x, wy.x), w12 = vec2(wx.y + wx.z, wy.y + wy.z), w3 = vec2(wx.w, wy.w);
+    vec2 t12 = t1 + vec2(wx.z, wy.z) / max(w12, vec2(1e-6));
+    vec2 lo = vec2(0.5), hi = u_prev_size - 0.5;
+    vec2 t0 = clamp(t1 - 1.0, lo, hi), t3 = clamp(t1 + 2.0, lo, hi);
+    t12 = clamp(t12, lo, hi);
+    vec3 taps[5] = vec3[5](vec3(t12.x, t0.y, w12.x * w0.y), vec3(t0.x, t12.y, w0.x * w12.y),
+                           vec3(t12.x, t12.y, w12.x * w12.y), vec3(t3.x, t12.y, w3.x * w12.y),
+                           vec3(t12.x, t3.y, w12.x * w3.y));
     vec4 c = vec4(0.0);
-    cov = 0.0;
-    for (int j = 0; j < 4; j++)
-        for (int i = 0; i < 4; i++) {
-            ivec2 q = clamp(base + ivec2(i, j), ivec2(0), ivec2(u_prev_size) - 1);
-            float w = wx[i] * wy[j];
-            c += w * taa_sanitize4(texelFetch(u_hist_color, ivec3(q, u_layer), 0));
-            cov += w * taa_sanitize(texelFetch(u_hist_coverage, ivec3(q, u_layer), 0).r);
-        }
-    return max(c, vec4(0.0)); // Catmull-Rom rings below 0 at sharp edges
+    float wsum = 0.0;
+    for (int i = 0; i < 5; i++) {
+        vec3 uvw = vec3(taps[i].xy / u_array_px, float(u_layer));
+        c += taps[i].z * taa_sanitize4(textureLod(u_hist_color, uvw, 0.0));
+        wsum += taps[i].z;
+    }
+    // Coverage: one bilinear tap (its history needs no sharpening).
+    cov = taa_sanitize(textureLod(u_hist_coverage, vec3(clamp(p, lo, hi) / u_array_px, float(u_layer)), 0.0).r);
+    return max(c / wsum, vec4(0.0)); // Catmull-Rom undershoots below 0 at sharp edges
 }
 
 void main()

@@ -109,6 +109,7 @@ struct renderer {
      * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
     taa_program taa;
     GLuint taa_color[2], taa_coverage[2], taa_fbo[2][MAX_FOV_RINGS];
+    GLuint taa_sampler;
     int parity;                             /* the pair this frame writes */
     int out_parity;                         /* the pair the last frame wrote */
     bool have_prev;
@@ -421,6 +422,11 @@ static fs_status create_targets(renderer *r)
         }
         if (!r->empty_vao)
             glCreateVertexArrays(1, &r->empty_vao);
+        glCreateSamplers(1, &r->taa_sampler);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
     if (!r->pl.composite)
         return FS_OK;
@@ -544,6 +550,7 @@ void renderer_destroy(renderer *r)
     glDeleteTextures(1, &r->rt.msaa_coverage);
     glDeleteTextures(1, &r->rt.msaa_depth);
     glDeleteProgram(r->taa.id);
+    glDeleteSamplers(1, &r->taa_sampler);
     for (int k = 0; k < 2; k++) {
         glDeleteFramebuffers(MAX_FOV_RINGS, r->taa_fbo[k]);
         glDeleteTextures(1, &r->taa_color[k]);
@@ -753,8 +760,12 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glBindTextureUnit(2, r->rt.depth);
     glBindTextureUnit(3, r->taa_color[1 - r->parity]);
     glBindTextureUnit(4, r->taa_coverage[1 - r->parity]);
+    glBindSampler(3, r->taa_sampler); /* bilinear: the 5-tap Catmull-Rom history fetch */
+    glBindSampler(4, r->taa_sampler);
     glBindVertexArray(r->empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindSampler(3, 0);
+    glBindSampler(4, 0);
     glEnable(GL_DEPTH_TEST);
 }
 
