@@ -9,10 +9,13 @@ typedef struct seq {
     renderer *r;
 } seq;
 
+static taa_controls g_taa_controls; /* zero = defaults; a test may loosen them to show a failure */
+
 static bool seq_begin(seq *q, const scene *sc, alpha_mode mode, int w, int h, const fov_layout *l, bool taa,
                       alpha_params ap)
 {
-    plan_options po = {.alpha_mode = mode, .width = w, .height = h, .frames = 1000, .taa = taa, .alpha = ap};
+    plan_options po = {.alpha_mode = mode, .width = w, .height = h, .frames = 1000, .taa = taa, .alpha = ap,
+                       .taa_controls = g_taa_controls};
     if (l)
         po.layout = *l;
     fs_status st = plan_build(sc, &po, &q->pl);
@@ -314,6 +317,89 @@ TEST(hashed_with_taa_flickers_less_and_covers_closer)
     scene_free(&sc);
 }
 
+/* Mean |Laplacian| of luminance in a window (high-frequency energy). */
+static double hf(const exr_image *img, int cx, int cy, int half)
+{
+    const float *g = exr_image_channel(img, "G");
+    int W = img->width, H = img->height;
+    double e = 0;
+    int n = 0;
+    for (int y = cy - half; y <= cy + half; y++)
+        for (int x = cx - half; x <= cx + half; x++)
+            if (x > 0 && y > 0 && x < W - 1 && y < H - 1) {
+                e += fabs(4 * g[y * W + x] - g[y * W + x - 1] - g[y * W + x + 1] - g[(y - 1) * W + x] - g[(y + 1) * W + x]);
+                n++;
+            }
+    return n ? e / n : 0;
+}
+
+TEST(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts)
+{
+    enum { W = 320, H = 180, N = 24 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    display_desc d = {W, H, sc.display.hfov_deg};
+    fov_layout l;
+    char err[128];
+    CHECK(fov_layout_parse("10:1:0,25:1/2:0,*:1/4:0", &d, &l, err, sizeof err) == FS_OK);
+    /* Pursuit: the gaze slides 2 display pixels per frame (still camera); at the end the window
+     * around it is as sharp as after the same number of frames with the gaze fixed there. */
+    scene still = sc;
+    still_camera(&still, 1.0f);
+    seq a, b;
+    CHECK(seq_begin(&a, &still, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    CHECK(seq_begin(&b, &still, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    exr_image x, y;
+    float gy = 0.45f, gx_end = 0.6f;
+    for (int f = 0; f < N; f++) {
+        float gx = gx_end - (float)(N - 1 - f) * 2.0f / W;
+        CHECK(seq_frame(&a, &still, f, 0, -1, gx, gy, f == N - 1 ? &x : NULL) == FS_OK);
+        CHECK(seq_frame(&b, &still, f, 0, -1, gx_end, gy, f == N - 1 ? &y : NULL) == FS_OK);
+    }
+    double ex = hf(&x, (int)(gx_end * W), (int)(gy * H), 10), ey = hf(&y, (int)(gx_end * W), (int)(gy * H), 10);
+    fprintf(stderr, "pursuit: HF energy at the gaze %.4f moving, %.4f fixed (ratio %.2f)\n", ex, ey, ex / ey);
+    CHECK(ex > 0.85 * ey);
+    exr_image_free(&x);
+    exr_image_free(&y);
+    renderer_destroy(a.r);
+    renderer_destroy(b.r);
+    /* Camera dolly at the scene's own speed (24 fps), compared with the same frame drawn without
+     * TAA: antialiasing itself changes alpha-tested edges strongly, so the share of strongly
+     * differing pixels is compared with the same share for a still camera (no motion, no
+     * trails). Trails behind moving edges would add to it; the variance clip keeps it close. */
+    double strong[3];
+    for (int moving = 0; moving < 3; moving++) {
+        /* Run 2: the dolly again with clipping effectively off (gamma 100), for comparison. */
+        g_taa_controls = moving == 2 ? (taa_controls){.gamma = 100.0f} : (taa_controls){0};
+        const scene *s2 = moving ? &sc : &still;
+        seq c;
+        CHECK(seq_begin(&c, s2, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+        for (int f = 0; f < N; f++) {
+            float t = moving ? 1.0f + f / 24.0f : 0.0f;
+            CHECK(seq_frame(&c, s2, f, t, f && moving ? t - 1 / 24.0f : -1, 0.5f, 0.5f, f == N - 1 ? &x : NULL) == FS_OK);
+        }
+        gpu_fov fv = {.layout = &l, .gaze = {0.5f, 0.5f}, .frame = N - 1};
+        CHECK(gpu_render_fov(s2, ALPHA_MODE_TRADITIONAL, W, H, moving ? 1.0f + (N - 1) / 24.0f : 0.0f, &fv, &y) == FS_OK);
+        const float *xg = exr_image_channel(&x, "G"), *yg = exr_image_channel(&y, "G");
+        long n = 0;
+        for (int i = 0; i < W * H; i++)
+            n += fabsf(xg[i] - yg[i]) > 0.15f;
+        strong[moving] = (double)n / (W * H);
+        exr_image_free(&x);
+        exr_image_free(&y);
+        renderer_destroy(c.r);
+    }
+    g_taa_controls = (taa_controls){0};
+    fprintf(stderr, "pixels differing by > 0.15 from the frame without TAA: %.4f still, %.4f in the dolly, %.4f in "
+                    "the dolly without clipping\n", strong[0], strong[1], strong[2]);
+    /* Reported, not asserted: with exact reprojection of static geometry, trails can only come from
+     * disocclusions, which are a small area per frame; clipping trims them (0.038 -> 0.035). A
+     * wrong reprojection (the previous ring frustum ignored) would smear every moving edge and
+     * break the bound above. */
+    CHECK(strong[1] < 2.0 * strong[0] + 0.005); /* measured 0.035 vs 0.021 */
+    scene_free(&sc);
+}
+
 int main(void)
 {
     gpu_begin();
@@ -321,6 +407,7 @@ int main(void)
     RUN(nan_and_inf_never_enter_history);
     RUN(camera_cut_and_saccade_drop_history);
     RUN(hashed_with_taa_flickers_less_and_covers_closer);
+    RUN(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts);
     gl_device_destroy();
     return test_summary();
 }
