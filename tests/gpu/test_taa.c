@@ -396,7 +396,9 @@ TEST(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts)
      * disocclusions, which are a small area per frame; clipping trims them (0.038 -> 0.035). A
      * wrong reprojection (the previous ring frustum ignored) would smear every moving edge and
      * break the bound above. */
-    CHECK(strong[1] < 2.0 * strong[0] + 0.005); /* measured 0.035 vs 0.021 */
+    /* Measured 0.035 (still camera 0.021); with the previous ring frustum ignored in the
+     * reprojection it is 0.044, so 0.040 separates the two. */
+    CHECK(strong[1] < 0.040);
     scene_free(&sc);
 }
 
