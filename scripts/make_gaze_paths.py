@@ -98,7 +98,8 @@ def center_fixation(rng):
 
 
 def fixation_saccade(rng):
-    points = [(0.5, 0.5), (0.22, 0.3), (0.75, 0.28), (0.8, 0.72), (0.3, 0.7), (0.55, 0.45)]
+    points = [(0.5, 0.5), (0.22, 0.3), (0.75, 0.28), (0.8, 0.72), (0.3, 0.7), (0.55, 0.45), (0.15, 0.55),
+              (0.65, 0.6), (0.45, 0.25), (0.5, 0.5)]
     fixations = [(x, y, rng.uniform(0.3, 0.6)) for x, y in points]
     return scanpath(fixations, rng)
 
@@ -152,7 +153,7 @@ def main():
           "central fixation, 5 s at 120 Hz: (0.5, 0.5) with fixational jitter within +-0.002",
           center_fixation(random.Random(1)))
     write(out_dir, "fixation_saccade.csv",
-          "6 fixations of 300-600 ms joined by 30-50 ms saccades (min-jerk velocity profile), 120 Hz",
+          "10 fixations of 300-600 ms joined by 30-50 ms saccades (min-jerk velocity profile), 120 Hz",
           fixation_saccade(random.Random(2)))
     write(out_dir, "pursuit_circle.csv",
           "smooth pursuit on a circle of radius 0.25 around the centre, 0.25 Hz, 8 s at 120 Hz",
