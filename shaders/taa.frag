@@ -19,6 +19,9 @@ uniform vec2 u_prev_size;        // last frame's footprint of this ring, ring pi
 uniform vec2 u_array_px;         // size of the array layers, texels
 uniform mat4 u_inv_view_proj;    // this ring, this frame, unjittered: NDC -> world
 uniform mat4 u_prev_view_proj;   // this ring, last frame, unjittered: world -> clip
+uniform vec4 u_rect;             // this frame's footprint, display pixels (x0, y0, x1, y1)
+uniform vec4 u_prev_rect;        // last frame's footprint
+uniform float u_block;           // display pixels per ring pixel
 uniform bool u_history_valid;    // false on the first frame and after a camera cut
 uniform float u_blend;           // weight of the current sample, default 0.1
 uniform float u_gamma;           // variance box half-width in sigmas, default 1
@@ -90,11 +93,19 @@ void main()
     bool valid = u_history_valid;
     vec2 prev = vec2(0.0);
     if (valid) {
+#ifdef TAA_CAMERA_MOTION
+        // The camera moves: through depth and last frame's camera and ring frustum.
         vec2 ndc = (vec2(pix) + 0.5) / u_size * 2.0 - 1.0;
         float z = texelFetch(u_depth, pix, 0).r * 2.0 - 1.0;
         vec2 prev_ndc;
         valid = taa_reproject(vec3(ndc, z), u_inv_view_proj, u_prev_view_proj, prev_ndc);
         prev = (prev_ndc * 0.5 + 0.5) * u_prev_size;
+#else
+        // Still camera (the plan knows): a pixel stays on the same display pixel, and only the
+        // ring's footprint may have moved with the gaze. No depth needed.
+        vec2 disp = vec2(u_rect.x + (float(pix.x) + 0.5) * u_block, u_rect.w - (float(pix.y) + 0.5) * u_block);
+        prev = vec2(disp.x - u_prev_rect.x, u_prev_rect.w - disp.y) / u_block;
+#endif
         // Outside last frame's footprint of this ring (a saccade moved it): no history there.
         valid = valid && all(greaterThanEqual(prev, vec2(0.5))) && all(lessThanEqual(prev, u_prev_size - 0.5));
     }

@@ -84,6 +84,18 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
     return ps;
 }
 
+/* Whether any two camera keys differ (position, target or fov). */
+static bool camera_moves(const camera_path *c)
+{
+    for (int i = 1; i < c->count; i++) {
+        const camera_key *a = &c->keys[0], *b = &c->keys[i];
+        if (v3_len(v3_sub(a->position, b->position)) > 0.0f || v3_len(v3_sub(a->target, b->target)) > 0.0f ||
+            a->hfov_deg != b->hfov_deg)
+            return true;
+    }
+    return false;
+}
+
 fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
 {
     plan_options o = opt ? *opt : (plan_options){0};
@@ -146,12 +158,16 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         }
     }
     out->taa_controls = taa_controls_defaults(&o.taa_controls);
+    out->camera_motion = camera_moves(&sc->camera);
     if (out->taa) {
         plan_pass *t = &out->taa_pass;
         memset(t, 0, sizeof *t);
         snprintf(t->name, sizeof t->name, "taa");
         t->vs = "shaders/fullscreen.vert";
         t->fs = "shaders/taa.frag";
+        /* A still camera needs no reprojection through depth (simulate only what the scene needs). */
+        if (out->camera_motion)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_CAMERA_MOTION 1");
     }
 
     /* Foveation: the rings, and a composite pass only when something needs one. */
@@ -249,9 +265,11 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, Halton(2,3) jitter of %d frames\n",
+                   "blend %.2f, gamma %.2f, Halton(2,3) jitter of %d frames; %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
-                p->taa_controls.jitter_length);
+                p->taa_controls.jitter_length,
+                p->camera_motion ? "reprojection through depth (the camera moves)"
+                                 : "no reprojection (still camera: only the rings move with the gaze)");
     fprintf(f, "off        %s%s%sper-object motion (static scenes)\n", p->msaa ? "" : "MSAA (no alpha-to-coverage mode), ",
             p->taa ? "" : "TAA (--taa off, or a single frame), ", "");
 }

@@ -190,6 +190,33 @@ TEST(rings_and_composite_only_when_asked)
     scene_free(&sc);
 }
 
+TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
+{
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    plan p;
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 1}, &p) == FS_OK);
+    CHECK(!p.taa); /* one frame: no history */
+    CHECK(plan_build(&sc, &(plan_options){.taa = false, .frames = 48}, &p) == FS_OK);
+    CHECK(!p.taa);
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
+    CHECK(p.taa && p.camera_motion);
+    CHECK(p.taa_pass.define_count == 1 && strcmp(p.taa_pass.defines[0], "TAA_CAMERA_MOTION 1") == 0);
+    CHECK(p.taa_controls.blend == 0.1f && p.taa_controls.gamma == 1.0f && p.taa_controls.jitter_length == 16);
+    /* Hashed thresholds get their per-frame offset only with TAA. */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED}, &p) == FS_OK);
+    const plan_pass *m = plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED);
+    bool offset = false;
+    for (int i = 0; m && i < m->define_count; i++)
+        offset |= strcmp(m->defines[i], "TAA_HASH_OFFSET 1") == 0;
+    CHECK(offset);
+    /* A still camera: TAA without reprojection through depth. */
+    sc.camera.count = 1;
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
+    CHECK(p.taa && !p.camera_motion && p.taa_pass.define_count == 0);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     RUN(opaque_scene_has_no_alpha_variant_whatever_the_mode);
@@ -198,5 +225,6 @@ int main(void)
     RUN(modes_choose_variants_and_targets);
     RUN(shipped_scenes);
     RUN(rings_and_composite_only_when_asked);
+    RUN(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera);
     return test_summary();
 }
