@@ -133,6 +133,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     memset(d, 0, sizeof *d);
     d->gpu = -1;
     d->hash_kind = -1;
+    d->taa = -1;
     d->fps = 24.0f;
     d->warmup = 5;
     if (argc < 2) {
@@ -253,7 +254,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = parse_float(opt, val, 0.0f, 64.0f, &d->hash_scale);
         else if (!strcmp(opt, "--taa")) {
             ok = !strcmp(val, "on") || !strcmp(val, "off");
-            d->no_taa = !strcmp(val, "off");
+            d->taa = !strcmp(val, "on");
             if (!ok)
                 log_error("--taa: expected on or off, got '%s'", val);
         } else if (!strcmp(opt, "--taa-blend"))

@@ -49,7 +49,7 @@ typedef struct run_desc {
     bool hash_aniso;         /* --hash-aniso */
     bool no_fade;            /* --no-fade */
     bool a2c_sharpen;        /* --a2c-sharpen */
-    bool no_taa;             /* --taa off (default on for sequences of more than one frame) */
+    int taa;                 /* --taa on|off: 1 / 0; -1 = the scene's, else on (for more than one frame) */
     float taa_blend;         /* --taa-blend, 0 = default 0.1 */
     float taa_gamma;         /* --taa-gamma, 0 = default 1 */
     int jitter_length;       /* --jitter-length, 0 = default 16 */

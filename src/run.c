@@ -108,8 +108,10 @@ static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
 {
     plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, sc),
                        .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
-                       .taa = !d->no_taa,
-                       .taa_controls = {.blend = d->taa_blend, .gamma = d->taa_gamma, .jitter_length = d->jitter_length}};
+                       .taa = d->taa >= 0 ? d->taa == 1 : !sc->taa.off,
+                       .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
+                                        .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
+                                        .jitter_length = d->jitter_length > 0 ? d->jitter_length : sc->taa.jitter_length}};
     fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
     return st == FS_OK ? plan_build(sc, &po, pl) : st;
 }

@@ -168,6 +168,15 @@ typedef struct light_desc {
     vec3 sky;         /* background colour, linear, default (0.45, 0.6, 0.8) */
 } light_desc;
 
+/* TAA settings from a scene file ("taa" object); zero fields = the defaults (see plan.h's
+ * taa_controls). The CLI's --taa, --taa-blend, --taa-gamma and --jitter-length win. */
+typedef struct scene_taa {
+    bool given;         /* the scene file has a "taa" object */
+    bool off;           /* "enabled": false */
+    float blend, gamma; /* 0 = default */
+    int jitter_length;  /* 0 = default */
+} scene_taa;
+
 typedef struct scene {
     char path[512];   /* the scene file, or "builtin:<name>" */
     asset *assets;
@@ -178,6 +187,7 @@ typedef struct scene {
     display_desc display;
     light_desc light;
     alpha_mode alpha_mode; /* the scene's default mode, DEFAULT = traditional unless the CLI says */
+    scene_taa taa;         /* TAA settings from the scene file */
     char rings[256];       /* foveation ring layout from the scene file ("auto", "off", "10:1:0,..."),
                               empty = not given (the CLI's --rings, else auto) */
     float duration;        /* seconds: the last camera key's time (0 for a still camera) */

@@ -954,7 +954,7 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
 static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
 {
     static const char *const keys[] = {"display", "alpha_mode", "light", "assets", "instances",
-                                       "camera", "materials", "rings", "comment", NULL};
+                                       "camera", "materials", "rings", "taa", "comment", NULL};
     char got[64];
     scene *sc = c->sc;
     const char *str;
@@ -972,6 +972,31 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
         return s;
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "light")) && (s = parse_light(c, j)) != FS_OK)
         return s;
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "taa"))) {
+        static const char *const tkeys[] = {"enabled", "blend", "gamma", "jitter_length", "comment", NULL};
+        if ((s = jkeys(c, j, "taa", tkeys)) != FS_OK)
+            return s;
+        const cJSON *t;
+        bool enabled = true;
+        double v;
+        sc->taa.given = true;
+        if ((t = cJSON_GetObjectItemCaseSensitive(j, "enabled")) && (s = jbool(c, t, "taa.enabled", &enabled)) != FS_OK)
+            return s;
+        sc->taa.off = !enabled;
+        if ((t = cJSON_GetObjectItemCaseSensitive(j, "blend"))) {
+            if ((s = jnum(c, t, "taa.blend", (nrange){0, 1, true, false, false, false}, &v)) != FS_OK)
+                return s;
+            sc->taa.blend = (float)v;
+        }
+        if ((t = cJSON_GetObjectItemCaseSensitive(j, "gamma"))) {
+            if ((s = jnum(c, t, "taa.gamma", (nrange){0, 16, true, false, false, false}, &v)) != FS_OK)
+                return s;
+            sc->taa.gamma = (float)v;
+        }
+        if ((t = cJSON_GetObjectItemCaseSensitive(j, "jitter_length")) &&
+            (s = jint(c, t, "taa.jitter_length", 1, 1024, &sc->taa.jitter_length)) != FS_OK)
+            return s;
+    }
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "rings"))) {
         /* A ring layout, checked now against the display parsed above (fov_ring.h). */
         if ((s = jstring(c, j, "rings", &str)) != FS_OK)

@@ -81,6 +81,17 @@ check "unknown built-in gaze lists the valid ones" grep -q "fixation_saccade" "$
 check "demo exits 0 and says how to look" bash -c "grep -q 'oiiotool' '$T/demo.txt' && test -f '$T/demo/frame.0002.exr'"
 check "demo follows the saccade trace" bash -c "exrheader '$T/demo/frame.0000.exr' | grep -q 'builtin:fixation_saccade'"
 
+# ---- TAA settings: CLI, scene file, and the CLI winning over the scene
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "camera": [{"time": 0, "position": [0,1,5], "target": [0,1,0]}, {"time": 1, "position": [0,1,9], "target": [0,1,0]}], "taa": {"blend": 0.25, "gamma": 1.5, "jitter_length": 8}}' >"$T/taa.json"
+check "scene file sets TAA controls" bash -c "'$BIN' plan '$T/taa.json' | grep -q 'blend 0.25, gamma 1.50, Halton(2,3) jitter of 8 frames; reprojection through depth'"
+check "CLI --taa-blend wins" bash -c "'$BIN' plan '$T/taa.json' --taa-blend 0.05 | grep -q 'blend 0.05'"
+check "--taa off" bash -c "! '$BIN' plan '$T/taa.json' --taa off | grep -q '^taa'"
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"enabled": false}}' >"$T/notaa.json"
+check "scene file turns TAA off" bash -c "! '$BIN' plan '$T/notaa.json' --frames 10 | grep -q '^taa'"
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"blend": 2}}' >"$T/badtaa.json"
+expect_exit "bad taa.blend -> 3" 3 "$BIN" plan "$T/badtaa.json"
+check "bad taa.blend names the JSON path" grep -q "badtaa.json: taa.blend" "$T/err.txt"
+
 # ---- a glTF file is a scene by itself
 "$BIN" render --scene "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" --frames 1 --width 64 --height 64 --out "$T/gltf" --quiet >/dev/null 2>&1
 check "render a .gltf directly" test -f "$T/gltf/frame.0000.exr"
