@@ -402,6 +402,62 @@ TEST(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts)
     scene_free(&sc);
 }
 
+TEST(jitter_does_not_leak_into_the_image)
+{
+    /* Still camera and gaze: consecutive converged TAA frames barely change (no shake), and the
+     * TAA image lines up with the unjittered image: of the shifts by -1, 0, +1 pixel in x and y,
+     * the unshifted one matches best. */
+    enum { W = 192, H = 108, N = 40 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    still_camera(&sc, 1.0f);
+    display_desc d = {W, H, sc.display.hfov_deg};
+    fov_layout l;
+    char err[128];
+    CHECK(fov_layout_parse("10:1:0,*:1/2:0", &d, &l, err, sizeof err) == FS_OK);
+    seq q;
+    CHECK(seq_begin(&q, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
+    exr_image a = {0}, b = {0};
+    for (int f = 0; f < N; f++)
+        CHECK(seq_frame(&q, &sc, f, 0, -1, 0.5f, 0.5f, f == N - 2 ? &a : f == N - 1 ? &b : NULL) == FS_OK);
+    double shake = 0;
+    const float *ga = exr_image_channel(&a, "G"), *gb = exr_image_channel(&b, "G");
+    for (int i = 0; i < W * H; i++)
+        shake += fabsf(ga[i] - gb[i]);
+    shake /= W * H;
+    exr_image plain;
+    gpu_fov fv = {.layout = &l, .gaze = {0.5f, 0.5f}};
+    CHECK(gpu_render_fov(&sc, ALPHA_MODE_TRADITIONAL, W, H, 0, &fv, &plain) == FS_OK);
+    const float *gp = exr_image_channel(&plain, "G");
+    double best = INFINITY, at0 = 0;
+    int bx = 9, by = 9;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            double e = 0;
+            for (int y = 2; y < H - 2; y++)
+                for (int x = 2; x < W - 2; x++) {
+                    double v = gb[y * W + x] - gp[(y + dy) * W + x + dx];
+                    e += v * v;
+                }
+            if (dx == 0 && dy == 0)
+                at0 = e;
+            if (e < best) {
+                best = e;
+                bx = dx;
+                by = dy;
+            }
+        }
+    fprintf(stderr, "converged TAA: mean |frame change| %.5f; best alignment with the unjittered image at (%d, %d)\n",
+            shake, bx, by);
+    CHECK(shake < 0.005);
+    CHECK(bx == 0 && by == 0 && best == at0);
+    exr_image_free(&a);
+    exr_image_free(&b);
+    exr_image_free(&plain);
+    renderer_destroy(q.r);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     gpu_begin();
@@ -410,6 +466,7 @@ int main(void)
     RUN(camera_cut_and_saccade_drop_history);
     RUN(hashed_with_taa_flickers_less_and_covers_closer);
     RUN(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts);
+    RUN(jitter_does_not_leak_into_the_image);
     gl_device_destroy();
     return test_summary();
 }
