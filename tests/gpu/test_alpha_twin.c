@@ -33,6 +33,7 @@
 #include "gl/shader_src.h"
 #include "passes/alpha_hash.h"
 #include "test.h"
+#include "twin_util.h"
 
 typedef struct twin_in {
     float obj[4], dx[4], dy[4], p0[4], p1[4], p2[4], p3[4], p4[4];
@@ -184,45 +185,14 @@ static void run_cpu(const twin_in *a, twin_out *r)
 
 /* >>gpu */
 
-static GLuint compile_compute(const char *path)
-{
-    gpu_program_handle h;
-    return gl_program_build(&(gl_program_desc){.cs = path, .label = "alpha twin"}, &h) == FS_OK ? h.id : 0;
-}
-
 TEST(glsl_compiles_and_runs)
 {
-    GLuint prog = compile_compute("shaders/test/alpha_twin.comp");
-    CHECK(prog != 0);
-    if (!prog)
-        return;
-    GLuint buf[2];
-    glCreateBuffers(2, buf);
-    glNamedBufferStorage(buf[0], (GLsizeiptr)(sizeof(twin_in) * COUNT), inputs, 0);
-    glNamedBufferStorage(buf[1], (GLsizeiptr)(sizeof(twin_out) * COUNT), NULL, GL_DYNAMIC_STORAGE_BIT);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buf[1]);
-    glUseProgram(prog);
-    glUniform1ui(glGetUniformLocation(prog, "u_count"), (GLuint)COUNT);
-    glDispatchCompute((COUNT + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(buf[1], 0, (GLsizeiptr)(sizeof(twin_out) * COUNT), gpu);
-    GLenum err = glGetError();
-    CHECK(err == GL_NO_ERROR);
-    glDeleteBuffers(2, buf);
-    glDeleteProgram(prog);
-    have_gpu_results = err == GL_NO_ERROR;
+    bool ok = twin_run("shaders/test/alpha_twin.comp", inputs, sizeof(twin_in) * COUNT, gpu, sizeof(twin_out) * COUNT, COUNT);
+    CHECK(ok);
+    have_gpu_results = ok;
 }
 
 /* >>compare */
-
-static bool same_bits(float a, float b)
-{
-    uint32_t x, y;
-    memcpy(&x, &a, 4);
-    memcpy(&y, &b, 4);
-    return x == y;
-}
 
 static bool in_range(float t)
 {
@@ -238,12 +208,12 @@ TEST(integer_paths_are_bit_identical)
     long long bad_pcg = 0, bad_pcg3d = 0, bad_stoch = 0, bad_a2c_t = 0, bad_mask = 0;
     for (int i = 0; i < COUNT; i++) {
         const twin_out *g = &gpu[i], *c = &cpu[i];
-        bad_pcg += !same_bits(g->r0[1], c->r0[1]);
-        bad_stoch += !same_bits(g->r0[3], c->r0[3]);
+        bad_pcg += !twin_same_bits(g->r0[1], c->r0[1]);
+        bad_stoch += !twin_same_bits(g->r0[3], c->r0[3]);
         bad_pcg3d += g->r3[1] != c->r3[1] || g->r3[2] != c->r3[2] || g->r3[3] != c->r3[3];
-        bad_a2c_t += !same_bits(g->r2[1], c->r2[1]);
+        bad_a2c_t += !twin_same_bits(g->r2[1], c->r2[1]);
         bad_mask += g->r3[0] != c->r3[0];
-        if (!same_bits(g->r0[1], c->r0[1]) && bad_pcg <= 3)
+        if (!twin_same_bits(g->r0[1], c->r0[1]) && bad_pcg <= 3)
             fprintf(stderr, "  pcg mismatch at %d: obj (%g %g %g): gpu %.9g cpu %.9g\n", i, inputs[i].obj[0], inputs[i].obj[1],
                     inputs[i].obj[2], g->r0[1], c->r0[1]);
     }
@@ -392,7 +362,7 @@ TEST(sine_hash_agrees_statistically)
          * again, and hash3 agrees like hash2 does: the nesting, not the GLSL, explains hash3. */
         long long inner_same = 0, inner_same_outer_ok = 0;
         for (int i = g * GROUP; i < (g + 1) * GROUP; i++)
-            if (same_bits(gpu[i].r2[2], cpu[i].r2[2])) {
+            if (twin_same_bits(gpu[i].r2[2], cpu[i].r2[2])) {
                 inner_same++;
                 inner_same_outer_ok += fabs((double)gpu[i].r0[2] - cpu[i].r0[2]) <= 1e-2;
             }

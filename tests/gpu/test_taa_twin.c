@@ -31,6 +31,7 @@
 #include "gl/gl_program.h"
 #include "passes/taa_math.h"
 #include "test.h"
+#include "twin_util.h"
 
 typedef struct twin_in {
     float a[4], b[4], c[4], d[4];
@@ -176,38 +177,12 @@ static void run_cpu(const twin_in *p, twin_out *r)
 
 TEST(glsl_compiles_and_runs)
 {
-    gpu_program_handle h;
-    GLuint prog = gl_program_build(&(gl_program_desc){.cs = "shaders/test/taa_twin.comp", .label = "taa twin"}, &h) == FS_OK ? h.id : 0;
-    CHECK(prog != 0);
-    if (!prog)
-        return;
-    GLuint buf[2];
-    glCreateBuffers(2, buf);
-    glNamedBufferStorage(buf[0], (GLsizeiptr)(sizeof(twin_in) * COUNT), inputs, 0);
-    glNamedBufferStorage(buf[1], (GLsizeiptr)(sizeof(twin_out) * COUNT), NULL, GL_DYNAMIC_STORAGE_BIT);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buf[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buf[1]);
-    glUseProgram(prog);
-    glUniform1ui(glGetUniformLocation(prog, "u_count"), (GLuint)COUNT);
-    glDispatchCompute((COUNT + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(buf[1], 0, (GLsizeiptr)(sizeof(twin_out) * COUNT), gpu);
-    GLenum err = glGetError();
-    CHECK(err == GL_NO_ERROR);
-    glDeleteBuffers(2, buf);
-    glDeleteProgram(prog);
-    have_gpu_results = err == GL_NO_ERROR;
+    bool ok = twin_run("shaders/test/taa_twin.comp", inputs, sizeof(twin_in) * COUNT, gpu, sizeof(twin_out) * COUNT, COUNT);
+    CHECK(ok);
+    have_gpu_results = ok;
 }
 
 /* >>compare */
-
-static bool same_bits(float a, float b)
-{
-    uint32_t x, y;
-    memcpy(&x, &a, 4);
-    memcpy(&y, &b, 4);
-    return x == y;
-}
 
 TEST(halton_and_jitter_are_bit_identical)
 {
@@ -218,9 +193,9 @@ TEST(halton_and_jitter_are_bit_identical)
     long long bad_halton = 0, bad_jitter = 0;
     for (int i = 0; i < COUNT; i++) {
         const twin_out *g = &gpu[i], *c = &cpu[i];
-        bool hb = !same_bits(g->o[0][0], c->o[0][0]);
+        bool hb = !twin_same_bits(g->o[0][0], c->o[0][0]);
         bad_halton += hb;
-        bad_jitter += !same_bits(g->o[0][1], c->o[0][1]) || !same_bits(g->o[0][2], c->o[0][2]);
+        bad_jitter += !twin_same_bits(g->o[0][1], c->o[0][1]) || !twin_same_bits(g->o[0][2], c->o[0][2]);
         if (hb && bad_halton <= 3)
             fprintf(stderr, "  halton(%u, %u): gpu %.9g cpu %.9g\n", inputs[i].u[0], inputs[i].u[1], g->o[0][0], c->o[0][0]);
     }
