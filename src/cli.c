@@ -67,7 +67,8 @@ void cli_print_help(command cmd)
            "  --hash-scale S      hashed modes: noise scale in pixels (default 1; 0.3-0.5 suits TAA)\n"
            "  --hash H            hashed modes: pcg (integer pcg3d, default) or sine (the paper's)\n"
            "  --hash-aniso        hashed modes: anisotropic (per-axis) pixel-scale noise\n"
-           "  --fade-n N          hashed: mip levels over which noise fades in (default 6)\n"
+           "  --fade-n N          hashed: mip levels over which noise fades in (default 6; earlier for\n"
+           "                      textures the traditional test erodes sooner)\n"
            "  --no-fade           hashed: no fade-in, noise at every distance\n"
            "  --a2c-sharpen       a2c: mip-level alpha scaling and fwidth sharpening (Golus)\n"
            "  --taa on|off        temporal antialiasing per ring (default on for more than one frame)\n"
@@ -98,7 +99,7 @@ void cli_print_help(command cmd)
                "  --format F          text (default) or json (machine-readable, on stdout)\n"
                "  --modes M,M,...     alpha modes to compare in one run (or all); each gets its time\n"
                "                      relative to traditional, A2C modes also traditional+MSAA\n");
-    printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 6 I/O error,\n"
+    printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 5 bad gaze trace, 6 I/O error,\n"
            "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 130 interrupted\n");
 }
 
