@@ -1,14 +1,7 @@
 /* The alpha-test strategies side by side (seed 000): what each does to coverage with distance,
  * to overlapping layers, and to stability under sub-pixel motion. Tests that can fail: each
  * asserts the ordering the method predicts, with margins. */
-/* stb_image with static linkage, as in tests/unit/test_mip.c: libtinygltf carries its own copy. */
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#define STBI_ONLY_PNG
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wunused-function" /* reported at the end of the file: stays off */
-#endif
-#include <stb/stb_image.h>
+#include "stb_png.h"
 
 #include "gpu_util.h"
 

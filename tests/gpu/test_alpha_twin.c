@@ -55,25 +55,6 @@ static bool have_gpu_results;
 
 /* >>inputs */
 
-static uint64_t rng_state = 0x2545f4914f6cdd1dull;
-
-static uint64_t rng_u64(void)
-{
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-static double rng01(void)
-{
-    return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static float rngf(double lo, double hi)
-{
-    return (float)(lo + (hi - lo) * rng01());
-}
 
 static const float hard_values[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 3.0f, 1e-40f, -1e-40f, 1e-30f, 1e-7f,
                                     1e5f, -1e7f, 16777216.0f, 1e30f, -1e30f, 3e38f, NAN, INFINITY, -INFINITY};

@@ -36,6 +36,27 @@ static inline bool twin_run(const char *path, const void *in, size_t in_bytes, v
     return err == GL_NO_ERROR;
 }
 
+/* Deterministic inputs: splitmix64. */
+static uint64_t rng_state = 0x2545f4914f6cdd1dull;
+
+static inline uint64_t rng_u64(void)
+{
+    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+static inline double rng01(void)
+{
+    return (double)(rng_u64() >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static inline float rngf(double lo, double hi)
+{
+    return (float)(lo + (hi - lo) * rng01());
+}
+
 static inline bool twin_same_bits(float a, float b)
 {
     uint32_t x, y;

@@ -23,20 +23,7 @@
 #include "scene/mip.h"
 #include "test.h"
 
-/* stb_image with static linkage, as in test_mip.c. */
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#endif
-#include <stb/stb_image.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
+#include "stb_png.h"
 
 static uint32_t rng_state = 987654321u;
 static uint32_t next_u32(void)

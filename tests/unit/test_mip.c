@@ -9,21 +9,7 @@
 #include "scene/mip.h"
 #include "test.h"
 
-/* stb_image with static linkage: the library's glTF shim may carry its own copy. Its unused
- * static declarations are reported at the end of the file, so that warning stays off. */
-#define STB_IMAGE_IMPLEMENTATION
-#define STB_IMAGE_STATIC
-#define STBI_ONLY_PNG
-#if defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#endif
-#include <stb/stb_image.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
+#include "stb_png.h"
 
 static uint32_t rng_state = 12345u;
 static uint32_t next_u32(void)
