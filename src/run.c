@@ -207,7 +207,8 @@ static void set_frame_attrs(exr_image *img, const session *s, const frame_record
                          "RGBA: linear premultiplied radiance; coverage: opacity of alpha-mapped surfaces");
 }
 
-static fs_status run_render(const run_desc *d, const char *default_out)
+/* Renders the sequence; *frames_out (may be NULL) gets the number of frames asked for. */
+static fs_status run_render(const run_desc *d, const char *default_out, int *frames_out)
 {
     session s;
     fs_status st = session_begin(d, &s, true);
@@ -215,6 +216,8 @@ static fs_status run_render(const run_desc *d, const char *default_out)
         return st;
     const char *out = d->out_dir ? d->out_dir : default_out;
     int frames = frame_count(d, &s.sc);
+    if (frames_out)
+        *frames_out = frames;
     st = make_dirs(out);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
@@ -272,16 +275,12 @@ static fs_status run_demo(const run_desc *d)
     if (!dd.gaze_path)
         dd.gaze_path = "builtin:fixation_saccade";
     d = &dd;
-    fs_status st = run_render(d, "out/demo");
+    int frames = 1;
+    fs_status st = run_render(d, "out/demo", &frames);
     if (st != FS_OK)
         return st;
     const char *out = d->out_dir ? d->out_dir : "out/demo";
-    scene sc; /* only to know the frame count the render used */
-    int last = 0;
-    if (scene_load_builtin(d->builtin, &sc) == FS_OK) {
-        last = frame_count(d, &sc) - 1;
-        scene_free(&sc);
-    }
+    int last = frames - 1;
     printf("\nlook at the frames (linear half-float RGBA + a coverage channel):\n"
            "  oiiotool --info -v %s/%s.0000.exr      # header: frame, time, renderer, alpha mode\n"
            "  oiiotool --frames 0-%d %s/%s.#.exr --ch R,G,B --colorconvert linear sRGB -o %s/%s.#.png\n"
@@ -603,7 +602,7 @@ fs_status run(const run_desc *d)
     case CMD_VERSION: printf("fovsim %s\n", FOVSIM_VERSION); return FS_OK;
     case CMD_LIST_GPUS: gl_device_list(); return FS_OK;
     case CMD_PLAN: return run_plan(d);
-    case CMD_RENDER: return run_render(d, "out/render");
+    case CMD_RENDER: return run_render(d, "out/render", NULL);
     case CMD_DEMO: return run_demo(d);
     case CMD_BENCH: return run_bench(d);
     case CMD_NONE: break;

@@ -23,6 +23,7 @@ struct twin_out {
     vec4 r1;   // alpha_hashed_fade, alpha_texture_lod, its aniso_ratio, alpha_hash_cdf
     vec4 r2;   // alpha_hash_log2_scale, alpha_hashed_a2c_threshold, alpha_hash_sine2(obj.xy), sin(obj.x)
     uvec4 r3;  // alpha_hashed_a2c_mask, alpha_hash_pcg3d(u0.zw, u1.x)
+    vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), unused x 3
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -52,5 +53,6 @@ void main()
                 alpha_hash_sine2(a.obj.xy), sin(a.obj.x));
     r.r3 = uvec4(alpha_hashed_a2c_mask(a.p3.x, int(a.u1.z), a.p2.z, a.p2.w, a.p3.y),
                  alpha_hash_pcg3d(uvec3(a.u0.z, a.u0.w, a.u1.x)));
+    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), 0.0, 0.0, 0.0);
     tout[i] = r;
 }

@@ -87,10 +87,17 @@ typedef struct ring_targets {
 
 #define RENDERER_MAX_STAGES (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
 
+/* One blended instance to draw, farthest first. */
+typedef struct sort_item {
+    float dist2;
+    int asset, slot;
+} sort_item;
+
 struct renderer {
     const scene *sc;
     plan pl;
     gpu_asset *assets;
+    sort_item *blend_order;                /* scratch for the BLEND sort: one per instance */
     gpu_program programs[PLAN_MAX_PASSES]; /* one per plan pass, same index */
     composite_program comp;
     ring_targets rt;
@@ -301,7 +308,8 @@ static fs_status upload_scene(renderer *r)
 {
     const scene *sc = r->sc;
     r->assets = calloc((size_t)sc->asset_count + 1, sizeof *r->assets);
-    if (!r->assets)
+    r->blend_order = calloc((size_t)sc->instance_count + 1, sizeof *r->blend_order);
+    if (!r->assets || !r->blend_order)
         return FS_ERR_NOMEM;
     for (int a = 0; a < sc->asset_count; a++) {
         const asset *as = &sc->assets[a];
@@ -541,6 +549,7 @@ void renderer_destroy(renderer *r)
         }
         free(r->assets);
     }
+    free(r->blend_order);
     for (int i = 0; i < r->pl.pass_count; i++)
         glDeleteProgram(r->programs[i].id);
     glDeleteProgram(r->comp.id);
@@ -667,11 +676,6 @@ static void draw_instanced(const renderer *r, const gpu_program *pg, const plan_
     }
 }
 
-typedef struct sort_item {
-    float dist2;
-    int asset, slot;
-} sort_item;
-
 static int cmp_far_first(const void *a, const void *b)
 {
     float da = ((const sort_item *)a)->dist2, db = ((const sort_item *)b)->dist2;
@@ -681,13 +685,8 @@ static int cmp_far_first(const void *a, const void *b)
 /* BLEND: every instance separately, farthest first (sorted per instance by its bounds centre). */
 static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const plan_pass *ps, const frame_record *fr)
 {
+    sort_item *items = r->blend_order;
     int n = 0;
-    for (int a = 0; a < r->sc->asset_count; a++)
-        n += r->assets[a].instance_count;
-    sort_item *items = malloc(sizeof *items * (size_t)(n + 1));
-    if (!items)
-        return;
-    n = 0;
     for (int a = 0; a < r->sc->asset_count; a++) {
         const asset *as = &r->sc->assets[a];
         bool has_blend = false;
@@ -707,7 +706,6 @@ static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const pl
     qsort(items, (size_t)n, sizeof *items, cmp_far_first);
     for (int i = 0; i < n; i++)
         draw_asset(r, pg, ps, items[i].asset, items[i].slot, 1);
-    free(items);
 }
 
 /* Timed stage boundaries: GL timer query always (when timers are on), wall clock with glFinish

@@ -43,6 +43,7 @@ typedef struct twin_in {
 typedef struct twin_out {
     float r0[4], r1[4], r2[4];
     uint32_t r3[4];
+    float r4[4];
 } twin_out;
 
 enum { GROUP = 1 << 16, GROUPS = 4, COUNT = GROUP * GROUPS };
@@ -162,6 +163,7 @@ static void run_cpu(const twin_in *a, twin_out *r)
     r->r3[1] = h.x;
     r->r3[2] = h.y;
     r->r3[3] = h.z;
+    r->r4[0] = alpha_hashed_frame_offset(a->p4[0], a->u1[0]);
 }
 
 /* >>gpu */
@@ -233,6 +235,7 @@ TEST(gpu_thresholds_are_always_in_range)
 typedef float (*field_fn)(const twin_out *);
 static float f_threshold(const twin_out *o) { return o->r0[0]; }
 static float f_sine(const twin_out *o) { return o->r0[2]; }
+static float f_frame_offset(const twin_out *o) { return o->r4[0]; }
 static float f_fade(const twin_out *o) { return o->r1[0]; }
 static float f_lod(const twin_out *o) { return o->r1[1]; }
 static float f_ratio(const twin_out *o) { return o->r1[2]; }
@@ -287,7 +290,7 @@ TEST(cdf_fade_lod_agree)
         bool rel;
     } fields[] = {{"cdf", f_cdf, 1e-5, false},   {"fade", f_fade, 1e-5, false},
                   {"lod", f_lod, 1e-5, true},    {"aniso ratio", f_ratio, 1e-5, true},
-                  {"log2 scale", f_log2, 1e-5, true}};
+                  {"log2 scale", f_log2, 1e-5, true}, {"frame offset", f_frame_offset, 1e-6, false}};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++)
         for (int g = 0; g < GROUPS; g++) {
             double worst;

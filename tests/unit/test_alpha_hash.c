@@ -795,6 +795,44 @@ TEST(report_cpu_cost_per_threshold)
     CHECK(check > 0); /* keeps the loops */
 }
 
+TEST(frame_offset_keeps_thresholds_in_range_and_uniform)
+{
+    /* The per-frame shift TAA uses: (0, 1] always, identity at frame 0, a uniform threshold stays
+     * uniform (64-bin chi-square), and successive frames of one pixel are spread out. */
+    CHECK(alpha_hashed_frame_offset(0.25f, 0) == 0.25f);
+    CHECK(alpha_hashed_frame_offset(1.0f, 0) == 1.0f);
+    long h[64] = {0};
+    uint32_t st = 7;
+    const int n = 1 << 20;
+    for (int i = 0; i < n; i++) {
+        st = st * 1664525u + 1013904223u;
+        float t = 1.0f - (float)(st >> 8) / 16777216.0f; /* (0, 1] */
+        float u = alpha_hashed_frame_offset(t, (uint32_t)i * 2654435761u);
+        CHECK(u > 0.0f && u <= 1.0f);
+        int b = (int)(u * 64.0f);
+        h[b > 63 ? 63 : b]++;
+    }
+    double e = n / 64.0, chi2 = 0;
+    for (int b = 0; b < 64; b++)
+        chi2 += (h[b] - e) * (h[b] - e) / e;
+    CHECK(chi2 < 103.4); /* 0.999 quantile, 63 degrees of freedom */
+    /* 16 frames of one pixel cover (0, 1] with no gap wider than 0.2 (golden-ratio sequence). */
+    float v[16];
+    for (uint32_t f = 0; f < 16; f++)
+        v[f] = alpha_hashed_frame_offset(0.5f, f);
+    for (int i = 0; i < 16; i++)
+        for (int j = i + 1; j < 16; j++)
+            if (v[j] < v[i]) {
+                float t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+            }
+    float gap = v[0] + (1.0f - v[15]);
+    for (int i = 1; i < 16; i++)
+        gap = fmaxf(gap, v[i] - v[i - 1]);
+    CHECK(gap < 0.2f);
+}
+
 int main(void)
 {
     RUN(cdf_hard_cases_are_finite_and_monotonic);
@@ -811,5 +849,6 @@ int main(void)
     RUN(fade_ramp_is_quadratic_in_lod);
     RUN(texture_lod_and_anisotropy);
     RUN(report_cpu_cost_per_threshold);
+    RUN(frame_offset_keeps_thresholds_in_range_and_uniform);
     return test_summary();
 }
