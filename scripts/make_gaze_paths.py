@@ -145,6 +145,23 @@ def saccade_worst_case():
     return out
 
 
+def demo_tour(rng):
+    """The demo's 4.2 s: fixations and saccades across the view, a smooth pursuit arc through the
+    periphery, then a fixation back near the centre; every ring border crosses foliage."""
+    head = scanpath([(0.5, 0.45, 0.5), (0.2, 0.35, 0.4), (0.78, 0.3, 0.45), (0.3, 0.6, 0.35)], rng)
+    t0 = head[-1][0]
+    out = list(head)
+    # Pursuit: a quarter-circle arc from (0.3, 0.6) sweeping right over 1.2 s (about 0.5 widths/s).
+    cx, cy, r = 0.55, 0.6, 0.25
+    for k in range(1, int(1.2 * RATE) + 1):
+        a = math.pi + (math.pi * 0.75) * k / (1.2 * RATE)
+        out.append((t0 + k * DT, cx + r * math.cos(a), cy + 0.6 * r * math.sin(a)))
+    t1, x1, y1 = out[-1]
+    tail = scanpath([(x1, y1, 0.01), (0.5, 0.5, 4.2 - t1)], rng)
+    out += [(t1 + DT + t, x, y) for t, x, y in tail[1:]]
+    return out
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     out_dir = sys.argv[1] if len(sys.argv) > 1 else os.path.normpath(os.path.join(here, "..", "gaze_paths"))
@@ -164,6 +181,9 @@ def main():
     write(out_dir, "reading.csv",
           "reading: 5 lines of ~250 ms fixations, small forward saccades, a few regressions, "
           "return sweeps, 120 Hz", reading(random.Random(3)))
+    write(out_dir, "demo_tour.csv",
+          "the demo's trace: 4 fixations joined by saccades, a 1.2 s smooth pursuit arc, a saccade back to "
+          "the centre, 4.2 s at 120 Hz", demo_tour(random.Random(4)))
     write(out_dir, "saccade_worst_case.csv",
           "worst case: 1 s at (0.02, 0.02), then (0.98, 0.98) 1 ms later, 1 s there; 120 Hz apart from the jump",
           saccade_worst_case())

@@ -20,6 +20,8 @@ static const struct {
     {"plan", CMD_PLAN, "print the passes and shader variants a scene needs"},
     {"demo", CMD_DEMO, "render the built-in forest to ./out/demo/ (no arguments needed)"},
     {"bench", CMD_BENCH, "time a scene: median and spread of frame and pass times"},
+    {"reference", CMD_REFERENCE, "render the converged ground truth (supersampled, stochastic alpha; cached)"},
+    {"compare", CMD_COMPARE, "render alpha modes side by side against the reference, with metrics"},
 };
 
 void cli_print_help(command cmd)
@@ -45,12 +47,27 @@ void cli_print_help(command cmd)
                "spread of the frame time (wall clock, glFinish), GL time per pass and fragment-shader\n"
                "invocations per frame. Defaults: N = 30, W = 5, the scene's display size.\n\n");
         break;
+    case CMD_REFERENCE:
+        printf("usage: fovsim reference [SCENE | --scene FILE | --builtin NAME] [--supersample S] [--samples K]\n\n"
+               "Renders the ground truth of every frame: full resolution, S x S sub-samples per pixel, each\n"
+               "with K stochastic alpha tests (expectation: order-correct alpha compositing). Frames are\n"
+               "cached by a key of the scene, camera, size, S and K (compare reuses them) and written to\n"
+               "DIR/reference.<frame:04d>.exr; the estimated error of each frame (K/2 vs K) is printed.\n\n");
+        break;
+    case CMD_COMPARE:
+        printf("usage: fovsim compare [SCENE | --scene FILE | --builtin NAME] --modes M,M,... [--gaze FILE] [options]\n\n"
+               "Renders every mode with the same camera, gaze, jitter and seeds, and writes per frame one\n"
+               "two-part EXR, DIR/compare.<frame:04d>.exr: part 'compare' is a grid of the modes and the\n"
+               "reference (RGBA, what any viewer shows), part 'layers' holds <mode>.R/G/B/A, <mode>.coverage,\n"
+               "<mode>.error, reference.* and ring.id. Metrics per frame, ring and mode go to DIR/metrics.csv,\n"
+               "a summary to DIR/summary.json, and a table is printed. Default modes: traditional,hashed.\n\n");
+        break;
     default:
         printf("fovsim %s: foveated rendering simulator for alpha-mapped foliage\n\n"
                "usage: fovsim <command> [options]\n       fovsim <command> --help\n\ncommands:\n",
                FOVSIM_VERSION);
         for (size_t i = 0; i < sizeof k_commands / sizeof k_commands[0]; i++)
-            printf("  %-8s %s\n", k_commands[i].name, k_commands[i].summary);
+            printf("  %-10s %s\n", k_commands[i].name, k_commands[i].summary);
         printf("\nglobal options: --help, --version, --list-gpus\n\n");
         break;
     }
@@ -93,6 +110,17 @@ void cli_print_help(command cmd)
            "  --quiet             no progress line\n"
            "  --verbose           print the renderer and what is loaded\n",
            scene_builtin_list(), alpha_mode_list());
+    if (cmd == CMD_BENCH)
+        printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
+               "                      off/on, with coverage, RMSE and flicker against the reference; writes\n"
+               "                      DIR/accuracy.csv, accuracy.md and accuracy.png (gnuplot)\n");
+    if (cmd == CMD_REFERENCE || cmd == CMD_COMPARE || cmd == CMD_DEMO || cmd == CMD_BENCH)
+        printf("  --supersample S     reference: S x S sub-samples per pixel (default 4)\n"
+               "  --samples K         reference: stochastic alpha tests per sub-sample, even (default 64)\n"
+               "  --cache DIR         reference frame cache (default $XDG_CACHE_HOME/fovsim/reference)\n"
+               "  --no-cache          draw reference frames without reading or writing the cache\n");
+    if (cmd == CMD_COMPARE || cmd == CMD_DEMO)
+        printf("  --modes M,M,...     alpha modes side by side (or all; default traditional,hashed)\n");
     if (cmd == CMD_BENCH)
         printf("  --warmup W          frames drawn before timing (default 5)\n"
                "  --markdown FILE     append the result as a Markdown section to FILE\n"
@@ -163,7 +191,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         if (!strcmp(c, k_commands[k].name))
             d->cmd = k_commands[k].cmd;
     if (d->cmd == CMD_NONE) {
-        log_error("unknown command '%s' (commands: render, plan, demo, bench; see fovsim --help)", c);
+        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare; see fovsim --help)", c);
         return FS_ERR_USAGE;
     }
     for (i = 2; i < argc; i++) {
@@ -198,6 +226,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                      : !strcmp(opt, "--hash-aniso")     ? &d->hash_aniso
                      : !strcmp(opt, "--no-fade")        ? &d->no_fade
                      : !strcmp(opt, "--a2c-sharpen")    ? &d->a2c_sharpen
+                     : !strcmp(opt, "--no-cache")       ? &d->no_cache
+                     : !strcmp(opt, "--accuracy")       ? &d->accuracy
                                                         : NULL;
         if (flag) {
             if (val) {
@@ -212,7 +242,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--jitter-length"};
+                                                 "--taa-gamma", "--jitter-length", "--supersample", "--samples",
+                                                 "--cache"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -234,7 +265,17 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->builtin = val;
         else if (!strcmp(opt, "--out"))
             d->out_dir = val;
-        else if (!strcmp(opt, "--markdown"))
+        else if (!strcmp(opt, "--cache"))
+            d->cache_dir = val;
+        else if (!strcmp(opt, "--supersample"))
+            ok = parse_int(opt, val, 1, 16, &d->supersample);
+        else if (!strcmp(opt, "--samples")) {
+            ok = parse_int(opt, val, 2, 4096, &d->samples);
+            if (ok && d->samples % 2) {
+                log_error("--samples: expected an even number (the two halves estimate convergence), got %d", d->samples);
+                ok = false;
+            }
+        } else if (!strcmp(opt, "--markdown"))
             d->markdown = val;
         else if (!strcmp(opt, "--rings"))
             d->rings = val; /* checked against the display once the scene is known */
@@ -352,8 +393,28 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         log_error("--no-fade and --fade-n: give one of them, not both");
         return FS_ERR_USAGE;
     }
-    if (d->bench_mode_count > 0 && d->cmd != CMD_BENCH) {
-        log_error("--modes is an option of fovsim bench (render and plan take --alpha)");
+    if (d->bench_mode_count > 0 && d->cmd != CMD_BENCH && d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO) {
+        log_error("--modes is an option of fovsim bench, compare and demo (render and plan take --alpha)");
+        return FS_ERR_USAGE;
+    }
+    bool uses_reference = d->cmd == CMD_REFERENCE || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO ||
+                          (d->cmd == CMD_BENCH && d->accuracy);
+    if ((d->supersample || d->samples || d->cache_dir || d->no_cache) && !uses_reference) {
+        log_error("--supersample, --samples, --cache and --no-cache shape the reference: options of fovsim "
+                  "reference, compare, demo and bench --accuracy");
+        return FS_ERR_USAGE;
+    }
+    if (d->cache_dir && d->no_cache) {
+        log_error("--cache and --no-cache: give one of them, not both");
+        return FS_ERR_USAGE;
+    }
+    if (d->accuracy && d->cmd != CMD_BENCH) {
+        log_error("--accuracy is an option of fovsim bench");
+        return FS_ERR_USAGE;
+    }
+    if (d->alpha != ALPHA_MODE_DEFAULT && (d->cmd == CMD_REFERENCE || d->cmd == CMD_COMPARE)) {
+        log_error("fovsim %s: --alpha does not apply (%s)", c,
+                  d->cmd == CMD_REFERENCE ? "the reference tests alpha stochastically" : "give the modes with --modes");
         return FS_ERR_USAGE;
     }
     if (d->json && d->cmd != CMD_BENCH) {
@@ -371,6 +432,6 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     if (!d->builtin && !d->scene_path)
         d->builtin = "forest";
     if (!d->name)
-        d->name = "frame";
+        d->name = d->cmd == CMD_REFERENCE ? "reference" : d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO ? "compare" : "frame";
     return FS_OK;
 }

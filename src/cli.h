@@ -19,6 +19,8 @@ typedef enum command {
     CMD_HELP,
     CMD_VERSION,
     CMD_LIST_GPUS,
+    CMD_REFERENCE,
+    CMD_COMPARE,
 } command;
 
 typedef struct run_desc {
@@ -54,8 +56,13 @@ typedef struct run_desc {
     float taa_gamma;         /* --taa-gamma, 0 = default 1 */
     int jitter_length;       /* --jitter-length, 0 = default 16 */
     float fade_n;            /* --fade-n, 0 = default 6 */
-    alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench: --modes a,b,c or all */
+    alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;
+    int supersample;         /* reference: --supersample S (S x S per pixel), 0 = default 4 */
+    int samples;             /* reference: --samples K per sub-sample (even), 0 = default 64 */
+    const char *cache_dir;   /* --cache DIR for reference frames, NULL = the default */
+    bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
+    bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

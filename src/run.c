@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "common/shared_defs.h"
+#include "core/file_read.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "gl/gl_device.h"
@@ -20,6 +21,7 @@
 #include "gaze/gaze.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
+#include "reference/reference.h"
 #include "scene/frame.h"
 
 static volatile sig_atomic_t g_interrupted;
@@ -46,32 +48,6 @@ static int frame_count(const run_desc *d, const scene *sc)
         return d->frames;
     int n = (int)floorf(sc->duration * d->fps + 1e-3f) + 1;
     return n < 1 ? 1 : n > MAX_FRAMES ? MAX_FRAMES : n;
-}
-
-/* mkdir -p; prints the failing component. */
-static fs_status make_dirs(const char *path)
-{
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *p = buf + 1;; p++) {
-        char c = *p;
-        if (c == '/' || c == '\0') {
-            *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                log_error("%s: cannot create directory: %s", buf, strerror(errno));
-                return FS_ERR_IO;
-            }
-            struct stat sb;
-            if (stat(buf, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
-                log_error("%s: exists and is not a directory", buf);
-                return FS_ERR_IO;
-            }
-            *p = c;
-        }
-        if (c == '\0')
-            break;
-    }
-    return FS_OK;
 }
 
 static alpha_params run_alpha_params(const run_desc *d)
@@ -218,7 +194,7 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     int frames = frame_count(d, &s.sc);
     if (frames_out)
         *frames_out = frames;
-    st = make_dirs(out);
+    st = file_make_dirs(out);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
         st = FS_ERR_NOMEM;
@@ -290,22 +266,7 @@ static fs_status run_demo(const run_desc *d)
     return FS_OK;
 }
 
-/* >>plan */
-static fs_status run_plan(const run_desc *d)
-{
-    scene sc;
-    fs_status st = load_scene(d, &sc);
-    if (st != FS_OK)
-        return st;
-    plan pl;
-    st = build_plan(d, &sc, &pl);
-    if (st == FS_OK)
-        plan_print(&pl, &sc, stdout);
-    scene_free(&sc);
-    return st;
-}
-
-/* >>bench */
+/* >>statistics */
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -322,6 +283,131 @@ static double quantile(const double *v, int n, double q)
     return i + 1 < n ? v[i] + (v[i + 1] - v[i]) * (pos - i) : v[n - 1];
 }
 
+/* >>reference */
+
+/* The reference cache of a run: --cache, else the default; NULL with --no-cache. */
+static const char *resolve_cache_dir(const run_desc *d, char *buf, int size)
+{
+    if (d->no_cache)
+        return NULL;
+    if (d->cache_dir)
+        return d->cache_dir;
+    reference_default_cache_dir(buf, size);
+    return buf;
+}
+
+/* Progress of reference passes across a whole sequence. */
+typedef struct ref_progress {
+    progress pr;
+    int base; /* passes of the frames before this one */
+} ref_progress;
+
+static void on_ref_pass(void *user, int done, int total)
+{
+    (void)total;
+    ref_progress *rp = user;
+    progress_update(&rp->pr, rp->base + done);
+}
+
+static reference *reference_for(const run_desc *d, const session *s, ref_progress *rp, fs_status *st)
+{
+    char buf[1024];
+    reference_desc rd = {.width = s->pl.width, .height = s->pl.height, .supersample = d->supersample,
+                         .samples = d->samples, .cache_dir = resolve_cache_dir(d, buf, sizeof buf),
+                         .on_pass = on_ref_pass, .user = rp};
+    return reference_create(&s->sc, &rd, st);
+}
+
+static fs_status run_reference(const run_desc *d)
+{
+    session s;
+    fs_status st = session_begin(d, &s, false);
+    if (st != FS_OK)
+        return st;
+    ref_progress rp = {0};
+    reference *rf = reference_for(d, &s, &rp, &st);
+    const char *out = d->out_dir ? d->out_dir : "out/reference";
+    int frames = frame_count(d, &s.sc);
+    if (st == FS_OK)
+        st = file_make_dirs(out);
+    double *errors = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
+    if (st == FS_OK && !errors)
+        st = FS_ERR_NOMEM;
+    int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0;
+    signal(SIGINT, on_sigint);
+    rp.pr = progress_begin("reference pass", frames * passes, d->quiet);
+    double t0 = time_now();
+    for (int i = 0; i < frames && st == FS_OK; i++) {
+        if (g_interrupted) {
+            st = FS_ERR_INTERRUPTED;
+            break;
+        }
+        rp.base = i * passes;
+        frame_record fr = frame_record_at(&s.sc, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f,
+                                          s.pl.width, s.pl.height);
+        exr_image img;
+        reference_info info;
+        st = reference_frame(rf, &fr, &img, &info);
+        if (st != FS_OK)
+            break;
+        errors[i] = info.error;
+        cached += info.cached;
+        rebuilt += info.rebuilt;
+        drawn += !info.cached;
+        log_info("REFERENCE: frame %d %s, estimated error %.5f (%s)", i, info.cached ? "from the cache" : "drawn",
+                 info.error, info.path[0] ? info.path : "no cache");
+        set_frame_attrs(&img, &s, &fr);
+        exr_image_set_string(&img, "fovsim:alpha_mode", "reference (stochastic)");
+        exr_image_set_string(&img, "fovsim:rings", "off (full resolution)");
+        exr_image_set_string(&img, "fovsim:gaze_trace", "none (the reference does not depend on the gaze)");
+        exr_image_set_string(&img, "fovsim:taa", "off");
+        char path[1200];
+        snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
+        st = exr_write_file(path, &img, d->compression);
+        exr_image_free(&img);
+        done += st == FS_OK;
+        progress_update(&rp.pr, (i + 1) * passes);
+    }
+    progress_end(&rp.pr);
+    if (st == FS_OK) {
+        double el = time_now() - t0;
+        qsort(errors, (size_t)frames, sizeof *errors, cmp_double);
+        char buf[1024];
+        const char *cache = resolve_cache_dir(d, buf, sizeof buf);
+        printf("wrote %d reference frames (%dx%d, %dx%d sub-samples x %d stochastic alpha tests) to %s/%s.####.exr "
+               "in %.1f s\n", frames, s.pl.width, s.pl.height, reference_supersample(rf), reference_supersample(rf),
+               reference_samples(rf), out, d->name, el);
+        printf("  %d drawn, %d from the cache%s%s%s", drawn, cached, cache ? " (" : " (no cache)", cache ? cache : "",
+               cache ? ")" : "");
+        if (rebuilt)
+            printf(", %d cache entries were truncated or stale and were redrawn", rebuilt);
+        printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
+               quantile(errors, frames, 0.5), errors[frames - 1]);
+    } else if (st == FS_ERR_INTERRUPTED) {
+        log_error("interrupted after %d complete frames in %s (no partial frame was left)", done, out);
+    }
+    free(errors);
+    reference_destroy(rf);
+    session_end(&s);
+    return st;
+}
+
+/* >>plan */
+static fs_status run_plan(const run_desc *d)
+{
+    scene sc;
+    fs_status st = load_scene(d, &sc);
+    if (st != FS_OK)
+        return st;
+    plan pl;
+    st = build_plan(d, &sc, &pl);
+    if (st == FS_OK)
+        plan_print(&pl, &sc, stdout);
+    scene_free(&sc);
+    return st;
+}
+
+/* >>bench */
 static void cpu_name(char *buf, size_t n)
 {
     snprintf(buf, n, "unknown CPU");
@@ -605,6 +691,8 @@ fs_status run(const run_desc *d)
     case CMD_RENDER: return run_render(d, "out/render", NULL);
     case CMD_DEMO: return run_demo(d);
     case CMD_BENCH: return run_bench(d);
+    case CMD_REFERENCE: return run_reference(d);
+    case CMD_COMPARE: break;
     case CMD_NONE: break;
     }
     return FS_ERR_INTERNAL;

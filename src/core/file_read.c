@@ -76,3 +76,31 @@ fs_status file_read_all(const char *path, size_t max_bytes, const char *what, fs
     *size_out = size;
     return FS_OK;
 }
+
+fs_status file_make_dirs(const char *path)
+{
+    char buf[1024];
+    if (!path[0] || snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) {
+        log_error("'%s': expected a directory path of 1 to %d characters", path, (int)sizeof buf - 1);
+        return FS_ERR_IO;
+    }
+    for (char *p = buf + 1;; p++) {
+        char c = *p;
+        if (c == '/' || c == '\0') {
+            *p = '\0';
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                log_error("%s: cannot create directory: %s", buf, strerror(errno));
+                return FS_ERR_IO;
+            }
+            struct stat sb;
+            if (stat(buf, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
+                log_error("%s: exists and is not a directory", buf);
+                return FS_ERR_IO;
+            }
+            *p = c;
+        }
+        if (c == '\0')
+            break;
+    }
+    return FS_OK;
+}

@@ -1,4 +1,4 @@
-/* file_read.h: reading a whole text file into memory, with the one-line errors every input reader
+/* file_read.h: reading a whole text file into memory (and making directories), with the one-line errors every input reader
  * of fovsim gives (`<path>: cannot open: No such file or directory`).
  *
  * What it does NOT do: parse, or decide what a too-large file means (the caller says which status
@@ -20,6 +20,10 @@ extern "C" {
  * max_bytes -> too_big_status; out of memory -> FS_ERR_NOMEM. *out is NULL on failure. */
 fs_status file_read_all(const char *path, size_t max_bytes, const char *what, fs_status too_big_status, char **out,
                         size_t *size);
+
+/* mkdir -p: creates `path` and its missing parents. One line naming the failing component and
+ * FS_ERR_IO when one cannot be made or exists as something other than a directory. */
+fs_status file_make_dirs(const char *path);
 
 #ifdef __cplusplus
 }

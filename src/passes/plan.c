@@ -32,7 +32,7 @@ taa_controls taa_controls_defaults(const taa_controls *c)
 
 alpha_mode plan_material_mode(const plan *p, const material *m)
 {
-    return m->alpha_mode != ALPHA_MODE_DEFAULT ? m->alpha_mode : p->global_mode;
+    return m->alpha_mode != ALPHA_MODE_DEFAULT && !p->reference ? m->alpha_mode : p->global_mode;
 }
 
 const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode)
@@ -106,6 +106,10 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->global_mode = o.alpha_mode != ALPHA_MODE_DEFAULT ? o.alpha_mode
                        : sc->alpha_mode != ALPHA_MODE_DEFAULT ? sc->alpha_mode
                                                               : ALPHA_MODE_TRADITIONAL;
+    if (o.reference) {
+        out->reference = true;
+        out->global_mode = ALPHA_MODE_STOCHASTIC;
+    }
     out->coverage = true;
     out->alpha = alpha_params_defaults(&o.alpha);
     out->msaa = o.force_msaa;

@@ -72,12 +72,15 @@ typedef struct plan_options {
     bool force_msaa;       /* draw through MSAA targets even without an A2C mode (bench: cost split) */
     bool taa;              /* temporal antialiasing per ring (only when frames > 1) */
     taa_controls taa_controls;
+    bool reference;        /* the ground truth's passes (reference.h): every MASK material is drawn
+                              stochastic, whatever the scene's or material's mode */
 } plan_options;
 
 typedef struct plan {
     int width, height;
     float hfov_deg;
     alpha_mode global_mode;     /* effective mode for MASK materials without an override */
+    bool reference;             /* plan_options.reference: overrides ignored, global_mode stochastic */
     plan_pass passes[PLAN_MAX_PASSES];
     int pass_count;
     int texture_count;          /* images uploaded (with premultiplied mips) */

@@ -58,3 +58,13 @@ void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_
         fr->ring_view_proj[i] = m4_mul(fov_ring_crop(d, &fr->ring_rect[i]), fr->view_proj);
     }
 }
+
+void frame_record_shift(frame_record *fr, const display_desc *d, float dx, float dy)
+{
+    /* NDC y points up, display y down. */
+    mat4 t = m4_translate(v3(2.0f * dx / (float)d->width, -2.0f * dy / (float)d->height, 0.0f));
+    fr->proj = m4_mul(t, fr->proj);
+    fr->view_proj = m4_mul(t, fr->view_proj);
+    for (int i = 0; i < fr->ring_count; i++)
+        fr->ring_view_proj[i] = m4_mul(fov_ring_crop(d, &fr->ring_rect[i]), fr->view_proj);
+}

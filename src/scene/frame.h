@@ -35,5 +35,9 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
 /* Sets the gaze (normalised, origin top-left; clamped to the display) and computes each ring's
  * footprint and cropped view-projection for layout `l` on display `d` (the frame's size). */
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy);
+/* Moves the image by (dx, dy) display pixels (x right, y down) on display `d`: every pixel then
+ * samples the scene at (its centre - (dx, dy)). Projection, view-projection and each ring's
+ * view-projection move together. The reference uses it to place its sub-pixel samples. */
+void frame_record_shift(frame_record *fr, const display_desc *d, float dx, float dy);
 
 #endif

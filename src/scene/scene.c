@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "core/embedded.h"
+#include "core/hash.h"
 #include "core/log.h"
 #include "scene/gltf_shim.h"
 #include "core/file_read.h"
@@ -523,4 +524,54 @@ fs_status scene_load_builtin(const char *name, scene *out)
         return FS_ERR_INTERNAL;
     }
     return scene_json_parse(ef->data, ef->size, label, NULL, out);
+}
+
+/* >>content hash */
+
+uint64_t scene_content_hash(const scene *sc)
+{
+    uint64_t h = hash_str(HASH_FNV_INIT, "fovsim scene content v1");
+    h = hash_u64(h, (uint64_t)sc->asset_count);
+    for (int a = 0; a < sc->asset_count; a++) {
+        const asset *as = &sc->assets[a];
+        h = hash_u64(h, (uint64_t)as->prim_count);
+        for (int i = 0; i < as->prim_count; i++) {
+            const prim *p = &as->prims[i];
+            h = hash_u64(h, p->vertex_count);
+            h = hash_u64(h, p->index_count);
+            h = hash_u64(h, (uint64_t)p->material);
+            h = hash_floats(h, p->positions, 3 * (size_t)p->vertex_count);
+            h = hash_floats(h, p->normals, 3 * (size_t)p->vertex_count);
+            h = hash_floats(h, p->uvs, 2 * (size_t)p->vertex_count);
+            h = hash_floats(h, p->colors, 4 * (size_t)p->vertex_count);
+            h = hash_bytes(h, p->indices, sizeof(uint32_t) * p->index_count);
+        }
+        h = hash_u64(h, (uint64_t)as->material_count);
+        for (int i = 0; i < as->material_count; i++) {
+            const material *m = &as->materials[i];
+            h = hash_floats(h, m->base_color, 4);
+            h = hash_floats(h, &m->alpha_cutoff, 1);
+            uint64_t e[6] = {(uint64_t)m->base_color_image, m->wrap_s, m->wrap_t, m->mag_filter, m->alpha_kind,
+                             m->double_sided};
+            for (int k = 0; k < 6; k++)
+                h = hash_u64(h, e[k]);
+        }
+        h = hash_u64(h, (uint64_t)as->image_count);
+        for (int i = 0; i < as->image_count; i++) {
+            const image_rgba8 *im = &as->images[i];
+            h = hash_u64(h, (uint64_t)im->width);
+            h = hash_u64(h, (uint64_t)im->height);
+            h = hash_bytes(h, im->rgba, 4 * (size_t)im->width * (size_t)im->height);
+        }
+    }
+    h = hash_u64(h, (uint64_t)sc->instance_count);
+    for (int i = 0; i < sc->instance_count; i++) {
+        h = hash_u64(h, (uint64_t)sc->instances[i].asset);
+        h = hash_floats(h, sc->instances[i].transform.m, 16);
+    }
+    const light_desc *L = &sc->light;
+    const float light[12] = {L->direction.x, L->direction.y, L->direction.z, L->color.x, L->color.y, L->color.z,
+                             L->ambient.x, L->ambient.y, L->ambient.z, L->sky.x, L->sky.y, L->sky.z};
+    h = hash_floats(h, light, 12);
+    return hash_floats(h, &sc->display.hfov_deg, 1);
 }

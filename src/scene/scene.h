@@ -215,6 +215,11 @@ bool scene_add_instance(scene *sc, int asset_index, mat4 transform);
 void scene_bounds(const scene *sc, vec3 *min, vec3 *max);
 /* A camera path that frames the whole scene from the front (used for glTF-as-scene). */
 void scene_fit_camera(scene *sc);
+/* A 64-bit key of everything that decides what the scene looks like from a given camera:
+ * geometry, materials (not their alpha-mode overrides), images, instances, light and the
+ * display's field of view. Not the camera path, the display size or the path it was loaded from:
+ * those are keyed by whoever needs them (the reference cache keys each frame's camera). */
+uint64_t scene_content_hash(const scene *sc);
 
 /* Camera at time t (seconds; clamped to the path). A cut key starts a new spline: times before it
  * never interpolate towards it. */
