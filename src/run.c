@@ -23,166 +23,9 @@
 #include "passes/renderer.h"
 #include "reference/reference.h"
 #include "scene/frame.h"
-
-static volatile sig_atomic_t g_interrupted;
-static void on_sigint(int sig)
-{
-    (void)sig;
-    g_interrupted = 1;
-}
-
-/* >>setup */
-static fs_status load_scene(const run_desc *d, scene *sc)
-{
-    fs_status st = d->scene_path ? scene_load_file(d->scene_path, sc) : scene_load_builtin(d->builtin, sc);
-    if (st == FS_OK)
-        st = scene_validate(sc);
-    if (st != FS_OK)
-        scene_free(sc);
-    return st;
-}
-
-static int frame_count(const run_desc *d, const scene *sc)
-{
-    if (d->frames > 0)
-        return d->frames;
-    int n = (int)floorf(sc->duration * d->fps + 1e-3f) + 1;
-    return n < 1 ? 1 : n > MAX_FRAMES ? MAX_FRAMES : n;
-}
-
-static alpha_params run_alpha_params(const run_desc *d)
-{
-    alpha_params a = {.hash_scale = d->hash_scale, .anisotropic = d->hash_aniso, .no_fade = d->no_fade,
-                      .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen};
-    a.hash_kind = d->hash_kind >= 0 ? d->hash_kind : ALPHA_HASH_DEFAULT;
-    return alpha_params_defaults(&a);
-}
-
-/* The ring layout of a run: --rings, else the scene file's, else auto; checked against the display. */
-static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, int height, fov_layout *out)
-{
-    const char *spec = d->rings ? d->rings : sc->rings[0] ? sc->rings : "auto";
-    display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
-                       sc->display.hfov_deg};
-    char err[256];
-    if (fov_layout_parse(spec, &dd, out, err, sizeof err) != FS_OK) {
-        log_error("%s: %s", d->rings ? "--rings" : sc->path, err);
-        return FS_ERR_USAGE;
-    }
-    /* An auto layout that would shade as many pixels as the display (small or coarse displays,
-     * where the fovea already spans most of the view) only adds work: foveation off. */
-    if (out->kind == FOV_LAYOUT_AUTO && out->count > 1 &&
-        fov_shaded_pixels(&dd, out, 0.5f * (float)dd.width, 0.5f * (float)dd.height, FOV_MARGIN_BLOCKS, NULL) >=
-            (long long)dd.width * dd.height) {
-        log_info("FOV: auto rings would not save pixels on a %dx%d display; foveation off", dd.width, dd.height);
-        *out = fov_layout_off();
-    }
-    return FS_OK;
-}
-
-static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
-{
-    plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, sc),
-                       .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
-                       .taa = d->taa >= 0 ? d->taa == 1 : !sc->taa.off,
-                       .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
-                                        .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
-                                        .jitter_length = d->jitter_length > 0 ? d->jitter_length : sc->taa.jitter_length}};
-    fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
-    return st == FS_OK ? plan_build(sc, &po, pl) : st;
-}
-
-typedef struct session {
-    scene sc;
-    plan pl;
-    renderer *r;
-    gaze_trace gaze;    /* count == 0: no trace, fixation at the centre */
-    bool gaze_ended;    /* the "trace ends before the sequence" note was printed */
-} session;
-
-static void session_end(session *s)
-{
-    renderer_destroy(s->r);
-    gl_device_destroy();
-    gaze_free(&s->gaze);
-    scene_free(&s->sc);
-}
-
-/* Scene, plan, gaze trace, GL context and (with `with_renderer`) the renderer: everything that can
- * reject bad input, before anything is written. */
-static fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
-{
-    memset(s, 0, sizeof *s);
-    fs_status st = load_scene(d, &s->sc);
-    if (st != FS_OK)
-        return st;
-    st = build_plan(d, &s->sc, &s->pl);
-    if (st == FS_OK && d->gaze_path)
-        st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &s->gaze);
-    if (st == FS_OK)
-        st = gl_device_create(&(gl_device_desc){.gpu_index = d->gpu, .gl_debug = d->gl_debug});
-    if (st == FS_OK) {
-        log_info("SCENE: [%s] %d assets, %d instances, %.2f s camera path", s->sc.path, s->sc.asset_count,
-                 s->sc.instance_count, s->sc.duration);
-        if (s->gaze.count > 0)
-            log_info("GAZE: [%s] %s, %d samples (%d valid) over %.2f s", s->gaze.path,
-                     gaze_format_name(s->gaze.format), s->gaze.count, s->gaze.valid_count, s->gaze.duration);
-        if (with_renderer)
-            s->r = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &s->pl}, &st);
-    }
-    if (st != FS_OK)
-        session_end(s);
-    return st;
-}
-
-/* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
-static frame_record session_frame(session *s, int index, float time, float prev_time)
-{
-    frame_record fr = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
-    float gx = 0.5f, gy = 0.5f;
-    if (s->gaze.count > 0) {
-        bool beyond = false;
-        gaze_point g = gaze_at(&s->gaze, time, &beyond);
-        gx = g.x;
-        gy = g.y;
-        if (beyond && !s->gaze_ended) {
-            log_warn("%s: the gaze trace ends at %.2f s; frames after it hold its last gaze", s->gaze.path,
-                     s->gaze.duration);
-            s->gaze_ended = true;
-        }
-    }
-    display_desc dd = {s->pl.width, s->pl.height, fr.hfov_deg};
-    frame_record_set_gaze(&fr, &s->pl.layout, &dd, gx, gy);
-    return fr;
-}
+#include "session.h"
 
 /* >>render */
-static void set_frame_attrs(exr_image *img, const session *s, const frame_record *fr)
-{
-    exr_image_set_string(img, "fovsim:version", FOVSIM_VERSION);
-    exr_image_set_string(img, "fovsim:renderer", gl_device_renderer());
-    exr_image_set_string(img, "fovsim:scene", s->sc.path);
-    exr_image_set_int(img, "fovsim:frame", fr->index);
-    exr_image_set_float(img, "fovsim:time", fr->time);
-    exr_image_set_v2f(img, "fovsim:gaze", fr->gaze[0], fr->gaze[1]);
-    exr_image_set_v2f(img, "fovsim:gaze_deg", fr->gaze_deg[0], fr->gaze_deg[1]);
-    exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(s->pl.global_mode));
-    char rings[256];
-    fov_layout_format(&s->pl.layout, rings, sizeof rings);
-    exr_image_set_string(img, "fovsim:rings", rings);
-    exr_image_set_string(img, "fovsim:gaze_trace", s->gaze.count > 0 ? s->gaze.path : "centre fixation");
-    char taa[128];
-    if (s->pl.taa)
-        snprintf(taa, sizeof taa, "on: blend %.3f, gamma %.2f, jitter Halton(2,3) x %d", s->pl.taa_controls.blend,
-                 s->pl.taa_controls.gamma, s->pl.taa_controls.jitter_length);
-    else
-        snprintf(taa, sizeof taa, "off");
-    exr_image_set_string(img, "fovsim:taa", taa);
-    exr_image_set_float(img, "fovsim:hfov_deg", fr->hfov_deg);
-    exr_image_set_string(img, "fovsim:channels",
-                         "RGBA: linear premultiplied radiance; coverage: opacity of alpha-mapped surfaces");
-}
-
 /* Renders the sequence; *frames_out (may be NULL) gets the number of frames asked for. */
 static fs_status run_render(const run_desc *d, const char *default_out, int *frames_out)
 {
@@ -191,19 +34,19 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     if (st != FS_OK)
         return st;
     const char *out = d->out_dir ? d->out_dir : default_out;
-    int frames = frame_count(d, &s.sc);
+    int frames = session_frame_count(d, &s.sc);
     if (frames_out)
         *frames_out = frames;
     st = file_make_dirs(out);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
         st = FS_ERR_NOMEM;
-    signal(SIGINT, on_sigint);
+    session_catch_sigint();
     progress pr = progress_begin("frame", frames, d->quiet);
     double t0 = time_now();
     int done = 0;
     for (int i = 0; i < frames && st == FS_OK; i++) {
-        if (g_interrupted) {
+        if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
@@ -214,7 +57,7 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
             st = renderer_read(s.r, &img);
         if (st != FS_OK)
             break;
-        set_frame_attrs(&img, &s, &fr);
+        session_frame_attrs(&img, &s, &fr);
         char path[1200];
         snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
         st = exr_writer_submit(w, path, &img);
@@ -266,58 +109,6 @@ static fs_status run_demo(const run_desc *d)
     return FS_OK;
 }
 
-/* >>statistics */
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Quantile of a sorted array (linear interpolation). */
-static double quantile(const double *v, int n, double q)
-{
-    if (n == 0)
-        return 0;
-    double pos = q * (n - 1);
-    int i = (int)pos;
-    return i + 1 < n ? v[i] + (v[i + 1] - v[i]) * (pos - i) : v[n - 1];
-}
-
-/* >>reference */
-
-/* The reference cache of a run: --cache, else the default; NULL with --no-cache. */
-static const char *resolve_cache_dir(const run_desc *d, char *buf, int size)
-{
-    if (d->no_cache)
-        return NULL;
-    if (d->cache_dir)
-        return d->cache_dir;
-    reference_default_cache_dir(buf, size);
-    return buf;
-}
-
-/* Progress of reference passes across a whole sequence. */
-typedef struct ref_progress {
-    progress pr;
-    int base; /* passes of the frames before this one */
-} ref_progress;
-
-static void on_ref_pass(void *user, int done, int total)
-{
-    (void)total;
-    ref_progress *rp = user;
-    progress_update(&rp->pr, rp->base + done);
-}
-
-static reference *reference_for(const run_desc *d, const session *s, ref_progress *rp, fs_status *st)
-{
-    char buf[1024];
-    reference_desc rd = {.width = s->pl.width, .height = s->pl.height, .supersample = d->supersample,
-                         .samples = d->samples, .cache_dir = resolve_cache_dir(d, buf, sizeof buf),
-                         .on_pass = on_ref_pass, .user = rp};
-    return reference_create(&s->sc, &rd, st);
-}
-
 static fs_status run_reference(const run_desc *d)
 {
     session s;
@@ -325,20 +116,20 @@ static fs_status run_reference(const run_desc *d)
     if (st != FS_OK)
         return st;
     ref_progress rp = {0};
-    reference *rf = reference_for(d, &s, &rp, &st);
+    reference *rf = session_reference(d, &s, &rp, &st);
     const char *out = d->out_dir ? d->out_dir : "out/reference";
-    int frames = frame_count(d, &s.sc);
+    int frames = session_frame_count(d, &s.sc);
     if (st == FS_OK)
         st = file_make_dirs(out);
     double *errors = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
     if (st == FS_OK && !errors)
         st = FS_ERR_NOMEM;
     int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0;
-    signal(SIGINT, on_sigint);
+    session_catch_sigint();
     rp.pr = progress_begin("reference pass", frames * passes, d->quiet);
     double t0 = time_now();
     for (int i = 0; i < frames && st == FS_OK; i++) {
-        if (g_interrupted) {
+        if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
@@ -356,7 +147,7 @@ static fs_status run_reference(const run_desc *d)
         drawn += !info.cached;
         log_info("REFERENCE: frame %d %s, estimated error %.5f (%s)", i, info.cached ? "from the cache" : "drawn",
                  info.error, info.path[0] ? info.path : "no cache");
-        set_frame_attrs(&img, &s, &fr);
+        session_frame_attrs(&img, &s, &fr);
         exr_image_set_string(&img, "fovsim:alpha_mode", "reference (stochastic)");
         exr_image_set_string(&img, "fovsim:rings", "off (full resolution)");
         exr_image_set_string(&img, "fovsim:gaze_trace", "none (the reference does not depend on the gaze)");
@@ -371,9 +162,9 @@ static fs_status run_reference(const run_desc *d)
     progress_end(&rp.pr);
     if (st == FS_OK) {
         double el = time_now() - t0;
-        qsort(errors, (size_t)frames, sizeof *errors, cmp_double);
+        qsort(errors, (size_t)frames, sizeof *errors, stats_cmp_double);
         char buf[1024];
-        const char *cache = resolve_cache_dir(d, buf, sizeof buf);
+        const char *cache = session_cache_dir(d, buf, sizeof buf);
         printf("wrote %d reference frames (%dx%d, %dx%d sub-samples x %d stochastic alpha tests) to %s/%s.####.exr "
                "in %.1f s\n", frames, s.pl.width, s.pl.height, reference_supersample(rf), reference_supersample(rf),
                reference_samples(rf), out, d->name, el);
@@ -382,7 +173,7 @@ static fs_status run_reference(const run_desc *d)
         if (rebuilt)
             printf(", %d cache entries were truncated or stale and were redrawn", rebuilt);
         printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
-               quantile(errors, frames, 0.5), errors[frames - 1]);
+               stats_quantile(errors, frames, 0.5), errors[frames - 1]);
     } else if (st == FS_ERR_INTERRUPTED) {
         log_error("interrupted after %d complete frames in %s (no partial frame was left)", done, out);
     }
@@ -396,11 +187,11 @@ static fs_status run_reference(const run_desc *d)
 static fs_status run_plan(const run_desc *d)
 {
     scene sc;
-    fs_status st = load_scene(d, &sc);
+    fs_status st = session_load_scene(d, &sc);
     if (st != FS_OK)
         return st;
     plan pl;
-    st = build_plan(d, &sc, &pl);
+    st = session_build_plan(d, &sc, &pl);
     if (st == FS_OK)
         plan_print(&pl, &sc, stdout);
     scene_free(&sc);
@@ -408,26 +199,6 @@ static fs_status run_plan(const run_desc *d)
 }
 
 /* >>bench */
-static void cpu_name(char *buf, size_t n)
-{
-    snprintf(buf, n, "unknown CPU");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (!f)
-        return;
-    char line[512];
-    while (fgets(line, sizeof line, f))
-        if (!strncmp(line, "model name", 10)) {
-            char *c = strchr(line, ':');
-            if (c) {
-                c += 2;
-                c[strcspn(c, "\n")] = '\0';
-                snprintf(buf, n, "%s", c);
-            }
-            break;
-        }
-    fclose(f);
-}
-
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
     char name[64];
@@ -447,8 +218,8 @@ typedef struct summary {
 /* Sorts v (n values) and summarises it. */
 static summary summarise(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return (summary){quantile(v, n, 0.5), quantile(v, n, 0.1), quantile(v, n, 0.9), v[0], v[n - 1]};
+    qsort(v, (size_t)n, sizeof *v, stats_cmp_double);
+    return (summary){stats_quantile(v, n, 0.5), stats_quantile(v, n, 0.1), stats_quantile(v, n, 0.9), v[0], v[n - 1]};
 }
 
 static bool bench_alloc(bench_config *c, int n)
@@ -564,7 +335,7 @@ static fs_status run_bench(const run_desc *d)
     progress_end(&pr);
 
     char cpu[256];
-    cpu_name(cpu, sizeof cpu);
+    session_cpu_name(cpu, sizeof cpu);
     struct utsname un;
     uname(&un);
     double px = (double)s.pl.width * s.pl.height;

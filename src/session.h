@@ -1,0 +1,66 @@
+/* session.h: what the commands share (run.c: render, plan, bench, reference; compare.c: compare,
+ * demo, bench --accuracy). A session holds the inputs of one run, all loaded and checked before
+ * any output is touched, so bad input leaves nothing behind. */
+#ifndef FOVSIM_SESSION_H
+#define FOVSIM_SESSION_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "cli.h"
+#include "core/progress.h"
+#include "gaze/gaze.h"
+#include "output/exr_write.h"
+#include "passes/plan.h"
+#include "passes/renderer.h"
+#include "reference/reference.h"
+#include "scene/frame.h"
+#include "scene/scene.h"
+
+typedef struct session {
+    scene sc;
+    plan pl;
+    renderer *r;
+    gaze_trace gaze;    /* count == 0: no trace, fixation at the centre */
+    bool gaze_ended;    /* the "trace ends before the sequence" note was printed */
+} session;
+
+/* Ctrl-C sets a flag the frame loops check, so they stop between complete frames. */
+void session_catch_sigint(void);
+bool session_interrupted(void);
+
+fs_status session_load_scene(const run_desc *d, scene *sc);
+/* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
+int session_frame_count(const run_desc *d, const scene *sc);
+/* The run's plan: its alpha mode, size, ring layout (--rings, the scene's, else auto), TAA. */
+fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl);
+/* Scene, plan, gaze trace, GL context and (with `with_renderer`) the renderer: everything that can
+ * reject bad input, before anything is written. */
+fs_status session_begin(const run_desc *d, session *s, bool with_renderer);
+void session_end(session *s);
+/* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
+frame_record session_frame(session *s, int index, float time, float prev_time);
+/* The header attributes of a rendered frame (version, renderer, scene, gaze, mode, rings, TAA). */
+void session_frame_attrs(exr_image *img, const session *s, const frame_record *fr);
+/* The machine's CPU model ("unknown CPU" when /proc/cpuinfo does not say). */
+void session_cpu_name(char *buf, size_t n);
+
+/* >>reference */
+
+/* The reference cache of a run: --cache, else the default; NULL with --no-cache. */
+const char *session_cache_dir(const run_desc *d, char *buf, int size);
+/* Progress of reference passes across a whole sequence. */
+typedef struct ref_progress {
+    progress pr;
+    int base; /* passes of the frames before this one */
+} ref_progress;
+/* The run's reference (--supersample, --samples, cache) at the plan's size; passes report to rp. */
+reference *session_reference(const run_desc *d, const session *s, ref_progress *rp, fs_status *st);
+
+/* >>statistics */
+
+int stats_cmp_double(const void *a, const void *b);
+/* Quantile of a sorted array (linear interpolation); 0 for n == 0. */
+double stats_quantile(const double *v, int n, double q);
+
+#endif
