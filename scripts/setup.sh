@@ -11,6 +11,7 @@ packages=(
   libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev libepoxy-dev   # headless GL: EGL + llvmpipe
   libglfw3-dev                                                      # the interactive viewer
   libopenexr-dev openexr openimageio-tools                          # EXR output + external readers for tests
+  ffmpeg                                                            # tests: ffmpeg's EXR decoder reads our files
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
   libcjson-dev                                                      # scene files
   python3                                                           # tests: checks bench JSON

@@ -191,13 +191,69 @@ void exr_image_set_v2f(exr_image *img, const char *name, float x, float y)
     }
 }
 
+bool exr_image_set_part_name(exr_image *img, const char *name)
+{
+    FS_ASSERT(img && name);
+    size_t len = strlen(name);
+    if (len >= sizeof img->part_name)
+        return false;
+    memcpy(img->part_name, name, len + 1);
+    return true;
+}
+
+bool exr_image_append_part(exr_image *first, exr_image *part)
+{
+    FS_ASSERT(first && part);
+    if (part == first)
+        return false;
+    exr_image *node = malloc(sizeof *node);
+    if (!node)
+        return false;
+    *node = *part; /* planes and the rest of part's chain move with it */
+    exr_image *tail = first;
+    while (tail->next_part)
+        tail = tail->next_part;
+    tail->next_part = node;
+    memset(part, 0, sizeof *part);
+    return true;
+}
+
+int exr_image_part_count(const exr_image *img)
+{
+    int n = 0;
+    for (; img; img = img->next_part)
+        n++;
+    return n;
+}
+
+exr_image *exr_image_part(const exr_image *img, int index)
+{
+    for (int i = 0; img && i < index; i++)
+        img = img->next_part;
+    return index < 0 ? NULL : (exr_image *)img;
+}
+
+static void free_planes(exr_image *img)
+{
+    for (int c = 0; c < img->channel_count && c < EXR_MAX_CHANNELS; c++)
+        free(img->planes[c]);
+}
+
 void exr_image_free(exr_image *img)
 {
     if (!img)
         return;
-    for (int c = 0; c < img->channel_count && c < EXR_MAX_CHANNELS; c++)
-        free(img->planes[c]);
+    /* The head is the caller's; every further part is a heap node of the chain. A loop, not
+     * recursion: a chain's length has no limit. */
+    exr_image *next = img->next_part;
+    free_planes(img);
     memset(img, 0, sizeof *img);
+    while (next) {
+        exr_image *node = next;
+        next = node->next_part;
+        free_planes(node);
+        free(node);
+    }
 }
 
 // >>streams
@@ -311,8 +367,9 @@ static char *temp_path_for(const char *path)
     return tmp;
 }
 
-/* Checks what the Core would reject later with a less helpful message. NULL when fine. */
-static const char *check_image(const exr_image *img, char *buf, size_t cap)
+/* Checks one part for what the Core would reject later with a less helpful message. NULL when
+ * fine. */
+static const char *check_one(const exr_image *img, char *buf, size_t cap)
 {
     if (img->width <= 0 || img->height <= 0)
         return "image has no pixels (exr_image_init not called?)";
@@ -334,28 +391,59 @@ static const char *check_image(const exr_image *img, char *buf, size_t cap)
     return NULL;
 }
 
+/* check_one for every part, plus what a multi-part file needs: a name per part, no two alike
+ * (readers select parts by name). Messages name the part when there is more than one. */
+static const char *check_image(const exr_image *img, char *buf, size_t cap)
+{
+    bool multi = img->next_part != NULL;
+    int k = 0;
+    for (const exr_image *p = img; p; p = p->next_part, k++) {
+        char inner[128];
+        const char *why = check_one(p, inner, sizeof inner);
+        if (!why && multi && p->part_name[0] == '\0')
+            why = "no part name (every part of a multi-part file needs one)";
+        for (const exr_image *q = img; !why && multi && q != p; q = q->next_part)
+            if (strcmp(q->part_name, p->part_name) == 0)
+                why = "part name used twice";
+        if (why) {
+            /* A single-part image keeps the messages it always had. */
+            if (multi)
+                snprintf(buf, cap, "part %d '%s': %s", k, p->part_name, why);
+            else
+                snprintf(buf, cap, "%s", why);
+            return buf;
+        }
+    }
+    return NULL;
+}
+
 static bool needs_long_names(const exr_image *img)
 {
-    for (int c = 0; c < img->channel_count; c++)
-        if (strlen(img->channel_names[c]) > EXR_SHORT_NAME_MAX)
-            return true;
-    for (int a = 0; a < img->attr_count; a++)
-        if (strlen(img->attrs[a].name) > EXR_SHORT_NAME_MAX)
-            return true;
+    for (; img; img = img->next_part) {
+        for (int c = 0; c < img->channel_count; c++)
+            if (strlen(img->channel_names[c]) > EXR_SHORT_NAME_MAX)
+                return true;
+        for (int a = 0; a < img->attr_count; a++)
+            if (strlen(img->attrs[a].name) > EXR_SHORT_NAME_MAX)
+                return true;
+    }
     return false;
 }
 
-/* Declares the part, channels and attributes, then encodes every scanline chunk. */
-static exr_result_t write_part(exr_context_t ctxt, const exr_image *img, exr_compression_t comp,
-                               int zip_level)
+/* Declares one part: windows, compression, channels and custom attributes. `display` is the
+ * display window every part shares (see exr_write.h). */
+static exr_result_t declare_part(exr_context_t ctxt, const exr_image *img, exr_compression_t comp,
+                                 int zip_level, exr_attr_box2i_t display)
 {
     int part = 0;
-    exr_result_t rv = exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part);
-    if (rv == EXR_ERR_SUCCESS && needs_long_names(img))
-        rv = exr_set_longname_support(ctxt, 1);
+    exr_result_t rv = exr_add_part(ctxt, img->part_name[0] ? img->part_name : NULL,
+                                   EXR_STORAGE_SCANLINE, &part);
     /* Data and display window (0,0)-(w-1,h-1), aspect 1, INCREASING_Y. */
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_initialize_required_attr_simple(ctxt, part, img->width, img->height, comp);
+    if (rv == EXR_ERR_SUCCESS && (display.max.x != img->width - 1 ||
+                                  display.max.y != img->height - 1))
+        rv = exr_set_display_window(ctxt, part, &display);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_set_lineorder(ctxt, part, EXR_LINEORDER_INCREASING_Y);
     if (rv == EXR_ERR_SUCCESS)
@@ -384,13 +472,14 @@ static exr_result_t write_part(exr_context_t ctxt, const exr_image *img, exr_com
         default: rv = EXR_ERR_INVALID_ATTR; break;
         }
     }
-    if (rv == EXR_ERR_SUCCESS)
-        rv = exr_write_header(ctxt);
-    if (rv != EXR_ERR_SUCCESS)
-        return rv;
+    return rv;
+}
 
+/* Encodes every scanline chunk of part `part` (declared by declare_part, header written). */
+static exr_result_t encode_part(exr_context_t ctxt, int part, const exr_image *img)
+{
     int32_t lines_per_chunk = 1;
-    rv = exr_get_scanlines_per_chunk(ctxt, part, &lines_per_chunk);
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, part, &lines_per_chunk);
     if (rv != EXR_ERR_SUCCESS)
         return rv;
     const size_t w = (size_t)img->width;
@@ -455,7 +544,7 @@ static fs_status write_file(const char *path, const exr_image *img,
                             exr_compression_kind compression, int zip_level)
 {
     FS_ASSERT(path && img);
-    char why_buf[160];
+    char why_buf[256];
     const char *why = check_image(img, why_buf, sizeof why_buf);
     if (why) {
         log_error("%s: cannot write EXR: %s", path, why);
@@ -482,8 +571,25 @@ static fs_status write_file(const char *path, const exr_image *img,
     init.user_data = &s;
     init.write_fn = stream_write;
     rv = exr_start_write(&ctxt, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv == EXR_ERR_SUCCESS && needs_long_names(img))
+        rv = exr_set_longname_support(ctxt, 1);
+    exr_attr_box2i_t display;
+    memset(&display, 0, sizeof display);
+    for (const exr_image *p = img; p; p = p->next_part) {
+        if (p->width - 1 > display.max.x)
+            display.max.x = p->width - 1;
+        if (p->height - 1 > display.max.y)
+            display.max.y = p->height - 1;
+    }
+    const exr_compression_t comp = core_compression(compression);
+    for (const exr_image *p = img; p && rv == EXR_ERR_SUCCESS; p = p->next_part)
+        rv = declare_part(ctxt, p, comp, clamp_zip_level(zip_level), display);
     if (rv == EXR_ERR_SUCCESS)
-        rv = write_part(ctxt, img, core_compression(compression), clamp_zip_level(zip_level));
+        rv = exr_write_header(ctxt);
+    /* The Core takes part data in part order (openexr_context.h, exr_start_write). */
+    int part = 0;
+    for (const exr_image *p = img; p && rv == EXR_ERR_SUCCESS; p = p->next_part)
+        rv = encode_part(ctxt, part++, p);
     /* exr_finish writes the chunk offset table, so its result matters as much as the rest. */
     exr_result_t frv = exr_finish(&ctxt);
     if (rv == EXR_ERR_SUCCESS)
@@ -571,13 +677,54 @@ static bool copy_attr(exr_image *out, const exr_attribute_t *a)
     return true;
 }
 
-/* Fills `out` from the open context; on failure sets *why (a static text) or leaves the Core's
- * message in the stream, and returns the Core's result. */
-static exr_result_t read_part(exr_context_t ctxt, exr_image *out, const char **why)
+/* Whether every chunk of every scanline part lies inside the file. The Core reads only the chunks
+ * of the part asked for, so without this a file cut inside part 1 would still read part 0 as if
+ * it were complete. Costs one small read per chunk (the chunk leader), nothing decoded. */
+static exr_result_t check_complete(exr_context_t ctxt, const exr_stream *s, const char **why)
 {
-    const int part = 0; /* fovsim writes single-part files; further parts are ignored */
+    int nparts = 0;
+    exr_result_t rv = exr_get_count(ctxt, &nparts);
+    int64_t fsize = stream_size(ctxt, (void *)s);
+    for (int p = 0; p < nparts && rv == EXR_ERR_SUCCESS; p++) {
+        exr_storage_t storage;
+        exr_attr_box2i_t dw;
+        int32_t lines = 1;
+        rv = exr_get_storage(ctxt, p, &storage);
+        if (rv != EXR_ERR_SUCCESS || storage != EXR_STORAGE_SCANLINE)
+            continue; /* other storage: refused by read_part when it is the part asked for */
+        rv = exr_get_data_window(ctxt, p, &dw);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = exr_get_scanlines_per_chunk(ctxt, p, &lines);
+        for (int64_t y = dw.min.y; rv == EXR_ERR_SUCCESS && y <= dw.max.y; y += lines) {
+            exr_chunk_info_t cinfo;
+            rv = exr_read_scanline_chunk_info(ctxt, p, (int)y, &cinfo);
+            if (rv == EXR_ERR_SUCCESS &&
+                (fsize < 0 || cinfo.data_offset + cinfo.packed_size > (uint64_t)fsize)) {
+                *why = "truncated file (a chunk ends past the end of the file)";
+                rv = EXR_ERR_READ_IO;
+            }
+        }
+    }
+    return rv;
+}
+
+/* Fills `out` with part `part` of the open context; on failure sets *why (a static text), or
+ * writes into why_buf and points *why at it, or leaves the Core's message in the stream, and
+ * returns the Core's result. */
+static exr_result_t read_part(exr_context_t ctxt, int part, exr_image *out, const char **why,
+                              char *why_buf, size_t why_cap)
+{
+    int nparts = 0;
+    exr_result_t rv = exr_get_count(ctxt, &nparts);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    if (part < 0 || part >= nparts) {
+        snprintf(why_buf, why_cap, "no part %d (the file has %d)", part, nparts);
+        *why = why_buf;
+        return EXR_ERR_ARGUMENT_OUT_OF_RANGE;
+    }
     exr_storage_t storage;
-    exr_result_t rv = exr_get_storage(ctxt, part, &storage);
+    rv = exr_get_storage(ctxt, part, &storage);
     if (rv != EXR_ERR_SUCCESS)
         return rv;
     if (storage != EXR_STORAGE_SCANLINE) {
@@ -617,7 +764,19 @@ static exr_result_t read_part(exr_context_t ctxt, exr_image *out, const char **w
     for (int32_t i = 0; i < nattr && rv == EXR_ERR_SUCCESS; i++) {
         const exr_attribute_t *a = NULL;
         rv = exr_get_attribute_by_index(ctxt, part, EXR_ATTR_LIST_FILE_ORDER, i, &a);
-        if (rv == EXR_ERR_SUCCESS && a && !copy_attr(out, a))
+        /* The part name comes from the attribute list rather than exr_get_name, which reports
+         * an unnamed single part as an error (into the stream's message). */
+        if (rv == EXR_ERR_SUCCESS && a && a->type == EXR_ATTR_STRING &&
+            strcmp(a->name, "name") == 0 && a->string && a->string->str) {
+            int32_t len = a->string->length;
+            if (len >= 0 && (size_t)len < sizeof out->part_name) {
+                memcpy(out->part_name, a->string->str, (size_t)len);
+                out->part_name[len] = '\0';
+            } else {
+                log_warn("EXR: part name longer than %zu characters; not kept",
+                         sizeof out->part_name - 1);
+            }
+        } else if (rv == EXR_ERR_SUCCESS && a && !copy_attr(out, a))
             log_warn("EXR: attribute '%s' not kept (name too long or EXR_MAX_ATTRS reached)",
                      a->name);
     }
@@ -662,34 +821,85 @@ static exr_result_t read_part(exr_context_t ctxt, exr_image *out, const char **w
     return rv;
 }
 
-fs_status exr_read_file(const char *path, exr_image *out)
+/* Opens `path` for reading through our stream; on failure prints `path: what` and returns false.
+ * *s must stay where it is while ctxt lives (the Core keeps a pointer to it). */
+static bool open_read(const char *path, exr_stream *s, exr_context_t *ctxt)
 {
-    FS_ASSERT(path && out);
-    memset(out, 0, sizeof *out);
-    exr_stream s = {.fd = open(path, O_RDONLY | O_CLOEXEC)};
-    if (s.fd < 0) {
+    memset(s, 0, sizeof *s);
+    *ctxt = NULL;
+    s->fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (s->fd < 0) {
         log_error("%s: cannot read EXR: %s", path, strerror(errno));
-        return FS_ERR_IO;
+        return false;
     }
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = stream_error_handler;
-    init.user_data = &s;
+    init.user_data = s;
     init.read_fn = stream_read;
     init.size_fn = stream_size;
     /* Do not guess at missing chunks of a truncated file: report it. */
     init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    exr_result_t rv = exr_start_read(ctxt, path, &init);
+    if (rv != EXR_ERR_SUCCESS) {
+        if (*ctxt)
+            exr_finish(ctxt);
+        close(s->fd);
+        s->fd = -1;
+        log_error("%s: cannot read EXR: %s", path, exr_reason(s, rv));
+        return false;
+    }
+    return true;
+}
 
-    exr_context_t ctxt = NULL;
+static void close_read(exr_stream *s, exr_context_t *ctxt)
+{
+    if (*ctxt)
+        exr_finish(ctxt);
+    if (s->fd >= 0)
+        close(s->fd);
+    s->fd = -1;
+}
+
+fs_status exr_read_part(const char *path, int part_index, exr_image *out)
+{
+    FS_ASSERT(path && out);
+    memset(out, 0, sizeof *out);
+    exr_stream s;
+    exr_context_t ctxt;
+    if (!open_read(path, &s, &ctxt))
+        return FS_ERR_IO;
     const char *why = NULL;
-    exr_result_t rv = exr_start_read(&ctxt, path, &init);
+    char why_buf[96];
+    exr_result_t rv = check_complete(ctxt, &s, &why);
     if (rv == EXR_ERR_SUCCESS)
-        rv = read_part(ctxt, out, &why);
-    if (ctxt)
-        exr_finish(&ctxt);
-    close(s.fd);
+        rv = read_part(ctxt, part_index, out, &why, why_buf, sizeof why_buf);
+    close_read(&s, &ctxt);
     if (rv != EXR_ERR_SUCCESS) {
         exr_image_free(out);
         log_error("%s: cannot read EXR: %s", path, why ? why : exr_reason(&s, rv));
+        return FS_ERR_IO;
+    }
+    return FS_OK;
+}
+
+fs_status exr_read_file(const char *path, exr_image *out)
+{
+    return exr_read_part(path, 0, out);
+}
+
+fs_status exr_file_part_count(const char *path, int *count)
+{
+    FS_ASSERT(path && count);
+    *count = 0;
+    exr_stream s;
+    exr_context_t ctxt;
+    if (!open_read(path, &s, &ctxt))
+        return FS_ERR_IO;
+    exr_result_t rv = exr_get_count(ctxt, count);
+    close_read(&s, &ctxt);
+    if (rv != EXR_ERR_SUCCESS) {
+        *count = 0;
+        log_error("%s: cannot read EXR: %s", path, exr_reason(&s, rv));
         return FS_ERR_IO;
     }
     return FS_OK;

@@ -15,6 +15,17 @@
  * queue waiting meanwhile. The first failure is kept and returned by exr_writer_finish (and by
  * later submits).
  *
+ * Multi-part files (the comparison frames of `fovsim compare`): an exr_image heads a chain of
+ * further parts (exr_image_append_part). A chain of two or more parts is written as a multi-part
+ * file, part 0 first: each part a scanline part with its own name (required, unique), size,
+ * channels and custom attributes; compression and deflate level are the same for every part. The
+ * format requires the shared attributes (displayWindow, pixelAspectRatio) to be equal in every
+ * part, so all parts get one display window, (0,0) to (largest width - 1, largest height - 1),
+ * and each part's data window is its own size at the origin. Readers unaware of parts (old
+ * libraries, most viewers) show part 0: put the picture everyone should see there. An image with
+ * no next_part is written exactly as before (a plain single-part file, which also carries the
+ * name attribute when part_name is set).
+ *
  * What it does NOT do: tiled or deep files, mip levels, choosing file names (callers do:
  * `<name>.<frame:04d>.exr`).
  */
@@ -26,7 +37,9 @@
 #include "core/status.h"
 
 #ifndef EXR_MAX_CHANNELS
-#define EXR_MAX_CHANNELS 64 /* channels in one file (multi-layer comparison frames) */
+/* Channels in one part. The "layers" part of a comparison frame holds 6 per alpha mode
+ * (<mode>.R/G/B/A, .coverage, .error) for up to 9 modes, the reference's 5 and ring.id: 60. */
+#define EXR_MAX_CHANNELS 96
 #endif
 #ifndef EXR_MAX_ATTRS
 #define EXR_MAX_ATTRS 32 /* custom header attributes in one file */
@@ -62,6 +75,10 @@ typedef struct exr_image {
     float *planes[EXR_MAX_CHANNELS];          /* width * height floats each, owned */
     int attr_count;
     exr_attr attrs[EXR_MAX_ATTRS];
+    char part_name[64];              /* the part's "name" attribute; "" = unnamed (only a
+                                      * single-part file may have an unnamed part) */
+    struct exr_image *next_part;     /* the next part of a multi-part file, or NULL; owned (heap,
+                                      * freed with this image by exr_image_free) */
 } exr_image;
 
 typedef enum exr_compression_kind {
@@ -70,7 +87,8 @@ typedef enum exr_compression_kind {
     EXR_COMPRESS_PIZ,
 } exr_compression_kind;
 
-/* Allocates an image with no channels. Returns false on bad size or no memory. */
+/* Sets up an image with no channels and no further parts (all of *img is overwritten: free a
+ * used image first). Returns false on bad size. */
 bool exr_image_init(exr_image *img, int width, int height);
 /* Adds a zero-filled channel; returns its plane, or NULL (no memory / too many / duplicate name). */
 float *exr_image_add_channel(exr_image *img, const char *name);
@@ -82,15 +100,35 @@ void exr_image_set_float(exr_image *img, const char *name, float value);
 void exr_image_set_v2f(exr_image *img, const char *name, float x, float y);
 /* An attribute by name, or NULL. */
 const exr_attr *exr_image_attr(const exr_image *img, const char *name);
-/* Frees planes; no-op on a zeroed image. */
+/* Sets the part name ("" for none). Returns false when longer than 63 characters. */
+bool exr_image_set_part_name(exr_image *img, const char *name);
+/* Appends `part` (and any parts chained after it) at the end of first's chain. Takes ownership:
+ * part's planes and chain move into a heap copy owned by `first`, and *part is zeroed, as after
+ * exr_image_free. On failure (no memory; part == first) returns false and leaves both untouched,
+ * `part` still the caller's to free. */
+bool exr_image_append_part(exr_image *first, exr_image *part);
+/* Parts in the chain headed by `img` (1 for a plain image, 0 for NULL). */
+int exr_image_part_count(const exr_image *img);
+/* Part `index` of the chain (0 = img itself), or NULL. Borrowed: valid until exr_image_free of
+ * the head. */
+exr_image *exr_image_part(const exr_image *img, int index);
+/* Frees planes and every further part; no-op on a zeroed image. */
 void exr_image_free(exr_image *img);
 
-/* Writes `img` to `path` atomically (see above). Prints `<path>: <what>` on failure and returns
- * FS_ERR_IO; nothing is left at `path` or at the temporary name. */
+/* Writes `img` (with its chain of parts, if any) to `path` atomically (see above). Prints
+ * `<path>: <what>` on failure and returns FS_ERR_IO; nothing is left at `path` or at the
+ * temporary name. */
 fs_status exr_write_file(const char *path, const exr_image *img, exr_compression_kind compression);
-/* Reads every channel as float and every string/int/float/v2f attribute into *out (for tests
- * and for golden comparisons). FS_ERR_IO with a message on failure. */
+/* Reads part 0: every channel as float, every string/int/float/v2f attribute and the part name
+ * into *out (for tests and for golden comparisons); out->next_part is NULL. FS_ERR_IO with a
+ * message on failure. */
 fs_status exr_read_file(const char *path, exr_image *out);
+/* The same for part `part_index` (0-based). Whichever part is asked for, a file whose chunks do
+ * not all lie inside it (truncated) is refused, so a damaged frame never reads as complete. */
+fs_status exr_read_part(const char *path, int part_index, exr_image *out);
+/* Number of parts in the file (1 for a single-part file) into *count. FS_ERR_IO with a message
+ * when the file cannot be read or is not an EXR file. */
+fs_status exr_file_part_count(const char *path, int *count);
 
 /* >>writer threads */
 
@@ -115,7 +153,8 @@ exr_writer_desc exr_writer_desc_defaults(const exr_writer_desc *d);
 /* Starts the writer threads; NULL when out of memory or no thread can start (fewer threads than
  * asked for only warn). `desc` may be NULL (all defaults). */
 exr_writer *exr_writer_create(const exr_writer_desc *desc);
-/* Queues `img` for `path`; the writer takes ownership of img's planes (img is zeroed). Blocks
+/* Queues `img` for `path`; the writer takes ownership of img's planes and its chain of parts
+ * (img is zeroed). Blocks
  * while the queue is full. Returns the first error of an earlier write, if any (then img is freed
  * and nothing is queued). Not to be called after exr_writer_finish. */
 fs_status exr_writer_submit(exr_writer *w, const char *path, exr_image *img);
