@@ -126,8 +126,9 @@ fs_status exr_read_file(const char *path, exr_image *out);
 /* The same for part `part_index` (0-based). Whichever part is asked for, a file whose chunks do
  * not all lie inside it (truncated) is refused, so a damaged frame never reads as complete. */
 fs_status exr_read_part(const char *path, int part_index, exr_image *out);
-/* Number of parts in the file (1 for a single-part file) into *count. FS_ERR_IO with a message
- * when the file cannot be read or is not an EXR file. */
+/* Number of parts in the file (1 for a single-part file) into *count, from the headers alone
+ * (pixels are not checked: exr_read_part does that). FS_ERR_IO with a message when the file
+ * cannot be read or its headers are not a valid EXR. */
 fs_status exr_file_part_count(const char *path, int *count);
 
 /* >>writer threads */

@@ -1,0 +1,214 @@
+/* metrics.c: per-ring coverage, error and flicker metrics against the reference. See metrics.h
+ * and docs/metrics.md. */
+#include "metrics/metrics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/config.h"
+#include "core/log.h"
+
+// >>ring mask
+
+fs_status ring_mask_build(const display_desc *d, const fov_layout *l, float gx_px, float gy_px,
+                          ring_mask *out)
+{
+    FS_ASSERT(d && l && out);
+    memset(out, 0, sizeof *out);
+    if (d->width <= 0 || d->height <= 0 || d->width > MAX_DISPLAY_SIZE ||
+        d->height > MAX_DISPLAY_SIZE || l->count < 1 || l->count > MAX_FOV_RINGS)
+        return FS_ERR_USAGE;
+    const size_t n = (size_t)d->width * (size_t)d->height;
+    out->ring = malloc(n);
+    if (!out->ring)
+        return FS_ERR_NOMEM;
+    out->width = d->width;
+    out->height = d->height;
+    out->ring_count = l->count;
+    /* The composite measures eccentricity from the clamped gaze; so must the mask, or a pixel
+     * would be scored in a ring other than the one it was drawn from. */
+    fov_gaze_clamp(d, &gx_px, &gy_px);
+    for (int y = 0; y < d->height; y++) {
+        unsigned char *row = out->ring + (size_t)y * (size_t)d->width;
+        for (int x = 0; x < d->width; x++) {
+            float e = fov_eccentricity_deg(d, gx_px, gy_px, (float)x + 0.5f, (float)y + 0.5f);
+            int ring = fov_composite_weight(l, e).ring;
+            /* fov_composite_weight returns a ring of the layout; the clamp only guards the
+             * unsigned char store against a future change there. */
+            row[x] = (unsigned char)(ring < 0 ? 0 : ring >= l->count ? l->count - 1 : ring);
+        }
+    }
+    return FS_OK;
+}
+
+void ring_mask_free(ring_mask *m)
+{
+    if (!m)
+        return;
+    free(m->ring);
+    memset(m, 0, sizeof *m);
+}
+
+// >>metrics
+
+/* A sample as the EXR file would store it (exr_write.c's float_to_half without the rounding):
+ * NaN 0, clamped to +-65504. Keeps every sum finite and makes metrics of an in-memory frame
+ * agree with metrics of the same frame read back. */
+static double sample(float v)
+{
+    if (v != v)
+        return 0.0;
+    if (v > 65504.0f)
+        return 65504.0;
+    if (v < -65504.0f)
+        return -65504.0;
+    return (double)v;
+}
+
+/* num / den for two non-negative means: 1 when both are ~0 (nothing there, nothing added),
+ * otherwise den is floored at METRICS_EPS so the result stays finite. */
+static double safe_ratio(double num, double den)
+{
+    if (num < METRICS_EPS && den < METRICS_EPS)
+        return 1.0;
+    return num / (den > METRICS_EPS ? den : METRICS_EPS);
+}
+
+typedef struct acc {
+    long long pixels;
+    double cov, ref_cov, sq_err, change, ref_change;
+} acc;
+
+static bool same_size(const metrics_view *v, const ring_mask *m)
+{
+    return v && v->width == m->width && v->height == m->height && v->r && v->g && v->b &&
+           v->coverage;
+}
+
+static void finish(const acc *a, bool has_prev, ring_metrics *o)
+{
+    memset(o, 0, sizeof *o);
+    o->pixels = a->pixels;
+    o->has_prev = has_prev;
+    if (a->pixels == 0) {
+        o->coverage_ratio = 1.0;
+        o->psnr = METRICS_PSNR_CAP_DB;
+        o->flicker = 1.0;
+        return;
+    }
+    const double n = (double)a->pixels;
+    o->coverage = a->cov / n;
+    o->ref_coverage = a->ref_cov / n;
+    o->coverage_ratio = safe_ratio(o->coverage, o->ref_coverage);
+    /* Coverage may be negative only through broken input; the ratio of two means is still
+     * finite (den floored), just meaningless, which the test of |ratio - 1| will flag. */
+    const double mse = a->sq_err / (3.0 * n);
+    o->rmse = sqrt(mse);
+    /* 10 log10(1 / mse) >= cap exactly when mse <= 10^(-cap / 10): no log of 0. */
+    o->psnr = mse <= pow(10.0, -METRICS_PSNR_CAP_DB / 10.0) ? METRICS_PSNR_CAP_DB
+                                                            : -10.0 * log10(mse);
+    if (has_prev) {
+        o->change = a->change / n;
+        o->ref_change = a->ref_change / n;
+        o->flicker = safe_ratio(o->change, o->ref_change);
+    } else {
+        o->flicker = 1.0;
+    }
+}
+
+fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
+                          const metrics_view *prev, const metrics_view *prev_ref,
+                          const ring_mask *mask, ring_metrics *out)
+{
+    FS_ASSERT(mask && out);
+    const int rings = mask->ring_count;
+    const bool has_prev = prev && prev_ref;
+    bool ok = mask->ring && rings >= 1 && rings <= MAX_FOV_RINGS && same_size(img, mask) &&
+              same_size(ref, mask) &&
+              (!has_prev || (same_size(prev, mask) && same_size(prev_ref, mask)));
+    if (!ok) {
+        if (rings >= 1 && rings <= MAX_FOV_RINGS)
+            memset(out, 0, (size_t)(rings + 1) * sizeof *out);
+        log_error("METRICS: image, reference, previous frames and ring mask differ in size");
+        return FS_ERR_INTERNAL;
+    }
+
+    acc a[MAX_FOV_RINGS + 1];
+    memset(a, 0, sizeof a);
+    const size_t n = (size_t)mask->width * (size_t)mask->height;
+    for (size_t i = 0; i < n; i++) {
+        acc *r = &a[mask->ring[i] < rings ? mask->ring[i] : rings - 1];
+        r->pixels++;
+        r->cov += sample(img->coverage[i]);
+        r->ref_cov += sample(ref->coverage[i]);
+        const double ir = sample(img->r[i]), ig = sample(img->g[i]), ib = sample(img->b[i]);
+        const double fr = sample(ref->r[i]), fg = sample(ref->g[i]), fb = sample(ref->b[i]);
+        r->sq_err += (ir - fr) * (ir - fr) + (ig - fg) * (ig - fg) + (ib - fb) * (ib - fb);
+        if (has_prev) {
+            r->change += (fabs(ir - sample(prev->r[i])) + fabs(ig - sample(prev->g[i])) +
+                          fabs(ib - sample(prev->b[i]))) / 3.0;
+            r->ref_change += (fabs(fr - sample(prev_ref->r[i])) +
+                              fabs(fg - sample(prev_ref->g[i])) +
+                              fabs(fb - sample(prev_ref->b[i]))) / 3.0;
+        }
+    }
+    /* The whole display: the sums of the rings (every pixel is in exactly one). */
+    acc *all = &a[rings];
+    for (int k = 0; k < rings; k++) {
+        all->pixels += a[k].pixels;
+        all->cov += a[k].cov;
+        all->ref_cov += a[k].ref_cov;
+        all->sq_err += a[k].sq_err;
+        all->change += a[k].change;
+        all->ref_change += a[k].ref_change;
+    }
+    for (int k = 0; k <= rings; k++)
+        finish(&a[k], has_prev, &out[k]);
+    return FS_OK;
+}
+
+// >>csv
+
+bool metrics_csv_header(FILE *f)
+{
+    FS_ASSERT(f);
+    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,psnr,change,"
+          "ref_change,flicker,frame_ms\n",
+          f);
+    return !ferror(f);
+}
+
+/* `s` as one CSV field (RFC 4180): quoted, with quotes doubled, when it holds a comma, quote or
+ * line break. */
+static void csv_field(FILE *f, const char *s)
+{
+    if (!strpbrk(s, ",\"\r\n")) {
+        fputs(s, f);
+        return;
+    }
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"')
+            fputc('"', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
+                     const ring_metrics *m, double frame_ms)
+{
+    FS_ASSERT(f && mode && m);
+    if (!isfinite(time))
+        time = 0.0f;
+    if (!isfinite(frame_ms) || frame_ms < 0.0)
+        frame_ms = -1.0;
+    fprintf(f, "%d,%.9g,", frame, (double)time);
+    csv_field(f, mode);
+    /* %.9g keeps 9 significant digits: more than the half-float inputs carry. */
+    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
+            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->psnr, m->change,
+            m->ref_change, m->flicker, frame_ms);
+    return !ferror(f);
+}

@@ -1,0 +1,118 @@
+/* metrics.h: image metrics of a foveated method against the reference, per foveation ring and
+ * over the whole display (DESIGN.md "Ground truth and metrics"; formulas in docs/metrics.md).
+ *
+ * Per ring and for the whole display: mean coverage of the method and of the reference and their
+ * ratio (peripheral coverage preservation), RMSE and PSNR of linear RGB against the reference, and
+ * flicker: the method's mean frame-to-frame change relative to the reference's own.
+ *
+ * Usage:
+ *   ring_mask m;  ring_mask_build(&display, &layout, gx_px, gy_px, &m);   (per gaze)
+ *   ring_metrics out[MAX_FOV_RINGS + 1];
+ *   metrics_compute(&img, &ref, prev_or_NULL, prev_ref_or_NULL, &m, out);
+ *   metrics_csv_header(f);  metrics_csv_row(f, frame, time, "hashed", ring_or_-1, &out[k], ms);
+ *   ring_mask_free(&m);
+ *
+ * Every number it produces is finite (they end up in CSV and JSON):
+ *   - a non-finite or huge input sample counts as the EXR file would store it: NaN as 0, and
+ *     values clamped to +-65504 (no half rounding otherwise);
+ *   - ratios of two means (coverage_ratio, flicker) are 1 when both are below METRICS_EPS (nothing
+ *     to preserve and nothing added: no difference) and otherwise num / max(den, METRICS_EPS), a
+ *     large number when only the reference is ~0 (bloat or flicker out of nothing);
+ *   - PSNR is capped at METRICS_PSNR_CAP_DB (identical images);
+ *   - a ring with no display pixels for this gaze (pixels == 0) reports the neutral values
+ *     (means 0, ratios 1, rmse 0, psnr at the cap): skip it by its pixel count;
+ *   - without a previous frame (first frame, after a cut) change and ref_change are 0, flicker 1
+ *     and has_prev 0.
+ *
+ * What it does NOT do: GL, reading EXR files, choosing frames or modes, aggregating frames into a
+ * summary (the caller does, skipping rows with pixels == 0 and flicker rows with has_prev == 0).
+ */
+#ifndef FOVSIM_METRICS_H
+#define FOVSIM_METRICS_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "core/status.h"
+#include "fov/fov_ring.h"
+#include "scene/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Means below this count as zero in a ratio's denominator (coverage and mean change, both in
+ * linear units where visible values are 1e-3..1): a ring whose reference holds a single
+ * 1e-3-coverage pixel in a million is still a real, if tiny, reference. */
+#ifndef METRICS_EPS
+#define METRICS_EPS 1e-6
+#endif
+/* PSNR of identical images, in dB: 10 log10(1 / MSE) reaches it at MSE = 1e-10, far below the
+ * error of a half-float frame (ulp 2^-11 at 1.0 gives MSE ~ 1e-7 at worst). */
+#ifndef METRICS_PSNR_CAP_DB
+#define METRICS_PSNR_CAP_DB 100.0
+#endif
+
+/* A borrowed view of one frame: linear, premultiplied, rows top first, width * height floats per
+ * plane. All four planes are required. */
+typedef struct metrics_view {
+    int width, height;
+    const float *r, *g, *b, *coverage;
+} metrics_view;
+
+/* The ring each display pixel belongs to for one gaze. */
+typedef struct ring_mask {
+    int width, height; /* display pixels */
+    int ring_count;    /* the layout's ring count */
+    unsigned char *ring; /* width * height ring indices, rows top first; owned */
+} ring_mask;
+
+/* Ring of each display pixel for gaze (gx_px, gy_px) in display pixels:
+ * fov_composite_weight(l, fov_eccentricity_deg(d, gx, gy, x + 0.5, y + 0.5)).ring, the gaze first
+ * clamped with fov_gaze_clamp (the gaze the composite uses). A pixel in the blend band of a
+ * border counts for the inner ring (the one it mostly shows). FS_ERR_USAGE for a bad display
+ * (size outside 1..MAX_DISPLAY_SIZE) or layout (count outside 1..MAX_FOV_RINGS), FS_ERR_NOMEM
+ * when out of memory; *out is zeroed then. Costs one eccentricity per pixel (~30 ms at 1280x720
+ * on one core): build it when the gaze moves, not per mode. */
+fs_status ring_mask_build(const display_desc *d, const fov_layout *l, float gx_px, float gy_px,
+                          ring_mask *out);
+/* No-op on a zeroed mask. */
+void ring_mask_free(ring_mask *m);
+
+/* Metrics of one ring (or of the whole display) of one frame of one method. */
+typedef struct ring_metrics {
+    long long pixels;      /* display pixels in the ring; 0: off screen for this gaze (the rest
+                              then holds the neutral values, see above) */
+    double coverage;       /* mean coverage of the method */
+    double ref_coverage;   /* mean coverage of the reference */
+    double coverage_ratio; /* coverage / ref_coverage (see the header for ~0); 1 = preserved */
+    double rmse;           /* sqrt(mean over pixels and R, G, B of (img - ref)^2) */
+    double psnr;           /* 10 log10(1 / MSE), peak 1.0, capped at METRICS_PSNR_CAP_DB */
+    double change;         /* mean over pixels of (|dR| + |dG| + |dB|) / 3, frame - previous */
+    double ref_change;     /* the same for the reference */
+    double flicker;        /* change / ref_change (see the header for ~0); 1 = as the reference */
+    int has_prev;          /* 1 when previous frames were given (change is measured) */
+} ring_metrics;
+
+/* Fills out[0 .. ring_count - 1] (per ring) and out[ring_count] (whole display). prev and
+ * prev_ref may be NULL (first frame, after a cut): no change measured unless both are given.
+ * Every view must have the mask's size: FS_ERR_INTERNAL otherwise (a bug in the caller, out[] is
+ * then zeroed), else FS_OK. Sums in double. */
+fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
+                          const metrics_view *prev, const metrics_view *prev_ref,
+                          const ring_mask *mask, ring_metrics *out);
+
+/* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
+ * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,psnr,change,ref_change,
+ * flicker,frame_ms. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
+ * not finite means "not measured" and is written as -1; a non-finite time as 0. Both return
+ * false when the stream reports an error. */
+bool metrics_csv_header(FILE *f);
+bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
+                     const ring_metrics *m, double frame_ms);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
