@@ -23,6 +23,7 @@
 #include "passes/renderer.h"
 #include "reference/reference.h"
 #include "scene/frame.h"
+#include "compare.h"
 #include "session.h"
 
 /* >>render */
@@ -85,28 +86,6 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     }
     session_end(&s);
     return st;
-}
-
-static fs_status run_demo(const run_desc *d)
-{
-    /* The demo follows a built-in trace of fixations and saccades, so the rings visibly move. */
-    run_desc dd = *d;
-    if (!dd.gaze_path)
-        dd.gaze_path = "builtin:fixation_saccade";
-    d = &dd;
-    int frames = 1;
-    fs_status st = run_render(d, "out/demo", &frames);
-    if (st != FS_OK)
-        return st;
-    const char *out = d->out_dir ? d->out_dir : "out/demo";
-    int last = frames - 1;
-    printf("\nlook at the frames (linear half-float RGBA + a coverage channel):\n"
-           "  oiiotool --info -v %s/%s.0000.exr      # header: frame, time, renderer, alpha mode\n"
-           "  oiiotool --frames 0-%d %s/%s.#.exr --ch R,G,B --colorconvert linear sRGB -o %s/%s.#.png\n"
-           "  ffmpeg -framerate %g -i %s/%s.%%04d.png -pix_fmt yuv420p %s/demo.mp4\n"
-           "  oiiotool %s/%s.0000.exr --ch coverage -o coverage.png   # where alpha-mapped foliage is\n",
-           out, d->name, last, out, d->name, out, d->name, d->fps, out, d->name, out, out, d->name);
-    return FS_OK;
 }
 
 static fs_status run_reference(const run_desc *d)
@@ -463,7 +442,7 @@ fs_status run(const run_desc *d)
     case CMD_DEMO: return run_demo(d);
     case CMD_BENCH: return run_bench(d);
     case CMD_REFERENCE: return run_reference(d);
-    case CMD_COMPARE: break;
+    case CMD_COMPARE: return run_compare(d);
     case CMD_NONE: break;
     }
     return FS_ERR_INTERNAL;

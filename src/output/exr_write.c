@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -75,6 +76,23 @@ static uint16_t float_to_half(float f)
     if (rem > halfway || (rem == halfway && (h & 1u)))
         h++; /* may carry into 0x400, the smallest normal: still the right encoding */
     return (uint16_t)(sign | h);
+}
+
+float exr_half_round(float f)
+{
+    uint32_t h = float_to_half(f), sign = (h & 0x8000u) << 16, e = (h >> 10) & 0x1fu, m = h & 0x3ffu;
+    float v;
+    if (e == 0) {
+        v = ldexpf((float)m, -24); /* zero or subnormal */
+    } else {
+        uint32_t x = ((e + 112u) << 23) | (m << 13);
+        memcpy(&v, &x, sizeof v);
+    }
+    uint32_t bits;
+    memcpy(&bits, &v, sizeof bits);
+    bits |= sign;
+    memcpy(&v, &bits, sizeof v);
+    return v;
 }
 
 // >>image

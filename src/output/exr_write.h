@@ -115,6 +115,9 @@ exr_image *exr_image_part(const exr_image *img, int index);
 /* Frees planes and every further part; no-op on a zeroed image. */
 void exr_image_free(exr_image *img);
 
+/* f as exr_write_file stores it, read back: rounded to the nearest half-float (ties to even), NaN
+ * as 0, clamped to +-65504. Lets a value computed now equal the same value read from a file. */
+float exr_half_round(float f);
 /* Writes `img` (with its chain of parts, if any) to `path` atomically (see above). Prints
  * `<path>: <what>` on failure and returns FS_ERR_IO; nothing is left at `path` or at the
  * temporary name. */

@@ -223,7 +223,8 @@ static fs_status draw(reference *rf, const frame_record *fr0, exr_image *img, re
         const float *a = rf->half[0] + (size_t)c * n, *b = rf->half[1] + (size_t)c * n;
         for (size_t i = 0; i < n; i++) {
             double ma = a[i] * inv, mb = b[i] * inv;
-            p[i] = (float)(0.5 * (ma + mb));
+            /* Rounded as the cache stores it: a drawn frame and its cached copy measure alike. */
+            p[i] = exr_half_round((float)(0.5 * (ma + mb)));
             if (c < 3)
                 err2 += 0.25 * (ma - mb) * (ma - mb);
         }

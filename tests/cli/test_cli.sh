@@ -76,10 +76,11 @@ check "built-in gaze trace" bash -c "exrheader '$T/bgaze/frame.0001.exr' | grep 
 expect_exit "unknown built-in gaze -> 6" 6 "$BIN" render --gaze builtin:nope --out "$T/bad13"
 check "unknown built-in gaze lists the valid ones" grep -q "fixation_saccade" "$T/err.txt"
 
-# ---- the demo (small): built-in forest, built-in saccade trace, instructions printed
-"$BIN" demo --width 96 --height 54 --frames 3 --out "$T/demo" --quiet >"$T/demo.txt" 2>&1
-check "demo exits 0 and says how to look" bash -c "grep -q 'oiiotool' '$T/demo.txt' && test -f '$T/demo/frame.0002.exr'"
-check "demo follows the saccade trace" bash -c "exrheader '$T/demo/frame.0000.exr' | grep -q 'builtin:fixation_saccade'"
+# ---- the demo (small): built-in forest, built-in tour trace, traditional vs hashed, instructions printed
+"$BIN" demo --width 96 --height 54 --frames 3 --samples 2 --supersample 1 --cache "$T/cache" --out "$T/demo" --quiet >"$T/demo.txt" 2>&1
+check "demo exits 0 and says how to look" bash -c "grep -q 'oiiotool' '$T/demo.txt' && test -f '$T/demo/compare.0002.exr'"
+check "demo follows the tour trace" bash -c "exrheader '$T/demo/compare.0000.exr' | grep -q 'builtin:demo_tour'"
+check "demo compares traditional and hashed" bash -c "grep -q '^traditional' '$T/demo.txt' && grep -q '^hashed' '$T/demo.txt' && test -f '$T/demo/metrics.csv' && test -f '$T/demo/summary.json'"
 
 # ---- TAA settings: CLI, scene file, and the CLI winning over the scene
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "camera": [{"time": 0, "position": [0,1,5], "target": [0,1,0]}, {"time": 1, "position": [0,1,9], "target": [0,1,0]}], "taa": {"blend": 0.25, "gamma": 1.5, "jitter_length": 8}}' >"$T/taa.json"
