@@ -15,6 +15,7 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
   libcjson-dev                                                      # scene files
   python3                                                           # tests: checks bench JSON
+  gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
 )
 
 missing=()

@@ -516,3 +516,331 @@ fs_status run_demo(const run_desc *d)
            out, d->name, d->fps, out, d->name, out, out, d->name);
     return FS_OK;
 }
+
+/* >>bench --accuracy */
+
+/* The accuracy-vs-time matrix (DESIGN.md "Outputs"; docs/benchmarks.md): alpha modes x foveation
+ * off / default / aggressive x TAA off / on, every configuration drawn over the same consecutive
+ * frames (TAA needs a real sequence), timings interleaved per frame so all see the same machine
+ * state, accuracy measured after the warm-up against the reference in the default rings. */
+
+#define ACC_DEFAULT_DIV 4       /* default size: the scene's display / 4 (320x180 for 1280x720) */
+#define ACC_DEFAULT_FRAMES 12
+#define ACC_MAX_CONFIGS (ALPHA_MODE_COUNT * 3 * 2)
+
+static const char *const k_layout_names[3] = {"off", "default", "aggressive"};
+
+typedef struct acc_config {
+    mode_run run;   /* renderer, images and sums (frame_ms: measured frames only) */
+    int layout;     /* 0 off, 1 default, 2 aggressive */
+    bool taa;
+    double med, p10, p90;
+} acc_config;
+
+/* The aggressive layout: the acuity model with twice the slope (resolution falls off twice as
+ * fast with eccentricity), and half a mip level of extra bias on every reduced ring. */
+static fov_layout aggressive_layout(const plan *pl)
+{
+    display_desc dd = {pl->width, pl->height, pl->hfov_deg};
+    fov_layout l = fov_layout_auto(&dd, 2.0f * FOV_ACUITY_SLOPE_DEFAULT, FOV_ACUITY_OMEGA0_DEFAULT);
+    l.kind = FOV_LAYOUT_EXPLICIT;
+    for (int i = 0; i < l.count; i++)
+        if (l.rings[i].scale_log2 > 0)
+            l.rings[i].mip_bias += 0.5f;
+    return l;
+}
+
+/* Points on the Pareto front of (time, error): no other point is at least as fast and as exact
+ * and strictly better in one. */
+static void pareto(const double *t, const double *e, int n, bool *front)
+{
+    for (int i = 0; i < n; i++) {
+        front[i] = true;
+        for (int j = 0; j < n && front[i]; j++)
+            if (j != i && t[j] <= t[i] && e[j] <= e[i] && (t[j] < t[i] || e[j] < e[i]))
+                front[i] = false;
+    }
+}
+
+static fs_status write_text_atomic(const char *path, const char *text)
+{
+    char tmp[1300];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    bool ok = f && fputs(text, f) >= 0;
+    ok = f && fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        unlink(tmp);
+        return FS_ERR_IO;
+    }
+    return FS_OK;
+}
+
+fs_status run_bench_accuracy(const run_desc *d)
+{
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        log_error("gnuplot: not found; bench --accuracy plots with it (Debian package gnuplot-nox)");
+        return FS_ERR_IO;
+    }
+    run_desc dd = *d;
+    if (!dd.width) { /* resolved against the scene below */
+        scene probe;
+        fs_status st = session_load_scene(d, &probe);
+        if (st != FS_OK)
+            return st;
+        dd.width = probe.display.width / ACC_DEFAULT_DIV;
+        dd.height = probe.display.height / ACC_DEFAULT_DIV;
+        scene_free(&probe);
+    }
+    if (!dd.supersample)
+        dd.supersample = DEMO_SUPERSAMPLE;
+    if (!dd.samples)
+        dd.samples = DEMO_SAMPLES;
+    if (dd.taa < 0)
+        dd.taa = 1; /* the session's plan carries TAA controls; each config sets its own */
+    int n = d->frames > 0 ? d->frames : ACC_DEFAULT_FRAMES;
+    int warm = d->warmup; /* TAA history and the JIT settle before measuring */
+    dd.frames = n + warm;
+    session s;
+    fs_status st = session_begin(&dd, &s, false);
+    if (st != FS_OK)
+        return st;
+    alpha_mode modes[ALPHA_MODE_COUNT];
+    int nmodes = 0;
+    for (int m = 0; m < d->bench_mode_count; m++)
+        modes[nmodes++] = d->bench_modes[m];
+    if (nmodes == 0)
+        for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++)
+            modes[nmodes++] = (alpha_mode)m;
+    /* The default rings are the run's own (auto unless --rings/the scene say otherwise); when the
+     * display is too small for them to save pixels, the acuity model's anyway: a matrix whose
+     * "default" column equals "off" would measure nothing. */
+    fov_layout layouts[3] = {fov_layout_off(), s.pl.layout, aggressive_layout(&s.pl)};
+    if (!s.pl.rings)
+        layouts[1] = measure_layout(&s.pl);
+    fov_layout ml = layouts[1];
+    acc_config *cfg = calloc(ACC_MAX_CONFIGS, sizeof *cfg);
+    int nc = 0;
+    if (!cfg)
+        st = FS_ERR_NOMEM;
+    for (int m = 0; m < nmodes && st == FS_OK; m++)
+        for (int l = 0; l < 3 && st == FS_OK; l++)
+            for (int t = 0; t < 2 && st == FS_OK; t++) {
+                acc_config *c = &cfg[nc++];
+                c->run.mode = modes[m];
+                c->layout = l;
+                c->taa = t == 1;
+                plan_options po = {.alpha_mode = modes[m], .width = s.pl.width, .height = s.pl.height,
+                                   .frames = n + warm, .layout = layouts[l], .alpha = s.pl.alpha, .taa = c->taa,
+                                   .taa_controls = s.pl.taa_controls};
+                st = plan_build(&s.sc, &po, &c->run.pl);
+                if (st == FS_OK)
+                    c->run.r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &c->run.pl}, &st);
+                if (st == FS_OK && !(c->run.frame_ms = calloc((size_t)n, sizeof(double))))
+                    st = FS_ERR_NOMEM;
+            }
+    ref_progress rp = {0};
+    reference *rf = st == FS_OK ? session_reference(&dd, &s, &rp, &st) : NULL;
+    const char *out = d->out_dir ? d->out_dir : "out/bench";
+    if (st == FS_OK)
+        st = file_make_dirs(out);
+    session_catch_sigint();
+    progress pr = progress_begin("accuracy frame", n + warm, d->quiet);
+    rp.pr.enabled = false; /* one progress line: frames */
+    exr_image ref = {0}, prev_ref = {0};
+    bool have_prev_ref = false;
+    for (int i = 0; i < n + warm && st == FS_OK; i++) {
+        if (session_interrupted()) {
+            st = FS_ERR_INTERRUPTED;
+            break;
+        }
+        bool measured = i >= warm;
+        frame_record base = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+        display_desc disp = {s.pl.width, s.pl.height, base.hfov_deg};
+        reference_info ri;
+        ring_mask mask = {0};
+        if (measured) {
+            st = reference_frame(rf, &base, &ref, &ri);
+            if (st == FS_OK)
+                st = ring_mask_build(&disp, &ml, base.gaze_px[0], base.gaze_px[1], &mask);
+        }
+        metrics_view vr = view_of(&ref), vpr = view_of(&prev_ref);
+        for (int c = 0; c < nc && st == FS_OK; c++) {
+            mode_run *mr = &cfg[c].run;
+            frame_record fr = base;
+            frame_record_set_gaze(&fr, &mr->pl.layout, &disp, base.gaze[0], base.gaze[1]);
+            renderer_finish(mr->r);
+            double a = time_now();
+            st = renderer_draw(mr->r, &fr);
+            renderer_finish(mr->r);
+            if (!measured || st != FS_OK)
+                continue;
+            mr->frame_ms[i - warm] = (time_now() - a) * 1e3;
+            st = renderer_read(mr->r, &mr->img);
+            ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
+            metrics_view vi = view_of(&mr->img), vp = view_of(&mr->prev);
+            bool prev = mr->have_prev && have_prev_ref && !fr.cut;
+            if (st == FS_OK)
+                st = metrics_compute(&vi, &vr, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
+            accumulate(mr, rm, ml.count);
+            exr_image_free(&mr->prev);
+            mr->prev = mr->img;
+            memset(&mr->img, 0, sizeof mr->img);
+            mr->have_prev = true;
+        }
+        ring_mask_free(&mask);
+        if (measured) {
+            exr_image_free(&prev_ref);
+            prev_ref = ref;
+            memset(&ref, 0, sizeof ref);
+            have_prev_ref = true;
+        }
+        progress_update(&pr, i + 1);
+    }
+    progress_end(&pr);
+
+    /* Report: CSV, Markdown, gnuplot. Base of the speedups: full-resolution traditional, TAA off
+     * (else the first configuration). */
+    char *csv = NULL, *md = NULL;
+    double *tx = NULL, *ey = NULL;
+    bool *front = NULL;
+    if (st == FS_OK) {
+        csv = malloc(1 << 16);
+        md = malloc(1 << 16);
+        tx = calloc((size_t)nc, sizeof *tx);
+        ey = calloc((size_t)nc, sizeof *ey);
+        front = calloc((size_t)nc, sizeof *front);
+        if (!csv || !md || !tx || !ey || !front)
+            st = FS_ERR_NOMEM;
+    }
+    if (st == FS_OK) {
+        int base = 0;
+        for (int c = 0; c < nc; c++) {
+            double *v = cfg[c].run.frame_ms;
+            qsort(v, (size_t)n, sizeof *v, stats_cmp_double);
+            cfg[c].med = stats_quantile(v, n, 0.5);
+            cfg[c].p10 = stats_quantile(v, n, 0.1);
+            cfg[c].p90 = stats_quantile(v, n, 0.9);
+            if (cfg[c].run.mode == ALPHA_MODE_TRADITIONAL && cfg[c].layout == 0 && !cfg[c].taa)
+                base = c;
+            tx[c] = cfg[c].med;
+            ey[c] = mean_or(cfg[c].run.rmse_sum[ml.count], cfg[c].run.err_n[ml.count], 0.0);
+        }
+        pareto(tx, ey, nc, front);
+        char cpu[256], rings[256], aggr[256];
+        session_cpu_name(cpu, sizeof cpu);
+        fov_layout_format(&layouts[1], rings, sizeof rings);
+        fov_layout_format(&layouts[2], aggr, sizeof aggr);
+        int oc = 0, om = 0;
+#define CSV(...) oc += snprintf(csv + oc, (1 << 16) - (size_t)oc, __VA_ARGS__)
+#define MD(...) om += snprintf(md + om, (1 << 16) - (size_t)om, __VA_ARGS__)
+        CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,flicker,pareto");
+        for (int k = 0; k < ml.count; k++)
+            CSV(",coverage_ratio_ring%d", k);
+        CSV("\n");
+        MD("### Accuracy vs time: %s, %dx%d\n\n", s.sc.path, s.pl.width, s.pl.height);
+        MD("- machine: %s (%ld cores online); renderer: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN), gl_device_renderer());
+        MD("- %d frames measured after %d warm-up frames (consecutive, %g fps); gaze: %s\n", n, warm, d->fps,
+           s.gaze.count ? s.gaze.path : "fixation at the centre");
+        MD("- rings: default %s; aggressive %s; measured in the default rings\n", rings, aggr);
+        MD("- reference: %dx%d sub-samples x %d stochastic alpha tests\n", reference_supersample(rf),
+           reference_supersample(rf), reference_samples(rf));
+        MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
+           "Pareto front of (time, RMSE)\n\n");
+        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | flicker |");
+        for (int k = 0; k < ml.count; k++)
+            MD(" cov. ring %d |", k);
+        MD("\n|---|---|---|---|---|---|---|");
+        for (int k = 0; k < ml.count; k++)
+            MD("---|");
+        MD("\n");
+        for (int c = 0; c < nc; c++) {
+            const mode_run *mr = &cfg[c].run;
+            int all = ml.count;
+            double rmse = ey[c], psnr = mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
+                   fl = mean_or(mr->flicker_sum[all], mr->flicker_n[all], 0.0), sp = cfg[base].med / cfg[c].med;
+            CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.4f,%d", alpha_mode_name(mr->mode),
+                k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med, cfg[c].p10, cfg[c].p90, sp,
+                rmse, psnr, fl, front[c]);
+            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.2f |", alpha_mode_name(mr->mode),
+               front[c] ? " *" : "", k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med,
+               cfg[c].p10, cfg[c].p90, sp, rmse, fl);
+            for (int k = 0; k < ml.count; k++) {
+                double r = mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0);
+                CSV(",%.4f", r);
+                MD(" %.2f |", r);
+            }
+            CSV("\n");
+            MD("\n");
+        }
+#undef CSV
+#undef MD
+        char path[1200];
+        snprintf(path, sizeof path, "%s/accuracy.csv", out);
+        st = write_text_atomic(path, csv);
+        snprintf(path, sizeof path, "%s/accuracy.md", out);
+        if (st == FS_OK)
+            st = write_text_atomic(path, md);
+        if (st == FS_OK && d->markdown) {
+            FILE *f = fopen(d->markdown, "a");
+            if (!f || fprintf(f, "\n%s", md) < 0 || fclose(f) != 0) {
+                log_error("%s: cannot append the accuracy table: %s", d->markdown, strerror(errno));
+                st = FS_ERR_IO;
+            }
+        }
+        if (st == FS_OK) {
+            /* gnuplot: every configuration as a labelled point, the Pareto front as a line. */
+            char gp[1200], png[1200], pngtmp[1300];
+            snprintf(gp, sizeof gp, "%s/accuracy.gp", out);
+            snprintf(png, sizeof png, "%s/accuracy.png", out);
+            snprintf(pngtmp, sizeof pngtmp, "%s/.accuracy.png.tmp.%ld", out, (long)getpid());
+            int o = 0;
+            char *g = csv; /* reuse the buffer: the CSV is written */
+            o += snprintf(g + o, (1 << 16) - (size_t)o,
+                          "set terminal pngcairo size 1100,750 noenhanced\nset output '%s'\nset datafile "
+                          "separator ','\nset title 'accuracy vs time: %s %dx%d (%s)'\nset xlabel 'frame time, "
+                          "median (ms)'\nset ylabel 'RMSE vs reference (linear RGB)'\nset grid\nset key top right\n",
+                          pngtmp, s.sc.path, s.pl.width, s.pl.height, gl_device_renderer());
+            o += snprintf(g + o, (1 << 16) - (size_t)o,
+                          "plot '%s/accuracy.csv' every ::1 using 4:8:(sprintf('%%s/%%s/%%s', stringcolumn(1), "
+                          "stringcolumn(2), stringcolumn(3))) with labels font ',7' offset 0,0.7 notitle, \\\n"
+                          "     '' every ::1 using 4:8 with points pt 7 ps 0.8 title 'configuration', \\\n"
+                          "     '< sort -t, -g -k4 %s/accuracy.csv | awk -F, \"\\$11==1\"' using 4:8 with "
+                          "linespoints lw 2 pt 6 ps 1.6 title 'Pareto front'\n", out, out);
+            st = write_text_atomic(gp, g);
+            char cmd[2600];
+            snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
+            if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
+                log_error("%s: gnuplot failed (see %s/gnuplot.log)", gp, out);
+                unlink(pngtmp);
+                st = FS_ERR_IO;
+            }
+            if (st == FS_OK) {
+                snprintf(cmd, sizeof cmd, "%s/gnuplot.log", out);
+                unlink(cmd); /* kept only when gnuplot failed */
+            }
+        }
+        if (st == FS_OK) {
+            fputs(md, stdout);
+            printf("\nwrote %s/accuracy.csv, accuracy.md and accuracy.png\n", out);
+        }
+    }
+    free(csv);
+    free(md);
+    free(tx);
+    free(ey);
+    free(front);
+    exr_image_free(&ref);
+    exr_image_free(&prev_ref);
+    for (int c = 0; c < nc; c++) {
+        exr_image_free(&cfg[c].run.img);
+        exr_image_free(&cfg[c].run.prev);
+        free(cfg[c].run.frame_ms);
+        renderer_destroy(cfg[c].run.r);
+    }
+    free(cfg);
+    reference_destroy(rf);
+    session_end(&s);
+    return st;
+}

@@ -7,5 +7,6 @@
 
 fs_status run_compare(const run_desc *d);
 fs_status run_demo(const run_desc *d);
+fs_status run_bench_accuracy(const run_desc *d);
 
 #endif

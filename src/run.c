@@ -440,7 +440,7 @@ fs_status run(const run_desc *d)
     case CMD_PLAN: return run_plan(d);
     case CMD_RENDER: return run_render(d, "out/render", NULL);
     case CMD_DEMO: return run_demo(d);
-    case CMD_BENCH: return run_bench(d);
+    case CMD_BENCH: return d->accuracy ? run_bench_accuracy(d) : run_bench(d);
     case CMD_REFERENCE: return run_reference(d);
     case CMD_COMPARE: return run_compare(d);
     case CMD_NONE: break;

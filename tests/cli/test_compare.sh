@@ -86,6 +86,14 @@ check "metrics equal with a cached reference" bash -c "diff <(cut -d, -f1-13 '$T
 check "fovsim reference reuses compare's frames" grep -q "0 drawn, 2 from the cache" "$T/ref.txt"
 check "fovsim reference reports convergence" grep -q "K/2 and K estimates" "$T/ref.txt"
 
+# ---- bench --accuracy (tiny): the matrix's files, one CSV row per configuration, a PNG plot
+"$BIN" bench fence --accuracy --modes traditional,hashed --width 96 --height 54 --frames 3 --warmup 1 "${REF[@]}" \
+  --out "$T/acc" --quiet >"$T/acc.txt" 2>&1; rc=$?
+check "bench --accuracy exits 0" test $rc -eq 0
+check "accuracy.csv: 2 modes x 3 layouts x 2 TAA rows" bash -c "[ \$(tail -n +2 '$T/acc/accuracy.csv' | wc -l) -eq 12 ]"
+check "accuracy.md table with speedups and the Pareto mark" bash -c "grep -q '| traditional' '$T/acc/accuracy.md' && grep -q ' \\* |' '$T/acc/accuracy.md'"
+check "accuracy.png is a PNG" bash -c "head -c 8 '$T/acc/accuracy.png' | od -c | grep -q 'P   N   G'"
+
 # ---- bad input: one line, exit 2, nothing created
 for args in "--modes traditional,bogus" "--samples 3" "--supersample 0" "--alpha hashed" "--cache $T/c --no-cache"; do
   # shellcheck disable=SC2086
