@@ -20,6 +20,7 @@ static const struct {
     {"plan", CMD_PLAN, "print the passes and shader variants a scene needs"},
     {"demo", CMD_DEMO, "render the built-in forest to ./out/demo/ (no arguments needed)"},
     {"bench", CMD_BENCH, "time a scene: median and spread of frame and pass times"},
+    {"view", CMD_VIEW, "interactive window: the mouse is the gaze (GLFW, OpenGL 4.5)"},
 };
 
 void cli_print_help(command cmd)
@@ -44,6 +45,18 @@ void cli_print_help(command cmd)
                "Draws N frames spread over the camera path after W warm-up frames and reports median and\n"
                "spread of the frame time (wall clock, glFinish), GL time per pass and fragment-shader\n"
                "invocations per frame. Defaults: N = 30, W = 5, the scene's display size.\n\n");
+        break;
+    case CMD_VIEW:
+        printf("usage: fovsim view [SCENE | --scene FILE | --builtin NAME] [options]\n\n"
+               "Opens a window at the scene's display size and draws the scene as render would, with the\n"
+               "mouse as the gaze (or --gaze FILE replayed). Keys: A alpha mode, T TAA, F foveation,\n"
+               "L ring layout (auto, aggressive, off), [ ] mip bias, O ring overlay, C freeze camera,\n"
+               "H reset history, S split screen, M right-hand mode, R record gaze, P capture EXR,\n"
+               "SPACE pause, N step, ESC/Q quit. See docs/viewer.md.\n\n"
+               "  --script FILE       scripted input (frame N / move X Y / key NAME / capture / quit)\n"
+               "  --record FILE       where R records the gaze (fovsim CSV; default out/view/gaze-<n>.csv);\n"
+               "                      captures go next to it\n"
+               "  --split A,B         split screen: alpha mode A on the left, B on the right\n\n");
         break;
     default:
         printf("fovsim %s: foveated rendering simulator for alpha-mapped foliage\n\n"
@@ -163,7 +176,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         if (!strcmp(c, k_commands[k].name))
             d->cmd = k_commands[k].cmd;
     if (d->cmd == CMD_NONE) {
-        log_error("unknown command '%s' (commands: render, plan, demo, bench; see fovsim --help)", c);
+        log_error("unknown command '%s' (commands: render, plan, demo, bench, view; see fovsim --help)", c);
         return FS_ERR_USAGE;
     }
     for (i = 2; i < argc; i++) {
@@ -212,7 +225,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--jitter-length"};
+                                                 "--taa-gamma", "--jitter-length", "--script", "--record",
+                                                 "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -240,6 +254,21 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->rings = val; /* checked against the display once the scene is known */
         else if (!strcmp(opt, "--gaze"))
             d->gaze_path = val;
+        else if (!strcmp(opt, "--script"))
+            d->script = val;
+        else if (!strcmp(opt, "--record"))
+            d->record = val;
+        else if (!strcmp(opt, "--split")) {
+            char a[64], b[64];
+            const char *comma = strchr(val, ',');
+            snprintf(a, sizeof a, "%.*s", comma ? (int)(comma - val) : (int)strlen(val), val);
+            snprintf(b, sizeof b, "%s", comma ? comma + 1 : "");
+            d->split[0] = alpha_mode_parse(a);
+            d->split[1] = alpha_mode_parse(b);
+            ok = d->split[0] != ALPHA_MODE_DEFAULT && d->split[1] != ALPHA_MODE_DEFAULT && d->split[0] != d->split[1];
+            if (!ok)
+                log_error("--split: expected two different alpha modes A,B (modes: %s), got '%s'", alpha_mode_list(), val);
+        }
         else if (!strcmp(opt, "--gaze-format")) {
             d->gaze_format = gaze_format_parse(val);
             ok = d->gaze_format != GAZE_FORMAT_AUTO;
@@ -362,6 +391,19 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if ((d->gaze_format != GAZE_FORMAT_AUTO || d->eye != GAZE_EYE_AUTO) && !d->gaze_path) {
         log_error("--gaze-format and --eye describe a --gaze trace; give --gaze FILE");
+        return FS_ERR_USAGE;
+    }
+    if ((d->script || d->record || d->split[0]) && d->cmd != CMD_VIEW) {
+        log_error("--script, --record and --split are options of fovsim view");
+        return FS_ERR_USAGE;
+    }
+    if (d->cmd == CMD_VIEW && (d->frames || d->out_dir)) {
+        log_error("fovsim view runs until it is closed and captures next to --record: --frames and --out are "
+                  "options of render");
+        return FS_ERR_USAGE;
+    }
+    if (d->split[0] && d->alpha) {
+        log_error("--split and --alpha: give one of them, not both (--split A,B sets the left-hand mode)");
         return FS_ERR_USAGE;
     }
     if (d->quiet && d->verbose) {

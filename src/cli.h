@@ -16,6 +16,7 @@ typedef enum command {
     CMD_PLAN,
     CMD_DEMO,
     CMD_BENCH,
+    CMD_VIEW,
     CMD_HELP,
     CMD_VERSION,
     CMD_LIST_GPUS,
@@ -56,6 +57,9 @@ typedef struct run_desc {
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench: --modes a,b,c or all */
     int bench_mode_count;
+    const char *script;      /* view: --script FILE, scripted input events (docs/viewer.md) */
+    const char *record;      /* view: --record FILE, where gaze recordings go (default out/view/gaze-<n>.csv) */
+    alpha_mode split[2];     /* view: --split A,B, left and right alpha modes; DEFAULT = no split */
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

@@ -21,6 +21,7 @@
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "scene/frame.h"
+#include "view/view.h"
 
 static volatile sig_atomic_t g_interrupted;
 static void on_sigint(int sig)
@@ -30,7 +31,7 @@ static void on_sigint(int sig)
 }
 
 /* >>setup */
-static fs_status load_scene(const run_desc *d, scene *sc)
+fs_status run_load_scene(const run_desc *d, scene *sc)
 {
     fs_status st = d->scene_path ? scene_load_file(d->scene_path, sc) : scene_load_builtin(d->builtin, sc);
     if (st == FS_OK)
@@ -49,7 +50,7 @@ static int frame_count(const run_desc *d, const scene *sc)
 }
 
 /* mkdir -p; prints the failing component. */
-static fs_status make_dirs(const char *path)
+fs_status run_make_dirs(const char *path)
 {
     char buf[1024];
     snprintf(buf, sizeof buf, "%s", path);
@@ -104,7 +105,7 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
     return FS_OK;
 }
 
-static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
+fs_status run_plan_options(const run_desc *d, const scene *sc, plan_options *out)
 {
     plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = frame_count(d, sc),
                        .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
@@ -112,7 +113,14 @@ static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
                        .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
                                         .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
                                         .jitter_length = d->jitter_length > 0 ? d->jitter_length : sc->taa.jitter_length}};
-    fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
+    *out = po;
+    return resolve_layout(d, sc, d->width, d->height, &out->layout);
+}
+
+static fs_status build_plan(const run_desc *d, const scene *sc, plan *pl)
+{
+    plan_options po;
+    fs_status st = run_plan_options(d, sc, &po);
     return st == FS_OK ? plan_build(sc, &po, pl) : st;
 }
 
@@ -137,7 +145,7 @@ static void session_end(session *s)
 static fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
 {
     memset(s, 0, sizeof *s);
-    fs_status st = load_scene(d, &s->sc);
+    fs_status st = run_load_scene(d, &s->sc);
     if (st != FS_OK)
         return st;
     st = build_plan(d, &s->sc, &s->pl);
@@ -181,24 +189,24 @@ static frame_record session_frame(session *s, int index, float time, float prev_
 }
 
 /* >>render */
-static void set_frame_attrs(exr_image *img, const session *s, const frame_record *fr)
+void run_frame_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_trace *gz, const frame_record *fr)
 {
     exr_image_set_string(img, "fovsim:version", FOVSIM_VERSION);
     exr_image_set_string(img, "fovsim:renderer", gl_device_renderer());
-    exr_image_set_string(img, "fovsim:scene", s->sc.path);
+    exr_image_set_string(img, "fovsim:scene", sc->path);
     exr_image_set_int(img, "fovsim:frame", fr->index);
     exr_image_set_float(img, "fovsim:time", fr->time);
     exr_image_set_v2f(img, "fovsim:gaze", fr->gaze[0], fr->gaze[1]);
     exr_image_set_v2f(img, "fovsim:gaze_deg", fr->gaze_deg[0], fr->gaze_deg[1]);
-    exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(s->pl.global_mode));
+    exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(pl->global_mode));
     char rings[256];
-    fov_layout_format(&s->pl.layout, rings, sizeof rings);
+    fov_layout_format(&pl->layout, rings, sizeof rings);
     exr_image_set_string(img, "fovsim:rings", rings);
-    exr_image_set_string(img, "fovsim:gaze_trace", s->gaze.count > 0 ? s->gaze.path : "centre fixation");
+    exr_image_set_string(img, "fovsim:gaze_trace", gz->count > 0 ? gz->path : "centre fixation");
     char taa[128];
-    if (s->pl.taa)
-        snprintf(taa, sizeof taa, "on: blend %.3f, gamma %.2f, jitter Halton(2,3) x %d", s->pl.taa_controls.blend,
-                 s->pl.taa_controls.gamma, s->pl.taa_controls.jitter_length);
+    if (pl->taa)
+        snprintf(taa, sizeof taa, "on: blend %.3f, gamma %.2f, jitter Halton(2,3) x %d", pl->taa_controls.blend,
+                 pl->taa_controls.gamma, pl->taa_controls.jitter_length);
     else
         snprintf(taa, sizeof taa, "off");
     exr_image_set_string(img, "fovsim:taa", taa);
@@ -218,7 +226,7 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     int frames = frame_count(d, &s.sc);
     if (frames_out)
         *frames_out = frames;
-    st = make_dirs(out);
+    st = run_make_dirs(out);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
         st = FS_ERR_NOMEM;
@@ -238,7 +246,7 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
             st = renderer_read(s.r, &img);
         if (st != FS_OK)
             break;
-        set_frame_attrs(&img, &s, &fr);
+        run_frame_attrs(&img, &s.sc, &s.pl, &s.gaze, &fr);
         char path[1200];
         snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
         st = exr_writer_submit(w, path, &img);
@@ -294,7 +302,7 @@ static fs_status run_demo(const run_desc *d)
 static fs_status run_plan(const run_desc *d)
 {
     scene sc;
-    fs_status st = load_scene(d, &sc);
+    fs_status st = run_load_scene(d, &sc);
     if (st != FS_OK)
         return st;
     plan pl;
@@ -605,6 +613,7 @@ fs_status run(const run_desc *d)
     case CMD_RENDER: return run_render(d, "out/render", NULL);
     case CMD_DEMO: return run_demo(d);
     case CMD_BENCH: return run_bench(d);
+    case CMD_VIEW: return view_run(d);
     case CMD_NONE: break;
     }
     return FS_ERR_INTERNAL;
