@@ -259,6 +259,11 @@ void gl_window_set_title(gl_window *w, const char *title)
     glfwSetWindowTitle(w->win, title);
 }
 
+void gl_window_set_size(gl_window *w, int width, int height)
+{
+    glfwSetWindowSize(w->win, width, height);
+}
+
 bool gl_window_is_srgb(const gl_window *w)
 {
     return w->srgb;

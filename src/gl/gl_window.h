@@ -64,6 +64,8 @@ void gl_window_request_close(gl_window *w);
 /* Minimised, or a zero-sized framebuffer: nothing to draw into. */
 bool gl_window_is_hidden(const gl_window *w);
 void gl_window_set_title(gl_window *w, const char *title);
+/* Resizes the window (screen coordinates), as dragging its border would (scripts, tests). */
+void gl_window_set_size(gl_window *w, int width, int height);
 /* Whether the window's framebuffer encodes sRGB (else colour is shown linear, darker). */
 bool gl_window_is_srgb(const gl_window *w);
 

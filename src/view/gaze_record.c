@@ -54,7 +54,7 @@ fs_status gaze_recorder_add(gaze_recorder *r, double t, float x, float y, bool v
         }
     }
     if (n < (int)sizeof buf - 64)
-        n += snprintf(buf + n, sizeof buf - (size_t)n, "%.9g,%.9g,%.9g,%d\n", t, (double)x, (double)y, valid ? 1 : 0);
+        n += snprintf(buf + n, sizeof buf - (size_t)n, "%.17g,%.9g,%.9g,%d\n", t, (double)x, (double)y, valid ? 1 : 0);
     /* One fwrite + fflush per sample: the file only ever grows by whole lines. */
     if (fwrite(buf, 1, (size_t)n, r->f) != (size_t)n || fflush(r->f) != 0) {
         if (tmp[0])

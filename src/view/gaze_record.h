@@ -7,8 +7,9 @@
  * once it holds its header, comments and first sample, and every later sample is one complete
  * line flushed at once, so a window closed (or a process killed) mid-recording leaves a trace that
  * gaze_load reads, ending at the last frame drawn.
- * Numbers are written with 9 significant digits, which round-trips a float: replaying the trace in
- * `fovsim render` gives each frame exactly the gaze it had in the viewer.
+ * t is written with 17 significant digits (round-trips the double the loader reads) and x, y with
+ * 9 (round-trips a float): replaying the trace in `fovsim render` gives each frame exactly the gaze
+ * it had in the viewer, not an interpolation a rounding error away from it.
  *
  * What it does NOT do: choose file names (the viewer does), resample (one sample per frame).
  */

@@ -339,7 +339,7 @@ static fs_status capture(viewer *v, const frame_record *fr)
         const char *mode = alpha_mode_name(v->pl[1].global_mode);
         for (int c = 0; c < right.channel_count && st == FS_OK; c++) {
             char name[64];
-            snprintf(name, sizeof name, "%s.%s", mode, right.channel_names[c]);
+            snprintf(name, sizeof name, "%.20s.%.40s", mode, right.channel_names[c]);
             float *p = exr_image_add_channel(&img, name);
             if (!p)
                 st = FS_ERR_NOMEM;
@@ -387,7 +387,7 @@ static void update_title(viewer *v)
     int o = snprintf(title, sizeof title, "fovsim view: %s | %s", name ? name + 1 : v->sc.path,
                      alpha_mode_name(v->pl[0].global_mode));
     if (v->set.split)
-        o += snprintf(title + o, sizeof title - (size_t)o, " | %s", alpha_mode_name(v->pl[1].global_mode));
+        o += snprintf(title + o, sizeof title - (size_t)o, " vs %s", alpha_mode_name(v->pl[1].global_mode));
     o += snprintf(title + o, sizeof title - (size_t)o, " | rings %s | TAA %s | bias %+.1f%s | %.1f ms cpu, %.1f ms gl",
                   layout_label(v, v->set.layout, lay, sizeof lay), v->pl[0].taa ? "on" : "off",
                   (double)v->set.mip_bias, v->set.overlay ? " | overlay" : "", v->cpu_ms, v->gl_ms);
@@ -443,6 +443,7 @@ static void apply_script(viewer *v)
             }
             break;
         case VIEW_EV_LEAVE: v->gaze_valid = false; break;
+        case VIEW_EV_RESIZE: gl_window_set_size(v->win, (int)e->x, (int)e->y); break;
         case VIEW_EV_KEY: apply_action(v, view_key_action(e->key)); break;
         case VIEW_EV_CAPTURE: v->capture_now = true; break;
         case VIEW_EV_QUIT: v->quit_after = true; break;

@@ -134,12 +134,20 @@ static fs_status parse_line(char *text, const char *name, int line, int *frame, 
         ev->kind = VIEW_EV_KEY;
         for (int i = 0; tok[1][i] && i < (int)sizeof ev->key - 1; i++)
             ev->key[i] = (char)toupper((unsigned char)tok[1][i]);
+    } else if (!strcmp(cmd, "resize")) {
+        char *e1, *e2;
+        long w = n == 3 ? strtol(tok[1], &e1, 10) : 0, h = n == 3 ? strtol(tok[2], &e2, 10) : 0;
+        if (n != 3 || *e1 || *e2 || w < 16 || h < 16 || w > MAX_DISPLAY_SIZE || h > MAX_DISPLAY_SIZE)
+            return bad(name, line, "'resize W H' with a window size in [16, MAX_DISPLAY_SIZE]", orig);
+        ev->kind = VIEW_EV_RESIZE;
+        ev->x = (float)w;
+        ev->y = (float)h;
     } else if (!strcmp(cmd, "capture") || !strcmp(cmd, "quit") || !strcmp(cmd, "leave")) {
         if (n != 1)
             return bad(name, line, "no argument after the command", orig);
         ev->kind = !strcmp(cmd, "capture") ? VIEW_EV_CAPTURE : !strcmp(cmd, "quit") ? VIEW_EV_QUIT : VIEW_EV_LEAVE;
     } else {
-        return bad(name, line, "an event: frame, move, leave, key, capture or quit", orig);
+        return bad(name, line, "an event: frame, move, leave, resize, key, capture or quit", orig);
     }
     ev->line = line;
     return FS_OK;

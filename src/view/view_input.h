@@ -13,6 +13,8 @@
  *   move Xpx Ypx              the cursor at window coordinates in pixels (goes through the same
  *                             window-to-display mapping as the real mouse)
  *   leave                     the cursor leaves the window (the gaze holds; recorded as invalid)
+ *   resize W H                the window resized to W x H screen coordinates (16..MAX_DISPLAY_SIZE),
+ *                             as a user dragging its border would
  *   key NAME                  a key press
  *   capture                   write the frame once drawn (as the P key does)
  *   quit                      close the window after the frame (and its captures)
@@ -58,6 +60,7 @@ typedef enum view_event_kind {
     VIEW_EV_MOVE = 0,  /* x, y normalised display coordinates */
     VIEW_EV_MOVE_PX,   /* x, y window coordinates */
     VIEW_EV_LEAVE,
+    VIEW_EV_RESIZE,    /* x, y window size */
     VIEW_EV_KEY,       /* key */
     VIEW_EV_CAPTURE,
     VIEW_EV_QUIT,
