@@ -56,7 +56,9 @@ void cli_print_help(command cmd)
                "  --script FILE       scripted input (frame N / move X Y / key NAME / capture / quit)\n"
                "  --record FILE       where R records the gaze (fovsim CSV; default out/view/gaze-<n>.csv);\n"
                "                      captures go next to it\n"
-               "  --split A,B         split screen: alpha mode A on the left, B on the right\n\n");
+               "  --split A,B         split screen: alpha mode A on the left, B on the right\n"
+               "Render's options below apply (--gaze, --rings, --taa, --alpha, ...) except --frames, --out,\n"
+               "--name and --gpu.\n\n");
         break;
     default:
         printf("fovsim %s: foveated rendering simulator for alpha-mapped foliage\n\n"
@@ -397,9 +399,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         log_error("--script, --record and --split are options of fovsim view");
         return FS_ERR_USAGE;
     }
-    if (d->cmd == CMD_VIEW && (d->frames || d->out_dir)) {
-        log_error("fovsim view runs until it is closed and captures next to --record: --frames and --out are "
-                  "options of render");
+    if (d->cmd == CMD_VIEW && (d->frames || d->out_dir || d->name || d->gpu >= 0)) {
+        log_error("fovsim view runs until it is closed, captures next to --record and draws on the X server's GPU: "
+                  "--frames, --out, --name and --gpu are options of render");
         return FS_ERR_USAGE;
     }
     if (d->split[0] && d->alpha) {

@@ -189,6 +189,8 @@ TEST(view_cli)
     CHECK(parse_cli(&d, "fovsim view --split hashed,a2c --alpha castano") == FS_ERR_USAGE);
     CHECK(parse_cli(&d, "fovsim view --frames 3") == FS_ERR_USAGE);
     CHECK(parse_cli(&d, "fovsim view --out o") == FS_ERR_USAGE);
+    CHECK(parse_cli(&d, "fovsim view --name n") == FS_ERR_USAGE);
+    CHECK(parse_cli(&d, "fovsim view --gpu 0") == FS_ERR_USAGE);
     CHECK(parse_cli(&d, "fovsim render --script s.txt") == FS_ERR_USAGE);
     CHECK(parse_cli(&d, "fovsim render --record r.csv") == FS_ERR_USAGE);
     CHECK(parse_cli(&d, "fovsim bench --split a2c,hashed") == FS_ERR_USAGE);
