@@ -10,6 +10,7 @@ packages=(
   build-essential cmake pkg-config
   libegl-dev libegl-mesa0 libgl1-mesa-dri libgl-dev libepoxy-dev   # headless GL: EGL + llvmpipe
   libglfw3-dev                                                      # the interactive viewer
+  xvfb xauth                                                        # tests: the viewer under a virtual X server
   libopenexr-dev openexr openimageio-tools                          # EXR output + external readers for tests
   ffmpeg                                                            # tests: ffmpeg's EXR decoder reads our files
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0

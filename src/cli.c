@@ -22,6 +22,7 @@ static const struct {
     {"bench", CMD_BENCH, "time a scene: median and spread of frame and pass times"},
     {"reference", CMD_REFERENCE, "render the converged ground truth (supersampled, stochastic alpha; cached)"},
     {"compare", CMD_COMPARE, "render alpha modes side by side against the reference, with metrics"},
+    {"view", CMD_VIEW, "interactive window: the mouse is the gaze (GLFW, OpenGL 4.5)"},
 };
 
 void cli_print_help(command cmd)
@@ -61,6 +62,20 @@ void cli_print_help(command cmd)
                "reference (RGBA, what any viewer shows), part 'layers' holds <mode>.R/G/B/A, <mode>.coverage,\n"
                "<mode>.error, reference.* and ring.id. Metrics per frame, ring and mode go to DIR/metrics.csv,\n"
                "a summary to DIR/summary.json, and a table is printed. Default modes: traditional,hashed.\n\n");
+        break;
+    case CMD_VIEW:
+        printf("usage: fovsim view [SCENE | --scene FILE | --builtin NAME] [options]\n\n"
+               "Opens a window at the scene's display size and draws the scene as render would, with the\n"
+               "mouse as the gaze (or --gaze FILE replayed). Keys: A alpha mode, T TAA, F foveation,\n"
+               "L ring layout (auto, aggressive, off), [ ] mip bias, O ring overlay, C freeze camera,\n"
+               "H reset history, S split screen, M right-hand mode, R record gaze, P capture EXR,\n"
+               "SPACE pause, N step, ESC/Q quit. See docs/viewer.md.\n\n"
+               "  --script FILE       scripted input (frame N / move X Y / key NAME / capture / quit)\n"
+               "  --record FILE       where R records the gaze (fovsim CSV; default out/view/gaze-<n>.csv);\n"
+               "                      captures go next to it\n"
+               "  --split A,B         split screen: alpha mode A on the left, B on the right\n"
+               "Render's options below apply (--gaze, --rings, --taa, --alpha, ...) except --frames, --out,\n"
+               "--name and --gpu.\n\n");
         break;
     default:
         printf("fovsim %s: foveated rendering simulator for alpha-mapped foliage\n\n"
@@ -191,7 +206,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         if (!strcmp(c, k_commands[k].name))
             d->cmd = k_commands[k].cmd;
     if (d->cmd == CMD_NONE) {
-        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare; see fovsim --help)", c);
+        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare, view; see fovsim --help)", c);
         return FS_ERR_USAGE;
     }
     for (i = 2; i < argc; i++) {
@@ -243,7 +258,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--jitter-length", "--supersample", "--samples",
-                                                 "--cache"};
+                                                 "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -281,6 +296,21 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->rings = val; /* checked against the display once the scene is known */
         else if (!strcmp(opt, "--gaze"))
             d->gaze_path = val;
+        else if (!strcmp(opt, "--script"))
+            d->script = val;
+        else if (!strcmp(opt, "--record"))
+            d->record = val;
+        else if (!strcmp(opt, "--split")) {
+            char a[64], b[64];
+            const char *comma = strchr(val, ',');
+            snprintf(a, sizeof a, "%.*s", comma ? (int)(comma - val) : (int)strlen(val), val);
+            snprintf(b, sizeof b, "%s", comma ? comma + 1 : "");
+            d->split[0] = alpha_mode_parse(a);
+            d->split[1] = alpha_mode_parse(b);
+            ok = d->split[0] != ALPHA_MODE_DEFAULT && d->split[1] != ALPHA_MODE_DEFAULT && d->split[0] != d->split[1];
+            if (!ok)
+                log_error("--split: expected two different alpha modes A,B (modes: %s), got '%s'", alpha_mode_list(), val);
+        }
         else if (!strcmp(opt, "--gaze-format")) {
             d->gaze_format = gaze_format_parse(val);
             ok = d->gaze_format != GAZE_FORMAT_AUTO;
@@ -423,6 +453,19 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if ((d->gaze_format != GAZE_FORMAT_AUTO || d->eye != GAZE_EYE_AUTO) && !d->gaze_path) {
         log_error("--gaze-format and --eye describe a --gaze trace; give --gaze FILE");
+        return FS_ERR_USAGE;
+    }
+    if ((d->script || d->record || d->split[0]) && d->cmd != CMD_VIEW) {
+        log_error("--script, --record and --split are options of fovsim view");
+        return FS_ERR_USAGE;
+    }
+    if (d->cmd == CMD_VIEW && (d->frames || d->out_dir || d->name || d->gpu >= 0)) {
+        log_error("fovsim view runs until it is closed, captures next to --record and draws on the X server's GPU: "
+                  "--frames, --out, --name and --gpu are options of render");
+        return FS_ERR_USAGE;
+    }
+    if (d->split[0] && d->alpha) {
+        log_error("--split and --alpha: give one of them, not both (--split A,B sets the left-hand mode)");
         return FS_ERR_USAGE;
     }
     if (d->quiet && d->verbose) {

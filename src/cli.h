@@ -16,6 +16,7 @@ typedef enum command {
     CMD_PLAN,
     CMD_DEMO,
     CMD_BENCH,
+    CMD_VIEW,
     CMD_HELP,
     CMD_VERSION,
     CMD_LIST_GPUS,
@@ -63,6 +64,9 @@ typedef struct run_desc {
     const char *cache_dir;   /* --cache DIR for reference frames, NULL = the default */
     bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
     bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */
+    const char *script;      /* view: --script FILE, scripted input events (docs/viewer.md) */
+    const char *record;      /* view: --record FILE, where gaze recordings go (default out/view/gaze-<n>.csv) */
+    alpha_mode split[2];     /* view: --split A,B, left and right alpha modes; DEFAULT = no split */
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

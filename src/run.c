@@ -25,6 +25,7 @@
 #include "scene/frame.h"
 #include "compare.h"
 #include "session.h"
+#include "view/view.h"
 
 /* >>render */
 /* Renders the sequence; *frames_out (may be NULL) gets the number of frames asked for. */
@@ -443,6 +444,7 @@ fs_status run(const run_desc *d)
     case CMD_BENCH: return d->accuracy ? run_bench_accuracy(d) : run_bench(d);
     case CMD_REFERENCE: return run_reference(d);
     case CMD_COMPARE: return run_compare(d);
+    case CMD_VIEW: return view_run(d);
     case CMD_NONE: break;
     }
     return FS_ERR_INTERNAL;

@@ -1,4 +1,5 @@
-/* run.h: the commands of fovsim (render, plan, demo, bench), given a parsed run_desc. */
+/* run.h: the commands of fovsim (render, plan, demo, bench, reference, compare, view), given a
+ * parsed run_desc. What the commands share is in session.h. */
 #ifndef FOVSIM_RUN_H
 #define FOVSIM_RUN_H
 

@@ -80,15 +80,23 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
     return FS_OK;
 }
 
+fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options *out)
+{
+    *out = (plan_options){.alpha_mode = d->alpha, .width = d->width, .height = d->height,
+                          .frames = session_frame_count(d, sc), .overlay = d->overlay,
+                          .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
+                          .taa = d->taa >= 0 ? d->taa == 1 : !sc->taa.off,
+                          .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
+                                           .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
+                                           .jitter_length = d->jitter_length > 0 ? d->jitter_length
+                                                                                 : sc->taa.jitter_length}};
+    return resolve_layout(d, sc, d->width, d->height, &out->layout);
+}
+
 fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl)
 {
-    plan_options po = {.alpha_mode = d->alpha, .width = d->width, .height = d->height, .frames = session_frame_count(d, sc),
-                       .overlay = d->overlay, .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
-                       .taa = d->taa >= 0 ? d->taa == 1 : !sc->taa.off,
-                       .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
-                                        .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
-                                        .jitter_length = d->jitter_length > 0 ? d->jitter_length : sc->taa.jitter_length}};
-    fs_status st = resolve_layout(d, sc, d->width, d->height, &po.layout);
+    plan_options po;
+    fs_status st = session_plan_options(d, sc, &po);
     return st == FS_OK ? plan_build(sc, &po, pl) : st;
 }
 
@@ -150,30 +158,35 @@ frame_record session_frame(session *s, int index, float time, float prev_time)
 }
 
 
-void session_frame_attrs(exr_image *img, const session *s, const frame_record *fr)
+void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_trace *gz, const frame_record *fr)
 {
     exr_image_set_string(img, "fovsim:version", FOVSIM_VERSION);
     exr_image_set_string(img, "fovsim:renderer", gl_device_renderer());
-    exr_image_set_string(img, "fovsim:scene", s->sc.path);
+    exr_image_set_string(img, "fovsim:scene", sc->path);
     exr_image_set_int(img, "fovsim:frame", fr->index);
     exr_image_set_float(img, "fovsim:time", fr->time);
     exr_image_set_v2f(img, "fovsim:gaze", fr->gaze[0], fr->gaze[1]);
     exr_image_set_v2f(img, "fovsim:gaze_deg", fr->gaze_deg[0], fr->gaze_deg[1]);
-    exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(s->pl.global_mode));
+    exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(pl->global_mode));
     char rings[256];
-    fov_layout_format(&s->pl.layout, rings, sizeof rings);
+    fov_layout_format(&pl->layout, rings, sizeof rings);
     exr_image_set_string(img, "fovsim:rings", rings);
-    exr_image_set_string(img, "fovsim:gaze_trace", s->gaze.count > 0 ? s->gaze.path : "centre fixation");
+    exr_image_set_string(img, "fovsim:gaze_trace", gz->count > 0 ? gz->path : "centre fixation");
     char taa[128];
-    if (s->pl.taa)
-        snprintf(taa, sizeof taa, "on: blend %.3f, gamma %.2f, jitter Halton(2,3) x %d", s->pl.taa_controls.blend,
-                 s->pl.taa_controls.gamma, s->pl.taa_controls.jitter_length);
+    if (pl->taa)
+        snprintf(taa, sizeof taa, "on: blend %.3f, gamma %.2f, jitter Halton(2,3) x %d", pl->taa_controls.blend,
+                 pl->taa_controls.gamma, pl->taa_controls.jitter_length);
     else
         snprintf(taa, sizeof taa, "off");
     exr_image_set_string(img, "fovsim:taa", taa);
     exr_image_set_float(img, "fovsim:hfov_deg", fr->hfov_deg);
     exr_image_set_string(img, "fovsim:channels",
                          "RGBA: linear premultiplied radiance; coverage: opacity of alpha-mapped surfaces");
+}
+
+void session_frame_attrs(exr_image *img, const session *s, const frame_record *fr)
+{
+    session_attrs(img, &s->sc, &s->pl, &s->gaze, fr);
 }
 
 

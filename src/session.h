@@ -32,7 +32,11 @@ bool session_interrupted(void);
 fs_status session_load_scene(const run_desc *d, scene *sc);
 /* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
 int session_frame_count(const run_desc *d, const scene *sc);
-/* The run's plan: its alpha mode, size, ring layout (--rings, the scene's, else auto), TAA. */
+/* The plan options of a run: --alpha, the size, TAA and alpha controls (the CLI's, else the
+ * scene's), and the ring layout (--rings, else the scene's, else auto; auto falls back to off where
+ * it would not save pixels). One line and FS_ERR_USAGE for a bad layout. */
+fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options *out);
+/* plan_build of those options. */
 fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl);
 /* Scene, plan, gaze trace, GL context and (with `with_renderer`) the renderer: everything that can
  * reject bad input, before anything is written. */
@@ -41,6 +45,7 @@ void session_end(session *s);
 /* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
 frame_record session_frame(session *s, int index, float time, float prev_time);
 /* The header attributes of a rendered frame (version, renderer, scene, gaze, mode, rings, TAA). */
+void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_trace *gz, const frame_record *fr);
 void session_frame_attrs(exr_image *img, const session *s, const frame_record *fr);
 /* The machine's CPU model ("unknown CPU" when /proc/cpuinfo does not say). */
 void session_cpu_name(char *buf, size_t n);

@@ -1,4 +1,5 @@
-/* gl_device.c: EGL (surfaceless / platform device) + OpenGL 4.5 core through libepoxy. */
+/* gl_device.c: EGL (surfaceless / platform device) + OpenGL 4.5 core through libepoxy, or a context
+ * adopted from a window (GLX through GLFW); libepoxy dispatches for both. */
 #include "gl/gl_device.h"
 
 #include <epoxy/egl.h>
@@ -15,6 +16,7 @@
 
 static struct {
     bool valid;
+    bool adopted;         /* a context made elsewhere (the viewer's GLFW window): not ours to destroy */
     EGLDisplay display;
     EGLContext context;
     char renderer[256];
@@ -115,6 +117,28 @@ static EGLDisplay open_display(int gpu_index)
     return EGL_NO_DISPLAY;
 }
 
+/* What both kinds of context share once current: the GL 4.5 check, the cached strings and
+ * capabilities (no glGet* later, STYLE.md), debug output. On failure the device is destroyed. */
+static fs_status cache_context_state(bool debug)
+{
+    if (epoxy_gl_version() < 45) {
+        log_error("GL: %s offers OpenGL %d.%d, fovsim needs 4.5 core", (const char *)glGetString(GL_RENDERER),
+                  epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+        gl_device_destroy();
+        return FS_ERR_GL;
+    }
+    snprintf(g_dev.renderer, sizeof g_dev.renderer, "%s", (const char *)glGetString(GL_RENDERER));
+    snprintf(g_dev.version, sizeof g_dev.version, "%s", (const char *)glGetString(GL_VERSION));
+    g_dev.timer_query = true; /* core since GL 3.3 */
+    g_dev.pipeline_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
+    if (debug) {
+        glEnable(GL_DEBUG_OUTPUT);
+        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        glDebugMessageCallback(gl_debug_cb, NULL);
+    }
+    return FS_OK;
+}
+
 fs_status gl_device_create(const gl_device_desc *desc)
 {
     FS_ASSERT(!g_dev.valid);
@@ -169,29 +193,38 @@ fs_status gl_device_create(const gl_device_desc *desc)
     g_dev.display = dpy;
     g_dev.context = ctx;
     g_dev.valid = true;
-    if (epoxy_gl_version() < 45) {
-        log_error("GL: %s offers OpenGL %d.%d, fovsim needs 4.5 core", (const char *)glGetString(GL_RENDERER),
-                  epoxy_gl_version() / 10, epoxy_gl_version() % 10);
-        gl_device_destroy();
-        return FS_ERR_GL;
-    }
-    snprintf(g_dev.renderer, sizeof g_dev.renderer, "%s", (const char *)glGetString(GL_RENDERER));
-    snprintf(g_dev.version, sizeof g_dev.version, "%s", (const char *)glGetString(GL_VERSION));
-    g_dev.timer_query = true; /* core since GL 3.3 */
-    g_dev.pipeline_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
-    if (debug) {
-        glEnable(GL_DEBUG_OUTPUT);
-        glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-        glDebugMessageCallback(gl_debug_cb, NULL);
-    }
+    fs_status st = cache_context_state(debug);
+    if (st != FS_OK)
+        return st;
     log_info("GL: %s, OpenGL %s, on %s (EGL %d.%d)", g_dev.renderer, g_dev.version, g_dev.description, major, minor);
     return FS_OK;
+}
+
+fs_status gl_device_adopt_current(const char *description, bool gl_debug)
+{
+    FS_ASSERT(!g_dev.valid && description);
+    memset(&g_dev, 0, sizeof g_dev);
+    bool debug = gl_debug || getenv("FOVSIM_GL_DEBUG") != NULL;
+#ifndef NDEBUG
+    debug = true;
+#endif
+    snprintf(g_dev.description, sizeof g_dev.description, "%s", description);
+    g_dev.adopted = true;
+    g_dev.valid = true;
+    fs_status st = cache_context_state(debug);
+    if (st == FS_OK)
+        log_info("GL: %s, OpenGL %s, on %s", g_dev.renderer, g_dev.version, g_dev.description);
+    return st;
 }
 
 void gl_device_destroy(void)
 {
     if (!g_dev.valid)
         return;
+    if (g_dev.adopted) { /* the window that made the context destroys it */
+        memset(&g_dev, 0, sizeof g_dev);
+        return;
+    }
     eglMakeCurrent(g_dev.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(g_dev.display, g_dev.context);
     eglTerminate(g_dev.display);

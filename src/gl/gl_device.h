@@ -8,6 +8,8 @@
  * come from libepoxy. In debug builds (or with FOVSIM_GL_DEBUG=1) GL debug output goes to stderr.
  * This is the only mutable global state in fovsim (STYLE.md): one device per process.
  *
+ * A window's context (src/gl/gl_window.c) is adopted instead with gl_device_adopt_current.
+ *
  * What it does NOT do: windows (gl_window, the viewer), frame buffers or programs (gl_util).
  */
 #ifndef FOVSIM_GL_DEVICE_H
@@ -25,6 +27,12 @@ typedef struct gl_device_desc {
 /* Creates the context; prints one line and returns FS_ERR_GL when no GL 4.5 core context can be
  * made. Calling it twice without destroy is a programmer error. */
 fs_status gl_device_create(const gl_device_desc *desc);
+/* Adopts the OpenGL context current on the calling thread (the viewer's GLFW window, GLX under
+ * X11) as the device: the same GL 4.5 check, cached strings and debug output as gl_device_create,
+ * so the renderer runs unchanged on it. `description` names it ("GLFW window (GLX)"). On failure
+ * prints one line and returns FS_ERR_GL. gl_device_destroy then forgets the context without
+ * destroying it: the window that made it does. */
+fs_status gl_device_adopt_current(const char *description, bool gl_debug);
 void gl_device_destroy(void);
 bool gl_device_is_valid(void);
 

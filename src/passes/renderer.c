@@ -1037,3 +1037,9 @@ fs_status renderer_read(renderer *r, exr_image *img)
     free(rgba);
     return FS_OK;
 }
+
+/* >>present: what the viewer blits (the colour renderer_read reads) */
+unsigned renderer_output_framebuffer(const renderer *r)
+{
+    return r->pl.composite ? r->out_fbo : r->pl.taa ? r->taa_fbo[r->out_parity][0] : r->rt.fbo[0];
+}

@@ -58,5 +58,10 @@ void renderer_set_pass_sync(renderer *r, bool on);
 void renderer_finish(renderer *r);
 /* Pass timings of the last frame (valid after renderer_draw with timers; waits for results). */
 renderer_stats renderer_last_stats(renderer *r);
+/* The GL framebuffer whose colour attachment 0 (its read buffer) holds the last frame's
+ * display-resolution colour (linear, premultiplied, GL rows: bottom first), for presenting it in
+ * a window: the viewer blits from it (src/gl/gl_window.c). Borrowed; TAA alternates between two
+ * framebuffers, so ask again after every renderer_draw. */
+unsigned renderer_output_framebuffer(const renderer *r);
 
 #endif
