@@ -92,8 +92,59 @@ TEST(exit_codes_are_distinct)
             CHECK(fs_status_exit_code((fs_status)a) != fs_status_exit_code((fs_status)b));
 }
 
+TEST(view_cli)
+{
+    run_desc d;
+    CHECK(parse(&d, "fovsim view") == FS_OK && d.cmd == CMD_VIEW && !strcmp(d.builtin, "forest"));
+    CHECK(d.script == NULL && d.record == NULL && d.split[0] == ALPHA_MODE_DEFAULT);
+    CHECK(parse(&d, "fovsim view fence --script s.txt --record out/r.csv --split traditional,hashed --taa off "
+                        "--rings off --width 160 --height 90 --gaze builtin:pursuit") == FS_OK);
+    CHECK(!strcmp(d.builtin, "fence") && !strcmp(d.script, "s.txt") && !strcmp(d.record, "out/r.csv"));
+    CHECK(d.split[0] == ALPHA_MODE_TRADITIONAL && d.split[1] == ALPHA_MODE_HASHED && d.taa == 0);
+    CHECK(parse(&d, "fovsim view --help") == FS_OK && d.cmd == CMD_HELP && d.help_for == CMD_VIEW);
+    CHECK(parse(&d, "fovsim help view") == FS_OK && d.help_for == CMD_VIEW);
+    log_set_quiet_errors(true);
+    CHECK(parse(&d, "fovsim view --split hashed") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --split hashed,hashed") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --split hashed,nope") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --split hashed,a2c --alpha castano") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --frames 3") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --out o") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --name n") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --gpu 0") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim render --script s.txt") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim render --record r.csv") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim bench --split a2c,hashed") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim view --script") == FS_ERR_USAGE);
+    log_set_quiet_errors(false);
+}
+
+TEST(reference_and_compare_options)
+{
+    run_desc d;
+    log_set_quiet_errors(true);
+    CHECK(parse(&d, "fovsim compare fence --modes traditional,castano --samples 8 --supersample 2 --cache /tmp/c") == FS_OK);
+    CHECK(d.cmd == CMD_COMPARE && d.bench_mode_count == 2 && d.samples == 8 && d.supersample == 2);
+    CHECK(!strcmp(d.cache_dir, "/tmp/c") && !strcmp(d.name, "compare"));
+    CHECK(parse(&d, "fovsim reference forest --no-cache") == FS_OK && d.no_cache && !strcmp(d.name, "reference"));
+    CHECK(parse(&d, "fovsim bench forest --accuracy --samples 4") == FS_OK && d.accuracy && d.samples == 4);
+    CHECK(parse(&d, "fovsim reference --samples 3") == FS_ERR_USAGE);      /* odd: no two halves */
+    CHECK(parse(&d, "fovsim reference --samples 0") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim reference --supersample 17") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim compare --cache x --no-cache") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim render --samples 8") == FS_ERR_USAGE);         /* no reference in render */
+    CHECK(parse(&d, "fovsim bench --samples 8") == FS_ERR_USAGE);          /* only with --accuracy */
+    CHECK(parse(&d, "fovsim render --accuracy") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim compare --alpha hashed") == FS_ERR_USAGE);     /* compare takes --modes */
+    CHECK(parse(&d, "fovsim reference --alpha hashed") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim render --modes all") == FS_ERR_USAGE);
+    log_set_quiet_errors(false);
+}
+
 int main(void)
 {
+    RUN(view_cli);
+    RUN(reference_and_compare_options);
     RUN(defaults);
     RUN(options);
     RUN(bad_arguments);

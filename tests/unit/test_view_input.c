@@ -160,43 +160,6 @@ TEST(recording_to_a_missing_directory_fails_cleanly)
     CHECK(gaze_recorder_end(&r) == FS_OK);
 }
 
-static fs_status parse_cli(run_desc *d, const char *line)
-{
-    char buf[512], *argv[32];
-    int argc = 0;
-    snprintf(buf, sizeof buf, "%s", line);
-    for (char *t = strtok(buf, " "); t && argc < 31; t = strtok(NULL, " "))
-        argv[argc++] = t;
-    argv[argc] = NULL;
-    return cli_parse(argc, argv, d);
-}
-
-TEST(view_cli)
-{
-    run_desc d;
-    CHECK(parse_cli(&d, "fovsim view") == FS_OK && d.cmd == CMD_VIEW && !strcmp(d.builtin, "forest"));
-    CHECK(d.script == NULL && d.record == NULL && d.split[0] == ALPHA_MODE_DEFAULT);
-    CHECK(parse_cli(&d, "fovsim view fence --script s.txt --record out/r.csv --split traditional,hashed --taa off "
-                        "--rings off --width 160 --height 90 --gaze builtin:pursuit") == FS_OK);
-    CHECK(!strcmp(d.builtin, "fence") && !strcmp(d.script, "s.txt") && !strcmp(d.record, "out/r.csv"));
-    CHECK(d.split[0] == ALPHA_MODE_TRADITIONAL && d.split[1] == ALPHA_MODE_HASHED && d.taa == 0);
-    CHECK(parse_cli(&d, "fovsim view --help") == FS_OK && d.cmd == CMD_HELP && d.help_for == CMD_VIEW);
-    CHECK(parse_cli(&d, "fovsim help view") == FS_OK && d.help_for == CMD_VIEW);
-    log_set_quiet_errors(true);
-    CHECK(parse_cli(&d, "fovsim view --split hashed") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --split hashed,hashed") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --split hashed,nope") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --split hashed,a2c --alpha castano") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --frames 3") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --out o") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --name n") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --gpu 0") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim render --script s.txt") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim render --record r.csv") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim bench --split a2c,hashed") == FS_ERR_USAGE);
-    CHECK(parse_cli(&d, "fovsim view --script") == FS_ERR_USAGE);
-    log_set_quiet_errors(false);
-}
 
 int main(void)
 {
@@ -205,6 +168,5 @@ int main(void)
     RUN(script_errors);
     RUN(recording_round_trips_and_is_valid_after_every_frame);
     RUN(recording_to_a_missing_directory_fails_cleanly);
-    RUN(view_cli);
     return test_summary();
 }
