@@ -59,13 +59,12 @@ static void heat(float t, float rgb[3])
     rgb[2] = fminf(fmaxf(3.0f * t - 2.0f, 0.0f), 1.0f);
 }
 
-/* Per-pixel RMS over linear RGB of img - ref. */
-static float pixel_error(const exr_image *img, const exr_image *ref, size_t i)
+/* Per-pixel RMS over linear RGB of a - b (planes R, G, B of each). */
+static float pixel_error(const float *const a[3], const float *const b[3], size_t i)
 {
-    static const char *const rgb[3] = {"R", "G", "B"};
     double s = 0;
     for (int c = 0; c < 3; c++) {
-        double d = (double)exr_image_channel(img, rgb[c])[i] - (double)exr_image_channel(ref, rgb[c])[i];
+        double d = (double)a[c][i] - (double)b[c][i];
         s += isfinite(d) ? d * d : 0.0;
     }
     return (float)sqrt(s / 3.0);
@@ -104,8 +103,9 @@ static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref,
     bool ok = true;
     for (int c = 0; c < 4 && ok; c++)
         ok = exr_image_add_channel(out, rgba[c]) != NULL;
-    float *err = malloc(n * sizeof *err), *hr = malloc(3 * n * sizeof *hr);
-    ok = ok && err && hr;
+    float *hr = malloc(3 * n * sizeof *hr); /* one heat map at a time, planar R, G, B */
+    ok = ok && hr;
+    const float *ref_rgb[3] = {exr_image_channel(ref, "R"), exr_image_channel(ref, "G"), exr_image_channel(ref, "B")};
     for (int m = 0; m <= nm && ok; m++) {
         const exr_image *src = m < nm ? &runs[m].img : ref;
         const char *name = m < nm ? alpha_mode_name(runs[m].mode) : "reference";
@@ -130,7 +130,7 @@ static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref,
         float *e = exr_image_add_channel(&layers, ch);
         ok = e != NULL;
         for (size_t i = 0; i < n && ok; i++) {
-            e[i] = pixel_error(src, ref, i);
+            e[i] = pixel_error(pic, ref_rgb, i);
             float rgb[3];
             heat(e[i] / COMPARE_HEAT_SCALE, rgb);
             for (int c = 0; c < 3; c++)
@@ -144,7 +144,6 @@ static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref,
     ok = ok && ring;
     for (size_t i = 0; i < n && ok; i++)
         ring[i] = (float)mask->ring[i];
-    free(err);
     free(hr);
     if (ok)
         ok = exr_image_append_part(out, &layers);

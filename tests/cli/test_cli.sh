@@ -8,10 +8,7 @@ SHARED=${FOVSIM_SHARED:?set by CMake}
 SRC=${FOVSIM_SOURCE:?set by CMake}
 T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/cli
 rm -rf "$T"; mkdir -p "$T"
-passed=0; failed=0
-ok()   { passed=$((passed+1)); echo "ok   $1" >&2; }
-fail() { failed=$((failed+1)); echo "FAIL $1" >&2; }
-check() { local name=$1; shift; if "$@"; then ok "$name"; else fail "$name"; fi; }
+. "$(dirname "$0")/harness.sh"
 
 # expect_exit NAME CODE CMD...: exit status CODE, exactly one line on stderr
 expect_exit() {
@@ -150,5 +147,4 @@ else
   echo "note: cannot mount a small tmpfs here (not root?); full-disk case not exercised" >&2
 fi
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+summary

@@ -7,10 +7,7 @@ set -u
 BIN=${FOVSIM_BIN:?set by CMake}
 T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/compare
 rm -rf "$T"; mkdir -p "$T"
-passed=0; failed=0
-ok()   { passed=$((passed+1)); echo "ok   $1" >&2; }
-fail() { failed=$((failed+1)); echo "FAIL $1" >&2; }
-check() { local name=$1; shift; if "$@"; then ok "$name"; else fail "$name"; fi; }
+. "$(dirname "$0")/harness.sh"
 for tool in exrheader exrinfo oiiotool ffmpeg python3; do
   command -v $tool >/dev/null || { echo "FAIL '$tool' is not installed (scripts/setup.sh installs it)" >&2; exit 1; }
 done
@@ -103,5 +100,4 @@ done
 "$BIN" compare forest --gaze "$T/missing.csv" --out "$T/bad" >/dev/null 2>"$T/bad.err"; rc=$?
 check "compare with a missing gaze file: exit 6, nothing written" bash -c "[ $rc -eq 6 ] && [ ! -e '$T/bad' ]"
 
-echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+summary

@@ -205,7 +205,7 @@ TEST(cache_reused_keyed_and_repaired)
     scene_free(&sc);
 }
 
-TEST(reference_ignores_mode_overrides_and_gaze)
+TEST(reference_ignores_mode_overrides)
 {
     /* A material's own alpha mode does not change the reference (it is always stochastic), so
      * the key and the image stay. */
@@ -231,6 +231,6 @@ int main(void)
     RUN(expectation_is_order_correct_compositing);
     RUN(error_shrinks_as_one_over_sqrt_k);
     RUN(cache_reused_keyed_and_repaired);
-    RUN(reference_ignores_mode_overrides_and_gaze);
+    RUN(reference_ignores_mode_overrides);
     return test_summary();
 }
