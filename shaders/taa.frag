@@ -2,7 +2,8 @@
 // Runs over the ring's footprint in ring pixels, right after the ring was drawn with sub-pixel
 // jitter. Each pixel reprojects through its depth into the PREVIOUS frame's ring (the ring frustum
 // moves with the gaze), fetches that history with a Catmull-Rom filter, clips it to the variance
-// box of the current 3x3 neighbourhood in YCoCg, and blends. History that falls outside the
+// box of the current 3x3 neighbourhood in YCoCg (widened where sparse stochastic coverage
+// makes that neighbourhood miss what the history holds), and blends. History that falls outside the
 // previous ring's footprint (a saccade) or behind the previous camera is not used: the pixel takes
 // the current sample. NaN and Inf never enter history. The math is in common/taa.glsl (C twin:
 // src/passes/taa_math.c).
@@ -25,6 +26,7 @@ uniform float u_block;           // display pixels per ring pixel
 uniform bool u_history_valid;    // false on the first frame and after a camera cut
 uniform float u_blend;           // weight of the current sample, default 0.1
 uniform float u_gamma;           // variance box half-width in sigmas, default 1
+uniform float u_sparse;          // sparse-coverage slack (taa_sparse_margin), default 0.28; 0 = off
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
@@ -113,9 +115,13 @@ void main()
     float hist_cov = cur_cov;
     if (valid) {
         hist = fetch_history(prev, hist_cov);
-        vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), mean, sigma, u_gamma);
-        hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, a_min, a_max));
-        hist_cov = clamp(hist_cov, c_min, c_max);
+        // Sparse stochastic coverage: where the nine samples all missed (or all hit) a surface the
+        // history covers partly, widen the coverage range by what they can miss, and the colour
+        // box by a quarter of that (docs/taa.md).
+        float m = taa_sparse_margin(hist_cov, c_min, c_max, u_sparse);
+        vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), mean, sigma, u_gamma, float(TAA_SPARSE_COLOR) * m);
+        hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, a_min - m, a_max + m));
+        hist_cov = clamp(hist_cov, c_min - m, c_max + m);
     }
     o_color = taa_resolve4(cur, hist, valid, u_blend);
     o_coverage = vec4(taa_resolve(cur_cov, hist_cov, valid, u_blend), 0.0, 0.0, 1.0);

@@ -106,6 +106,8 @@ void cli_print_help(command cmd)
            "  --taa on|off        temporal antialiasing per ring (default on for more than one frame)\n"
            "  --taa-blend W       weight of the current frame in the history (default 0.1)\n"
            "  --taa-gamma G       history clipping box, in standard deviations (default 1)\n"
+           "  --taa-sparse S|off  coverage a uniform 3x3 neighbourhood may have missed, kept in the\n"
+           "                      history (sparse stochastic coverage, docs/taa.md; default 0.28)\n"
            "  --jitter-length N   Halton (2,3) jitter period in frames (default 16)\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
@@ -257,7 +259,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--jitter-length", "--supersample", "--samples",
+                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--supersample", "--samples",
                                                  "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
@@ -333,6 +335,14 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = parse_float(opt, val, 0.0f, 1.0f, &d->taa_blend);
         else if (!strcmp(opt, "--taa-gamma"))
             ok = parse_float(opt, val, 0.0f, 16.0f, &d->taa_gamma);
+        else if (!strcmp(opt, "--taa-sparse")) {
+            char *end;
+            double x = strtod(val, &end);
+            ok = !strcmp(val, "off") || (end != val && !*end && x > 0.0 && x <= 1.0);
+            d->taa_sparse = !strcmp(val, "off") ? -1.0f : (float)x;
+            if (!ok)
+                log_error("--taa-sparse: expected off or a number in (0, 1], got '%s'", val);
+        }
         else if (!strcmp(opt, "--jitter-length"))
             ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
         else if (!strcmp(opt, "--modes")) {

@@ -55,6 +55,7 @@ typedef struct run_desc {
     int taa;                 /* --taa on|off: 1 / 0; -1 = the scene's, else on (for more than one frame) */
     float taa_blend;         /* --taa-blend, 0 = default 0.1 */
     float taa_gamma;         /* --taa-gamma, 0 = default 1 */
+    float taa_sparse;        /* --taa-sparse S|off, 0 = default 0.28, negative = off */
     int jitter_length;       /* --jitter-length, 0 = default 16 */
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */

@@ -88,6 +88,7 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                           .taa = d->taa >= 0 ? d->taa == 1 : !sc->taa.off,
                           .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
                                            .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
+                                           .sparse = d->taa_sparse != 0 ? d->taa_sparse : sc->taa.sparse,
                                            .jitter_length = d->jitter_length > 0 ? d->jitter_length
                                                                                  : sc->taa.jitter_length}};
     return resolve_layout(d, sc, d->width, d->height, &out->layout);

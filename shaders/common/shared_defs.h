@@ -60,5 +60,7 @@
 #define TAA_GAMMA_DEFAULT 1.0        /* variance clipping box: mean +- gamma * sigma */
 #define TAA_BLEND_DEFAULT 0.1        /* weight of the current sample in the exponential blend */
 #define TAA_MAX_VALUE 65504.0        /* half-float max: history is RGBA16F, larger values clamp */
+#define TAA_SPARSE_SLACK 0.28        /* default coverage a uniform 3x3 may miss (taa_sparse_margin) */
+#define TAA_SPARSE_COLOR 0.25        /* colour box widening per unit of that coverage (docs/taa.md) */
 
 #endif

@@ -120,12 +120,14 @@ float taa_clip_axis(float t, float d, float extent)
     return t;
 }
 
-// C twin: taa_clip_to_box. Variance clipping towards the mean (YCoCg).
-vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma)
+// C twin: taa_clip_to_box. Variance clipping towards the mean (YCoCg); the box's half-extent is
+// gamma * sigma + margin on every axis.
+vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma, float margin)
 {
     vec3 h = taa_sanitize3(history), m = taa_sanitize3(mean), s = taa_sanitize3(sigma);
     float g = taa_is_nan(gamma) ? float(TAA_GAMMA_DEFAULT) : clamp(gamma, 0.0, float(TAA_MAX_VALUE));
-    precise vec3 e = g * abs(s);
+    float mg = taa_is_nan(margin) ? 0.0 : clamp(margin, 0.0, float(TAA_MAX_VALUE));
+    precise vec3 e = g * abs(s) + mg;
     precise vec3 d = h - m;
     float t = 1.0;
     t = taa_clip_axis(t, d.x, e.x);
@@ -135,6 +137,19 @@ vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma)
         return h;
     precise vec3 r = m + d * t;
     return r;
+}
+
+// >>sparse
+
+// C twin: taa_sparse_margin. min(|history_coverage - c|, slack) where the neighbourhood's coverage
+// samples all equal c (cov_min == cov_max); 0 otherwise. slack NaN -> 0, clamped to [0, 1].
+float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, float slack)
+{
+    if (taa_is_nan(history_coverage) || taa_is_nan(cov_min) || taa_is_nan(cov_max) || taa_is_nan(slack) ||
+        cov_min != cov_max)
+        return 0.0;
+    precise float d = abs(history_coverage - cov_min);
+    return min(d, clamp(slack, 0.0, 1.0));
 }
 
 // >>resolve

@@ -21,13 +21,14 @@ struct twin_out {
     vec4 o0;   // taa_halton, taa_jitter.xy, taa_sanitize(a.w)
     vec4 o1;   // taa_rgb_to_ycocg(a.xyz), taa_sanitize_color(a.xyz).x
     vec4 o2;   // taa_ycocg_to_rgb(a.xyz), 0
-    vec4 o3;   // taa_clip_to_box(a, b, c, c.w), 0
+    vec4 o3;   // taa_clip_to_box(a, b, c, c.w, d.w), 0
     vec4 o4;   // taa_catmull_rom_weights(d.w)
     vec4 o5;   // taa_resolve(a, b, v.x != 0, b.w), 0
     vec4 o6;   // taa_reproject(d.xyz, inv, prev), valid ? 1 : 0
     vec4 o7;   // taa_resolve4(a, vec4(b.xyz, c.w), v.x != 0, b.w)
     vec4 o8;   // taa_sanitize4(a)
-    vec4 o9;   // taa_resolve(a.w, c.w, v.x != 0, b.w) (one channel), 0, 0, 0
+    vec4 o9;   // taa_resolve(a.w, c.w, v.x != 0, b.w) (one channel), taa_sparse_margin(d.w / 4, 0, 0, c.z),
+               // taa_sparse_margin(d.w, c.x, c.x, TAA_SPARSE_SLACK), taa_sparse_margin(d.w, c.x, c.y, c.z)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -44,7 +45,7 @@ void main()
     r.o0 = vec4(taa_halton(p.u.x, p.u.y), taa_jitter(p.u.z, p.u.w), taa_sanitize(p.a.w));
     r.o1 = vec4(taa_rgb_to_ycocg(p.a.xyz), taa_sanitize_color(p.a.xyz).x);
     r.o2 = vec4(taa_ycocg_to_rgb(p.a.xyz), 0.0);
-    r.o3 = vec4(taa_clip_to_box(p.a.xyz, p.b.xyz, p.c.xyz, p.c.w), 0.0);
+    r.o3 = vec4(taa_clip_to_box(p.a.xyz, p.b.xyz, p.c.xyz, p.c.w, p.d.w), 0.0);
     r.o4 = taa_catmull_rom_weights(p.d.w);
     r.o5 = vec4(taa_resolve(p.a.xyz, p.b.xyz, p.v.x != 0u, p.b.w), 0.0);
     vec3 prev_ndc;
@@ -52,6 +53,8 @@ void main()
     r.o6 = vec4(prev_ndc, valid ? 1.0 : 0.0);
     r.o7 = taa_resolve4(p.a, vec4(p.b.xyz, p.c.w), p.v.x != 0u, p.b.w);
     r.o8 = taa_sanitize4(p.a);
-    r.o9 = vec4(taa_resolve(p.a.w, p.c.w, p.v.x != 0u, p.b.w), 0.0, 0.0, 0.0);
+    r.o9 = vec4(taa_resolve(p.a.w, p.c.w, p.v.x != 0u, p.b.w), taa_sparse_margin(p.d.w * 0.25, 0.0, 0.0, p.c.z),
+                taa_sparse_margin(p.d.w, p.c.x, p.c.x, float(TAA_SPARSE_SLACK)),
+                taa_sparse_margin(p.d.w, p.c.x, p.c.y, p.c.z));
     tout[i] = r;
 }

@@ -27,6 +27,8 @@ taa_controls taa_controls_defaults(const taa_controls *c)
         r.gamma = TAA_GAMMA_DEFAULT;
     if (r.jitter_length <= 0)
         r.jitter_length = TAA_JITTER_LENGTH_DEFAULT;
+    if (!(r.sparse < 0.0f) && !(r.sparse > 0.0f && r.sparse <= 1.0f))
+        r.sparse = TAA_SPARSE_SLACK; /* negative (off) stays */
     return r;
 }
 
@@ -269,9 +271,9 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, Halton(2,3) jitter of %d frames; %s\n",
+                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
-                p->taa_controls.jitter_length,
+                p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
                 p->camera_motion ? "reprojection through depth (the camera moves)"
                                  : "no reprojection (still camera: only the rings move with the gaze)");
     fprintf(f, "off        %s%s%sper-object motion (static scenes)\n", p->msaa ? "" : "MSAA (no alpha-to-coverage mode), ",

@@ -57,6 +57,8 @@ typedef struct taa_controls {
     float blend;        /* weight of the current frame, default TAA_BLEND_DEFAULT (0.1) */
     float gamma;        /* variance-box half-width in sigmas, default TAA_GAMMA_DEFAULT (1) */
     int jitter_length;  /* Halton (2,3) period in frames, default TAA_JITTER_LENGTH_DEFAULT (16) */
+    float sparse;       /* sparse-coverage slack in (0, 1] (taa_sparse_margin), default
+                         * TAA_SPARSE_SLACK; negative = off */
 } taa_controls;
 
 taa_controls taa_controls_defaults(const taa_controls *c);

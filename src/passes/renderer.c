@@ -53,7 +53,7 @@ typedef struct composite_program {
 typedef struct taa_program {
     GLuint id;
     GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
-        u_gamma, u_rect, u_prev_rect, u_block;
+        u_gamma, u_sparse, u_rect, u_prev_rect, u_block;
 } taa_program;
 
 typedef struct gpu_prim {
@@ -182,6 +182,7 @@ static fs_status taa_create(const plan_pass *ps, taa_program *out)
     out->u_history_valid = glGetUniformLocation(h, "u_history_valid");
     out->u_blend = glGetUniformLocation(h, "u_blend");
     out->u_gamma = glGetUniformLocation(h, "u_gamma");
+    out->u_sparse = glGetUniformLocation(h, "u_sparse");
     out->u_rect = glGetUniformLocation(h, "u_rect");
     out->u_prev_rect = glGetUniformLocation(h, "u_prev_rect");
     out->u_block = glGetUniformLocation(h, "u_block");
@@ -756,6 +757,7 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glProgramUniform1i(p->id, p->u_history_valid, valid);
     glProgramUniform1f(p->id, p->u_blend, r->pl.taa_controls.blend);
     glProgramUniform1f(p->id, p->u_gamma, r->pl.taa_controls.gamma);
+    glProgramUniform1f(p->id, p->u_sparse, fmaxf(r->pl.taa_controls.sparse, 0.0f));
     glProgramUniform4f(p->id, p->u_rect, (float)rr->x0, (float)rr->y0, (float)rr->x1, (float)rr->y1);
     glProgramUniform4f(p->id, p->u_prev_rect, (float)pr->x0, (float)pr->y0, (float)pr->x1, (float)pr->y1);
     glProgramUniform1f(p->id, p->u_block, (float)rr->block);

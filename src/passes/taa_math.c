@@ -131,11 +131,12 @@ static float clip_axis(float t, float d, float extent)
     return t;
 }
 
-vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma)
+vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma, float margin)
 {
     vec3 h = sanitize3(history), m = sanitize3(mean), s = sanitize3(sigma);
     float g = is_nan_bits(gamma) ? (float)TAA_GAMMA_DEFAULT : clampf(gamma, 0.0f, (float)TAA_MAX_VALUE);
-    vec3 e = v3(g * fabsf(s.x), g * fabsf(s.y), g * fabsf(s.z));
+    float mg = is_nan_bits(margin) ? 0.0f : clampf(margin, 0.0f, (float)TAA_MAX_VALUE);
+    vec3 e = v3(g * fabsf(s.x) + mg, g * fabsf(s.y) + mg, g * fabsf(s.z) + mg);
     vec3 d = v3(h.x - m.x, h.y - m.y, h.z - m.z);
     float t = 1.0f;
     t = clip_axis(t, d.x, e.x);
@@ -144,6 +145,17 @@ vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma)
     if (t >= 1.0f)
         return h;
     return v3(m.x + d.x * t, m.y + d.y * t, m.z + d.z * t);
+}
+
+/* >>sparse */
+
+float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, float slack)
+{
+    if (is_nan_bits(history_coverage) || is_nan_bits(cov_min) || is_nan_bits(cov_max) || is_nan_bits(slack) ||
+        cov_min != cov_max)
+        return 0.0f;
+    float d = fabsf(history_coverage - cov_min), s = clampf(slack, 0.0f, 1.0f);
+    return d < s ? d : s;
 }
 
 /* >>resolve */

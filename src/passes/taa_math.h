@@ -10,6 +10,7 @@
  *   taa_rgb_to_ycocg / _to_rgb      the colour space of the neighbourhood clip
  *   taa_clip_to_box                 variance clipping (Salvi 2016, Karis 2014): AABB clip of the
  *                                   history towards the neighbourhood mean
+ *   taa_sparse_margin               how far the box widens for sparse stochastic coverage
  *   taa_catmull_rom_weights         4-tap cubic weights of one axis, for the history fetch
  *   taa_resolve / 4 / 1             exponential blend of history and current sample (RGB, RGBA, one
  *                                   channel)
@@ -20,7 +21,9 @@
  *   taa_reproject(ndc, inv_vp_jittered, prev_vp, &prev, &valid);      // -> history uv
  *   vec3 c = taa_rgb_to_ycocg(taa_sanitize_color(current));
  *   vec3 h = taa_rgb_to_ycocg(taa_sanitize_color(history_catmull_rom));
- *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT);           // mean/sigma: 3x3 YCoCg
+ *   float m = taa_sparse_margin(history_coverage, cov_min, cov_max, TAA_SPARSE_SLACK);
+ *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT, TAA_SPARSE_COLOR * m); // 3x3 YCoCg
+ *   history_coverage = clamp(history_coverage, cov_min - m, cov_max + m);
  *   out = taa_resolve(current, taa_ycocg_to_rgb(h), valid && inside, TAA_BLEND_DEFAULT);
  *
  * Guarantees: taa_sanitize, taa_sanitize_color, taa_clip_to_box, taa_catmull_rom_weights and
@@ -68,12 +71,22 @@ vec3 taa_sanitize_color(vec3 c);
 /* taa_sanitize_color for RGBA (alpha / coverage included). GLSL twin: vec4 taa_sanitize4(vec4). */
 void taa_sanitize4(const float c[4], float out[4]);
 
-/* Variance clipping in YCoCg. Box = mean +- gamma * |sigma| (inputs sanitized; gamma NaN ->
- * TAA_GAMMA_DEFAULT, negative -> 0). History inside the box is returned unchanged; outside, it moves
+/* Variance clipping in YCoCg. Box = mean +- (gamma * |sigma| + margin) (inputs sanitized; gamma NaN
+ * -> TAA_GAMMA_DEFAULT, negative -> 0; margin NaN or negative -> 0). History inside the box is returned unchanged; outside, it moves
  * along the segment to the mean until it meets the box: mean + (history - mean) * t, t = min over
  * the axes where |d| > extent of extent / |d|. A zero extent on such an axis gives t = 0: the mean.
  * GLSL twin: taa_clip_to_box. */
-vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma);
+vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma, float margin);
+
+/* Sparse stochastic coverage (docs/taa.md). A stochastic or hashed test passes a thin wire in none
+ * of the 3x3 neighbours in many frames; clipping the history to that neighbourhood would reset the
+ * wire to the background each time. Where all nine coverage samples agree (cov_min == cov_max == c),
+ * the samples may have missed a coverage of up to `slack` (clamped to [0, 1]; NaN -> 0): returns
+ * min(|history_coverage - c|, slack); the caller widens the coverage range by it and the colour
+ * box by TAA_SPARSE_COLOR times it. Otherwise (mixed samples already make a wide box, or NaN)
+ * returns 0: clip as usual. A colour ghost thus survives only as far as a coverage of <= slack can
+ * explain, at TAA_SPARSE_COLOR colour units per unit of coverage. GLSL twin: taa_sparse_margin. */
+float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, float slack);
 
 /* Catmull-Rom weights of the taps at -1, 0, 1, 2 for a sample at frac in [0, 1] (clamped, NaN -> 0)
  * past tap 0. They sum to 1 (up to rounding) and reproduce linear functions.

@@ -169,11 +169,12 @@ typedef struct light_desc {
 } light_desc;
 
 /* TAA settings from a scene file ("taa" object); zero fields = the defaults (see plan.h's
- * taa_controls). The CLI's --taa, --taa-blend, --taa-gamma and --jitter-length win. */
+ * taa_controls). The CLI's --taa, --taa-blend, --taa-gamma, --taa-sparse and --jitter-length win. */
 typedef struct scene_taa {
     bool given;         /* the scene file has a "taa" object */
     bool off;           /* "enabled": false */
     float blend, gamma; /* 0 = default */
+    float sparse;       /* "sparse": 0 = default, negative = off (the file's 0 or false) */
     int jitter_length;  /* 0 = default */
 } scene_taa;
 

@@ -973,7 +973,7 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "light")) && (s = parse_light(c, j)) != FS_OK)
         return s;
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "taa"))) {
-        static const char *const tkeys[] = {"enabled", "blend", "gamma", "jitter_length", "comment", NULL};
+        static const char *const tkeys[] = {"enabled", "blend", "gamma", "sparse", "jitter_length", "comment", NULL};
         if ((s = jkeys(c, j, "taa", tkeys)) != FS_OK)
             return s;
         const cJSON *t;
@@ -992,6 +992,13 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
             if ((s = jnum(c, t, "taa.gamma", (nrange){0, 16, true, false, false, false}, &v)) != FS_OK)
                 return s;
             sc->taa.gamma = (float)v;
+        }
+        if ((t = cJSON_GetObjectItemCaseSensitive(j, "sparse"))) {
+            if (cJSON_IsFalse(t))
+                v = 0;
+            else if ((s = jnum(c, t, "taa.sparse", (nrange){0, 1, false, false, false, false}, &v)) != FS_OK)
+                return s;
+            sc->taa.sparse = v > 0 ? (float)v : -1.0f;
         }
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "jitter_length")) &&
             (s = jint(c, t, "taa.jitter_length", 1, 1024, &sc->taa.jitter_length)) != FS_OK)

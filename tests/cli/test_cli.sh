@@ -80,15 +80,24 @@ check "demo follows the tour trace" bash -c "exrheader '$T/demo/compare.0000.exr
 check "demo compares traditional and hashed" bash -c "grep -q '^traditional' '$T/demo.txt' && grep -q '^hashed' '$T/demo.txt' && test -f '$T/demo/metrics.csv' && test -f '$T/demo/summary.json'"
 
 # ---- TAA settings: CLI, scene file, and the CLI winning over the scene
-printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "camera": [{"time": 0, "position": [0,1,5], "target": [0,1,0]}, {"time": 1, "position": [0,1,9], "target": [0,1,0]}], "taa": {"blend": 0.25, "gamma": 1.5, "jitter_length": 8}}' >"$T/taa.json"
-check "scene file sets TAA controls" bash -c "'$BIN' plan '$T/taa.json' | grep -q 'blend 0.25, gamma 1.50, Halton(2,3) jitter of 8 frames; reprojection through depth'"
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "camera": [{"time": 0, "position": [0,1,5], "target": [0,1,0]}, {"time": 1, "position": [0,1,9], "target": [0,1,0]}], "taa": {"blend": 0.25, "gamma": 1.5, "sparse": 0.4, "jitter_length": 8}}' >"$T/taa.json"
+check "scene file sets TAA controls" bash -c "'$BIN' plan '$T/taa.json' | grep -q 'blend 0.25, gamma 1.50, sparse-coverage slack 0.40, Halton(2,3) jitter of 8 frames; reprojection through depth'"
 check "CLI --taa-blend wins" bash -c "'$BIN' plan '$T/taa.json' --taa-blend 0.05 | grep -q 'blend 0.05'"
+check "CLI --taa-sparse off wins" bash -c "'$BIN' plan '$T/taa.json' --taa-sparse off | grep -q 'sparse-coverage slack 0.00'"
+check "default sparse-coverage slack" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'sparse-coverage slack 0.28'"
+expect_exit "--taa-sparse 0 -> 2" 2 "$BIN" plan --builtin fence --taa-sparse 0
+check "--taa-sparse 0 says what it expects" grep -q "expected off or a number in (0, 1]" "$T/err.txt"
 check "--taa off" bash -c "! '$BIN' plan '$T/taa.json' --taa off | grep -q '^taa'"
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"enabled": false}}' >"$T/notaa.json"
 check "scene file turns TAA off" bash -c "! '$BIN' plan '$T/notaa.json' --frames 10 | grep -q '^taa'"
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"blend": 2}}' >"$T/badtaa.json"
 expect_exit "bad taa.blend -> 3" 3 "$BIN" plan "$T/badtaa.json"
 check "bad taa.blend names the JSON path" grep -q "badtaa.json: taa.blend" "$T/err.txt"
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"sparse": 1.5}}' >"$T/badsparse.json"
+expect_exit "bad taa.sparse -> 3" 3 "$BIN" plan "$T/badsparse.json"
+check "bad taa.sparse names the JSON path" grep -q "badsparse.json: taa.sparse" "$T/err.txt"
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"sparse": false}}' >"$T/nosparse.json"
+check "scene file turns the sparse-coverage margin off" bash -c "'$BIN' plan '$T/nosparse.json' --frames 4 | grep -q 'sparse-coverage slack 0.00'"
 
 # ---- a glTF file is a scene by itself
 "$BIN" render --scene "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" --frames 1 --width 64 --height 64 --out "$T/gltf" --quiet >/dev/null 2>&1

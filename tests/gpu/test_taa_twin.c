@@ -137,7 +137,7 @@ static void run_cpu(const twin_in *p, twin_out *r)
     r->o[0][3] = taa_sanitize(p->a[3]);
     set3(r->o[1], taa_rgb_to_ycocg(a), taa_sanitize_color(a).x);
     set3(r->o[2], taa_ycocg_to_rgb(a), 0.0f);
-    set3(r->o[3], taa_clip_to_box(a, b, c, p->c[3]), 0.0f);
+    set3(r->o[3], taa_clip_to_box(a, b, c, p->c[3], p->d[3]), 0.0f);
     taa_catmull_rom_weights(p->d[3], r->o[4]);
     set3(r->o[5], taa_resolve(a, b, p->v[0] != 0, p->b[3]), 0.0f);
     mat4 inv, prev;
@@ -151,6 +151,9 @@ static void run_cpu(const twin_in *p, twin_out *r)
     taa_resolve4(p->a, hist4, p->v[0] != 0, p->b[3], r->o[7]);
     taa_sanitize4(p->a, r->o[8]);
     r->o[9][0] = taa_resolve1(p->a[3], p->c[3], p->v[0] != 0, p->b[3]);
+    r->o[9][1] = taa_sparse_margin(p->d[3] * 0.25f, 0.0f, 0.0f, p->c[2]);
+    r->o[9][2] = taa_sparse_margin(p->d[3], p->c[0], p->c[0], (float)TAA_SPARSE_SLACK);
+    r->o[9][3] = taa_sparse_margin(p->d[3], p->c[0], p->c[1], p->c[2]);
 }
 
 /* >>gpu */
@@ -229,9 +232,10 @@ static double operand_scale(const twin_in *p, int k)
     for (int c = 0; c < 3; c++) {
         if (k == 1 || k == 2) /* ycocg: raw inputs */
             s = fmax(s, fabs(p->a[c]));
-        if (k == 3) /* clip: history, mean, gamma * sigma */
+        if (k == 3) /* clip: history, mean, gamma * sigma, margin */
             s = fmax(s, fmax(fmax(sanitized_abs(p->a[c]), sanitized_abs(p->b[c])),
-                             sanitized_abs(p->c[c]) * fmin(fmax(sanitized_abs(p->c[3]), 1.0), (double)TAA_MAX_VALUE)));
+                             fmax(sanitized_abs(p->c[c]) * fmin(fmax(sanitized_abs(p->c[3]), 1.0), (double)TAA_MAX_VALUE),
+                                  sanitized_abs(p->d[3]))));
         if (k == 5 || k == 7) /* resolve: both colours */
             s = fmax(s, fmax(sanitized_abs(p->a[c]), sanitized_abs(p->b[c])));
     }
@@ -242,7 +246,7 @@ static double operand_scale(const twin_in *p, int k)
 
 enum { SLOTS = 10 };
 static const char *slot_name[SLOTS] = {"sanitize",  "rgb_to_ycocg", "ycocg_to_rgb", "clip_to_box", "catmull_rom",
-                                       "resolve",   "reproject",    "resolve4",     "sanitize4",   "resolve1"};
+                                       "resolve",   "reproject",    "resolve4",     "sanitize4",   "resolve1+sparse"};
 
 TEST(float_functions_agree)
 {
@@ -258,7 +262,7 @@ TEST(float_functions_agree)
             bool gv = g->o[6][3] != 0.0f, cv = c->o[6][3] != 0.0f;
             valid_mismatch += gv != cv;
             for (int k = 0; k < SLOTS; k++) {
-                int first = k == 0 ? 3 : 0, last = k == 0 ? 4 : k == 9 ? 1 : (k == 4 || k == 7 || k == 8) ? 4 : 3;
+                int first = k == 0 ? 3 : 0, last = (k == 0 || k == 4 || k == 7 || k == 8 || k == 9) ? 4 : 3;
                 if (k == 6 && gv != cv)
                     continue; /* different branches: counted above */
                 for (int e = first; e < last; e++) {
