@@ -4,8 +4,10 @@
 // moves with the gaze), fetches that history with a Catmull-Rom filter, clips it to the variance
 // box of the current 3x3 neighbourhood in YCoCg (widened where sparse stochastic coverage
 // makes that neighbourhood miss what the history holds), and blends. History that falls outside the
-// previous ring's footprint (a saccade) or behind the previous camera is not used: the pixel takes
-// the current sample. NaN and Inf never enter history. The math is in common/taa.glsl (C twin:
+// previous ring's footprint (a saccade) comes, with TAA_COARSE_HISTORY (stochastic alpha tests),
+// from the innermost coarser ring whose previous footprint holds it; where none does, without it,
+// or where the point was behind the previous camera, the pixel takes the current sample. NaN and
+// Inf never enter history. The math is in common/taa.glsl (C twin:
 // src/passes/taa_math.c).
 #include "common/taa.glsl"
 
@@ -23,6 +25,8 @@ uniform mat4 u_prev_view_proj;   // this ring, last frame, unjittered: world -> 
 uniform vec4 u_rect;             // this frame's footprint, display pixels (x0, y0, x1, y1)
 uniform vec4 u_prev_rect;        // last frame's footprint
 uniform float u_block;           // display pixels per ring pixel
+uniform vec4 u_ring_prev_rect[TAA_RING_COUNT]; // every ring's footprint last frame, display pixels
+uniform float u_ring_block[TAA_RING_COUNT];    // every ring's display pixels per ring pixel
 uniform bool u_history_valid;    // false on the first frame and after a camera cut
 uniform float u_blend;           // weight of the current sample, default 0.1
 uniform float u_gamma;           // variance box half-width in sigmas, default 1
@@ -41,14 +45,14 @@ vec4 fetch_cur(ivec2 p)
 // taps instead of 16 point taps (the 4x4 Catmull-Rom kernel's inner 2x2 taps merged into one
 // bilinear fetch per row/column and the four corner taps, whose weights are tiny, dropped:
 // Jimenez's approximation). Tap positions are clamped to the rendered texels' centres.
-vec4 fetch_history(vec2 p, out float cov)
+vec4 fetch_history(vec2 p, int layer, vec2 prev_size, out float cov)
 {
     vec2 t1 = floor(p - 0.5) + 0.5;
     vec2 f = p - t1;
     vec4 wx = taa_catmull_rom_weights(f.x), wy = taa_catmull_rom_weights(f.y);
     vec2 w0 = vec2(wx.x, wy.x), w12 = vec2(wx.y + wx.z, wy.y + wy.z), w3 = vec2(wx.w, wy.w);
     vec2 t12 = t1 + vec2(wx.z, wy.z) / max(w12, vec2(1e-6));
-    vec2 lo = vec2(0.5), hi = u_prev_size - 0.5;
+    vec2 lo = vec2(0.5), hi = prev_size - 0.5;
     vec2 t0 = clamp(t1 - 1.0, lo, hi), t3 = clamp(t1 + 2.0, lo, hi);
     t12 = clamp(t12, lo, hi);
     vec3 taps[5] = vec3[5](vec3(t12.x, t0.y, w12.x * w0.y), vec3(t0.x, t12.y, w0.x * w12.y),
@@ -57,13 +61,19 @@ vec4 fetch_history(vec2 p, out float cov)
     vec4 c = vec4(0.0);
     float wsum = 0.0;
     for (int i = 0; i < 5; i++) {
-        vec3 uvw = vec3(taps[i].xy / u_array_px, float(u_layer));
+        vec3 uvw = vec3(taps[i].xy / u_array_px, float(layer));
         c += taps[i].z * taa_sanitize4(textureLod(u_hist_color, uvw, 0.0));
         wsum += taps[i].z;
     }
     // Coverage: one bilinear tap (its history needs no sharpening).
-    cov = taa_sanitize(textureLod(u_hist_coverage, vec3(clamp(p, lo, hi) / u_array_px, float(u_layer)), 0.0).r);
+    cov = taa_sanitize(textureLod(u_hist_coverage, vec3(clamp(p, lo, hi) / u_array_px, float(layer)), 0.0).r);
     return max(c / wsum, vec4(0.0)); // Catmull-Rom undershoots below 0 at sharp edges
+}
+
+// p (ring pixels) lies where the Catmull-Rom fetch has rendered texels around it.
+bool inside_footprint(vec2 p, vec2 size)
+{
+    return all(greaterThanEqual(p, vec2(0.5))) && all(lessThanEqual(p, size - 0.5));
 }
 
 void main()
@@ -93,7 +103,8 @@ void main()
 
     // Reproject through depth into last frame's ring.
     bool valid = u_history_valid;
-    vec2 prev = vec2(0.0);
+    vec2 prev = vec2(0.0), prev_size = u_prev_size;
+    int prev_layer = u_layer;
     if (valid) {
 #ifdef TAA_CAMERA_MOTION
         // The camera moves: through depth and last frame's camera and ring frustum.
@@ -108,13 +119,31 @@ void main()
         vec2 disp = vec2(u_rect.x + (float(pix.x) + 0.5) * u_block, u_rect.w - (float(pix.y) + 0.5) * u_block);
         prev = vec2(disp.x - u_prev_rect.x, u_prev_rect.w - disp.y) / u_block;
 #endif
-        // Outside last frame's footprint of this ring (a saccade moved it): no history there.
-        valid = valid && all(greaterThanEqual(prev, vec2(0.5))) && all(lessThanEqual(prev, u_prev_size - 0.5));
+        // Outside last frame's footprint of this ring (a saccade moved it): with stochastic alpha
+        // tests, the same display point in the innermost coarser ring whose footprint held it;
+        // else no history.
+        if (valid && !inside_footprint(prev, u_prev_size)) {
+            valid = false;
+#ifdef TAA_COARSE_HISTORY
+            vec2 at = vec2(u_prev_rect.x + prev.x * u_block, u_prev_rect.w - prev.y * u_block); // display px
+            for (int k = u_layer + 1; k < TAA_RING_COUNT && !valid; k++) {
+                vec4 r = u_ring_prev_rect[k];
+                vec2 size = (r.zw - r.xy) / u_ring_block[k];
+                vec2 q = vec2(at.x - r.x, r.w - at.y) / u_ring_block[k];
+                if (inside_footprint(q, size)) {
+                    valid = true;
+                    prev = q;
+                    prev_size = size;
+                    prev_layer = k;
+                }
+            }
+#endif
+        }
     }
     vec4 hist = cur;
     float hist_cov = cur_cov;
     if (valid) {
-        hist = fetch_history(prev, hist_cov);
+        hist = fetch_history(prev, prev_layer, prev_size, hist_cov);
         // Sparse stochastic coverage: where the nine samples all missed (or all hit) a surface the
         // history covers partly, widen the coverage range by what they can miss, and the colour
         // box by a quarter of that (docs/taa.md).

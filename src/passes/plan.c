@@ -165,6 +165,12 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     }
     out->taa_controls = taa_controls_defaults(&o.taa_controls);
     out->camera_motion = camera_moves(&sc->camera);
+    /* Foveation: the rings, and a composite pass only when something needs one. */
+    out->layout = o.layout.count > 0 ? o.layout : fov_layout_off();
+    out->rings = out->layout.count > 1 || out->layout.rings[0].scale_log2 > 0;
+    out->overlay = o.overlay;
+    out->debug_channels = o.debug_channels;
+    out->composite = out->rings || o.overlay || o.debug_channels;
     if (out->taa) {
         plan_pass *t = &out->taa_pass;
         memset(t, 0, sizeof *t);
@@ -174,14 +180,21 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         /* A still camera needs no reprojection through depth (simulate only what the scene needs). */
         if (out->camera_motion)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_CAMERA_MOTION 1");
+        /* The rings a pixel that left its own ring's footprint may take history from: where the
+         * alpha tests are stochastic, a coarser ring's history is closer to the converged image
+         * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_COUNT %d", out->layout.count);
+        out->taa_coarse_history = false;
+        for (int i = 0; i < out->pass_count; i++)
+            out->taa_coarse_history |= out->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
+                                       (out->passes[i].mode == ALPHA_MODE_STOCHASTIC ||
+                                        out->passes[i].mode == ALPHA_MODE_HASHED ||
+                                        out->passes[i].mode == ALPHA_MODE_HASHED_A2C);
+        out->taa_coarse_history = out->taa_coarse_history && out->layout.count > 1;
+        if (out->taa_coarse_history)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_COARSE_HISTORY 1");
+        qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
     }
-
-    /* Foveation: the rings, and a composite pass only when something needs one. */
-    out->layout = o.layout.count > 0 ? o.layout : fov_layout_off();
-    out->rings = out->layout.count > 1 || out->layout.rings[0].scale_log2 > 0;
-    out->overlay = o.overlay;
-    out->debug_channels = o.debug_channels;
-    out->composite = out->rings || o.overlay || o.debug_channels;
     if (out->composite) {
         plan_pass *c = &out->composite_pass;
         memset(c, 0, sizeof *c);
@@ -271,11 +284,13 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s\n",
+                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
                 p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
                 p->camera_motion ? "reprojection through depth (the camera moves)"
-                                 : "no reprojection (still camera: only the rings move with the gaze)");
+                                 : "no reprojection (still camera: only the rings move with the gaze)",
+                p->taa_coarse_history ? "history that leaves its ring's footprint from a coarser ring"
+                                      : "history that leaves its ring's footprint dropped");
     fprintf(f, "off        %s%s%sper-object motion (static scenes)\n", p->msaa ? "" : "MSAA (no alpha-to-coverage mode), ",
             p->taa ? "" : "TAA (--taa off, or a single frame), ", "");
 }

@@ -94,6 +94,8 @@ typedef struct plan {
     plan_pass taa_pass;         /* shaders of the TAA resolve (valid when taa) */
     bool velocity;              /* per-object motion: not implemented (scenes are static) */
     bool camera_motion;         /* the camera path moves: TAA reprojects through depth */
+    bool taa_coarse_history;    /* stochastic alpha tests and rings: a pixel that left its ring's
+                                 * footprint takes a coarser ring's history */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
     fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */
     bool rings;                 /* foveation on: more than one ring or a reduced scale */

@@ -53,7 +53,7 @@ typedef struct composite_program {
 typedef struct taa_program {
     GLuint id;
     GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
-        u_gamma, u_sparse, u_rect, u_prev_rect, u_block;
+        u_gamma, u_sparse, u_rect, u_prev_rect, u_block, u_ring_prev_rect, u_ring_block;
 } taa_program;
 
 typedef struct gpu_prim {
@@ -185,6 +185,8 @@ static fs_status taa_create(const plan_pass *ps, taa_program *out)
     out->u_sparse = glGetUniformLocation(h, "u_sparse");
     out->u_rect = glGetUniformLocation(h, "u_rect");
     out->u_prev_rect = glGetUniformLocation(h, "u_prev_rect");
+    out->u_ring_prev_rect = glGetUniformLocation(h, "u_ring_prev_rect");
+    out->u_ring_block = glGetUniformLocation(h, "u_ring_block");
     out->u_block = glGetUniformLocation(h, "u_block");
     return FS_OK;
 }
@@ -761,6 +763,19 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glProgramUniform4f(p->id, p->u_rect, (float)rr->x0, (float)rr->y0, (float)rr->x1, (float)rr->y1);
     glProgramUniform4f(p->id, p->u_prev_rect, (float)pr->x0, (float)pr->y0, (float)pr->x1, (float)pr->y1);
     glProgramUniform1f(p->id, p->u_block, (float)rr->block);
+    /* Every ring's previous footprint: where a pixel left its own (a saccade), history comes from
+     * the innermost coarser ring that held it. */
+    float prev_rects[MAX_FOV_RINGS][4], blocks[MAX_FOV_RINGS];
+    for (int k = 0; k < fr->ring_count; k++) {
+        const fov_ring_rect *q = valid ? &r->prev_rect[k] : &fr->ring_rect[k];
+        prev_rects[k][0] = (float)q->x0;
+        prev_rects[k][1] = (float)q->y0;
+        prev_rects[k][2] = (float)q->x1;
+        prev_rects[k][3] = (float)q->y1;
+        blocks[k] = (float)q->block;
+    }
+    glProgramUniform4fv(p->id, p->u_ring_prev_rect, fr->ring_count, &prev_rects[0][0]);
+    glProgramUniform1fv(p->id, p->u_ring_block, fr->ring_count, blocks);
     glBindTextureUnit(0, r->rt.color);
     glBindTextureUnit(1, r->rt.coverage);
     glBindTextureUnit(2, r->rt.depth);

@@ -190,6 +190,14 @@ TEST(rings_and_composite_only_when_asked)
     scene_free(&sc);
 }
 
+static bool has_define(const plan_pass *ps, const char *d)
+{
+    for (int i = 0; ps && i < ps->define_count; i++)
+        if (strcmp(ps->defines[i], d) == 0)
+            return true;
+    return false;
+}
+
 TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
 {
     scene sc;
@@ -201,19 +209,28 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(!p.taa);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
     CHECK(p.taa && p.camera_motion);
-    CHECK(p.taa_pass.define_count == 1 && strcmp(p.taa_pass.defines[0], "TAA_CAMERA_MOTION 1") == 0);
+    CHECK(p.taa_pass.define_count == 2 && has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1") &&
+          has_define(&p.taa_pass, "TAA_RING_COUNT 1"));
+    CHECK(!p.taa_coarse_history);
     CHECK(p.taa_controls.blend == 0.1f && p.taa_controls.gamma == 1.0f && p.taa_controls.jitter_length == 16);
     /* Hashed thresholds get their per-frame offset only with TAA. */
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED}, &p) == FS_OK);
-    const plan_pass *m = plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED);
-    bool offset = false;
-    for (int i = 0; m && i < m->define_count; i++)
-        offset |= strcmp(m->defines[i], "TAA_HASH_OFFSET 1") == 0;
-    CHECK(offset);
+    CHECK(has_define(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED), "TAA_HASH_OFFSET 1"));
+    CHECK(!p.taa_coarse_history); /* one ring: no coarser history to take */
+    /* With rings, stochastic tests take a coarser ring's history after a saccade; traditional not. */
+    fov_layout l;
+    char err[128];
+    CHECK(fov_layout_parse("10:1:0,*:1/2:0", &sc.display, &l, err, sizeof err) == FS_OK);
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED, .layout = l}, &p) == FS_OK);
+    CHECK(p.taa_coarse_history && has_define(&p.taa_pass, "TAA_COARSE_HISTORY 1") && has_define(&p.taa_pass, "TAA_RING_COUNT 2"));
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_STOCHASTIC, .layout = l}, &p) == FS_OK);
+    CHECK(p.taa_coarse_history);
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_TRADITIONAL, .layout = l}, &p) == FS_OK);
+    CHECK(!p.taa_coarse_history && !has_define(&p.taa_pass, "TAA_COARSE_HISTORY 1"));
     /* A still camera: TAA without reprojection through depth. */
     sc.camera.count = 1;
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
-    CHECK(p.taa && !p.camera_motion && p.taa_pass.define_count == 0);
+    CHECK(p.taa && !p.camera_motion && !has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1"));
     scene_free(&sc);
 }
 
