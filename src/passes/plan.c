@@ -98,6 +98,27 @@ static bool camera_moves(const camera_path *c)
     return false;
 }
 
+/* A pass drawn as one full-screen triangle (TAA resolve, composite), no defines yet. */
+static void fullscreen_pass(plan_pass *ps, const char *name, const char *fs)
+{
+    memset(ps, 0, sizeof *ps);
+    snprintf(ps->name, sizeof ps->name, "%s", name);
+    ps->vs = "shaders/fullscreen.vert";
+    ps->fs = fs;
+}
+
+/* Some alpha-tested pass draws with a stochastic threshold (its samples are noise). */
+static bool has_stochastic_mask(const plan *p)
+{
+    for (int i = 0; i < p->pass_count; i++) {
+        alpha_mode m = p->passes[i].mode;
+        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
+            (m == ALPHA_MODE_STOCHASTIC || m == ALPHA_MODE_HASHED || m == ALPHA_MODE_HASHED_A2C))
+            return true;
+    }
+    return false;
+}
+
 fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
 {
     plan_options o = opt ? *opt : (plan_options){0};
@@ -173,10 +194,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->composite = out->rings || o.overlay || o.debug_channels;
     if (out->taa) {
         plan_pass *t = &out->taa_pass;
-        memset(t, 0, sizeof *t);
-        snprintf(t->name, sizeof t->name, "taa");
-        t->vs = "shaders/fullscreen.vert";
-        t->fs = "shaders/taa.frag";
+        fullscreen_pass(t, "taa", "shaders/taa.frag");
         /* A still camera needs no reprojection through depth (simulate only what the scene needs). */
         if (out->camera_motion)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_CAMERA_MOTION 1");
@@ -184,23 +202,14 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
          * alpha tests are stochastic, a coarser ring's history is closer to the converged image
          * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
         snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_COUNT %d", out->layout.count);
-        out->taa_coarse_history = false;
-        for (int i = 0; i < out->pass_count; i++)
-            out->taa_coarse_history |= out->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
-                                       (out->passes[i].mode == ALPHA_MODE_STOCHASTIC ||
-                                        out->passes[i].mode == ALPHA_MODE_HASHED ||
-                                        out->passes[i].mode == ALPHA_MODE_HASHED_A2C);
-        out->taa_coarse_history = out->taa_coarse_history && out->layout.count > 1;
+        out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
         if (out->taa_coarse_history)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_COARSE_HISTORY 1");
         qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
     }
     if (out->composite) {
         plan_pass *c = &out->composite_pass;
-        memset(c, 0, sizeof *c);
-        snprintf(c->name, sizeof c->name, "composite");
-        c->vs = "shaders/fullscreen.vert";
-        c->fs = "shaders/composite.frag";
+        fullscreen_pass(c, "composite", "shaders/composite.frag");
         snprintf(c->defines[c->define_count++], sizeof c->defines[0], "FOV_RING_COUNT %d", out->layout.count);
         if (o.overlay)
             snprintf(c->defines[c->define_count++], sizeof c->defines[0], "OVERLAY 1");

@@ -732,14 +732,38 @@ static void stage_end(renderer *r, int k, double *t_prev)
     }
 }
 
+/* History is valid when there was a previous frame, it was the frame just before, and no camera
+ * cut lies between (frame_record.cut). */
+static bool taa_history_valid(const renderer *r, const frame_record *fr)
+{
+    return r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
+}
+
+/* Once per frame, where the plan has TAA_COARSE_HISTORY and history is valid: every ring's
+ * previous footprint, so that a pixel a saccade moved out of its own ring's footprint can take the
+ * innermost coarser ring's history. */
+static void taa_set_prev_footprints(renderer *r, const frame_record *fr)
+{
+    float rects[MAX_FOV_RINGS][4], blocks[MAX_FOV_RINGS];
+    for (int k = 0; k < fr->ring_count; k++) {
+        const fov_ring_rect *q = &r->prev_rect[k];
+        rects[k][0] = (float)q->x0;
+        rects[k][1] = (float)q->y0;
+        rects[k][2] = (float)q->x1;
+        rects[k][3] = (float)q->y1;
+        blocks[k] = (float)q->block;
+    }
+    glProgramUniform4fv(r->taa.id, r->taa.u_ring_prev_rect, fr->ring_count, &rects[0][0]);
+    glProgramUniform1fv(r->taa.id, r->taa.u_ring_block, fr->ring_count, blocks);
+}
+
 /* TAA of one ring: current (jittered) ring + last frame's resolved ring -> this frame's resolved
- * ring, in the `parity` pair of arrays. History is valid when there was a previous frame, it was
- * the frame just before, and no camera cut lies between (frame_record.cut). */
+ * ring, in the `parity` pair of arrays. */
 static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
 {
     const taa_program *p = &r->taa;
     const fov_ring_rect *rr = &fr->ring_rect[ring];
-    bool valid = r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
+    bool valid = taa_history_valid(r, fr);
     mat4 inv;
     m4_invert(fr->ring_view_proj[ring], &inv);
     const fov_ring_rect *pr = valid ? &r->prev_rect[ring] : rr;
@@ -763,19 +787,6 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glProgramUniform4f(p->id, p->u_rect, (float)rr->x0, (float)rr->y0, (float)rr->x1, (float)rr->y1);
     glProgramUniform4f(p->id, p->u_prev_rect, (float)pr->x0, (float)pr->y0, (float)pr->x1, (float)pr->y1);
     glProgramUniform1f(p->id, p->u_block, (float)rr->block);
-    /* Every ring's previous footprint: where a pixel left its own (a saccade), history comes from
-     * the innermost coarser ring that held it. */
-    float prev_rects[MAX_FOV_RINGS][4], blocks[MAX_FOV_RINGS];
-    for (int k = 0; k < fr->ring_count; k++) {
-        const fov_ring_rect *q = valid ? &r->prev_rect[k] : &fr->ring_rect[k];
-        prev_rects[k][0] = (float)q->x0;
-        prev_rects[k][1] = (float)q->y0;
-        prev_rects[k][2] = (float)q->x1;
-        prev_rects[k][3] = (float)q->y1;
-        blocks[k] = (float)q->block;
-    }
-    glProgramUniform4fv(p->id, p->u_ring_prev_rect, fr->ring_count, &prev_rects[0][0]);
-    glProgramUniform1fv(p->id, p->u_ring_block, fr->ring_count, blocks);
     glBindTextureUnit(0, r->rt.color);
     glBindTextureUnit(1, r->rt.coverage);
     glBindTextureUnit(2, r->rt.depth);
@@ -926,6 +937,8 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         r->shaded_pixels = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
     } else {
         /* Stages: each ring's passes, then its TAA resolve (when on), then the composite. */
+        if (r->pl.taa_coarse_history && taa_history_valid(r, fr))
+            taa_set_prev_footprints(r, fr);
         int k = 0;
         for (int i = 0; i < r->pl.layout.count; i++) {
             stage_begin(r, k);
