@@ -19,6 +19,9 @@ in vec3 v_world_normal;
 in vec3 v_object_pos;
 in vec2 v_uv;
 in vec4 v_color;
+#ifdef OBJECT_MOTION
+in vec3 v_motion;
+#endif
 
 layout(binding = TEX_UNIT_BASE_COLOR) uniform sampler2D u_base_tex; // linear, premultiplied
 uniform bool u_has_base_tex;
@@ -30,6 +33,9 @@ uniform vec3 u_eye;
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage; // .r stored; .a drives blending of the coverage target
+#ifdef OBJECT_MOTION
+layout(location = 2) out vec4 o_motion;   // .xyz: world position last frame - now (0: still)
+#endif
 
 void main()
 {
@@ -64,6 +70,9 @@ void main()
     if (u_double_sided && !gl_FrontFacing)
         n = -n;
     vec3 rgb = shade_lambert(albedo, n);
+#ifdef OBJECT_MOTION
+    o_motion = vec4(v_motion, 0.0); // the blend pass leaves it unwritten (colour mask)
+#endif
 
 #if defined(PASS_BLEND)
     o_color = vec4(rgb * alpha, alpha);

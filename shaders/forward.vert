@@ -1,6 +1,9 @@
 // forward.vert: one vertex of an instanced primitive. Object space = asset space (the whole tree),
 // which hashed alpha anchors to (seed 000 §5).
 #include "common/shared_defs.h"
+#ifdef SWAY
+#include "common/sway.glsl"
+#endif
 
 layout(location = ATTR_POSITION) in vec3 a_position;
 layout(location = ATTR_NORMAL) in vec3 a_normal;
@@ -9,6 +12,17 @@ layout(location = ATTR_COLOR) in vec4 a_color;
 layout(location = ATTR_INSTANCE) in mat4 a_model; // slots ATTR_INSTANCE .. +3, one per instance
 
 uniform mat4 u_view_proj;
+
+#ifdef SWAY
+// Wind sway (common/sway.glsl): per instance, (offset, height) and (frequency, phase).
+layout(location = ATTR_SWAY) in vec4 a_sway;
+layout(location = ATTR_SWAY_WAVE) in vec2 a_sway_wave;
+uniform float u_time;       // this frame, seconds
+#ifdef OBJECT_MOTION
+uniform float u_prev_time;  // the frame TAA's history is from (u_time when there is none)
+out vec3 v_motion;          // world position last frame - world position now
+#endif
+#endif
 
 out vec3 v_world_pos;
 out vec3 v_world_normal;
@@ -19,6 +33,14 @@ out vec4 v_color;
 void main()
 {
     vec4 world = a_model * vec4(a_position, 1.0);
+#ifdef SWAY
+    // The displacement is added in world space (the wind has one direction for every instance)
+    // and depends on the asset-space height, so trunk and leaves bend together.
+    world.xyz += sway_displacement(a_sway, a_sway_wave, a_position.y, u_time) * world.w;
+#ifdef OBJECT_MOTION
+    v_motion = sway_motion(a_sway, a_sway_wave, a_position.y, u_time, u_prev_time);
+#endif
+#endif
     v_world_pos = world.xyz;
     // Normals transform by the inverse transpose of the model matrix, which is the cofactor matrix
     // divided by the determinant: three cross products instead of a 3x3 inverse per vertex, and the

@@ -1,7 +1,7 @@
 // taa.frag: temporal antialiasing of one foveation ring (DESIGN.md "Temporal antialiasing").
 // Runs over the ring's footprint in ring pixels, right after the ring was drawn with sub-pixel
-// jitter. Each pixel reprojects through its depth into the PREVIOUS frame's ring (the ring frustum
-// moves with the gaze), fetches that history with a Catmull-Rom filter, clips it to the variance
+// jitter. Each pixel reprojects through its depth (and, with TAA_OBJECT_MOTION, its swaying
+// instance's own motion) into the PREVIOUS frame's ring (the ring frustum moves with the gaze), fetches that history with a Catmull-Rom filter, clips it to the variance
 // box of the current 3x3 neighbourhood in YCoCg (widened where sparse stochastic coverage
 // makes that neighbourhood miss what the history holds), and blends. History that falls outside the
 // previous ring's footprint (a saccade) comes, with TAA_COARSE_HISTORY (stochastic alpha tests),
@@ -16,6 +16,9 @@ layout(binding = 1) uniform sampler2DArray u_cur_coverage;
 layout(binding = 2) uniform sampler2D u_depth;              // this ring's depth
 layout(binding = 3) uniform sampler2DArray u_hist_color;    // last frame's resolved rings
 layout(binding = 4) uniform sampler2DArray u_hist_coverage;
+#ifdef TAA_OBJECT_MOTION
+layout(binding = 5) uniform sampler2D u_motion;             // this ring's per-object motion (world)
+#endif
 uniform int u_layer;             // this ring's layer in both arrays
 uniform vec2 u_size;             // this frame's footprint, ring pixels
 uniform vec2 u_prev_size;        // last frame's footprint of this ring, ring pixels
@@ -106,12 +109,18 @@ void main()
     vec2 prev = vec2(0.0), prev_size = u_prev_size;
     int prev_layer = u_layer;
     if (valid) {
-#ifdef TAA_CAMERA_MOTION
-        // The camera moves: through depth and last frame's camera and ring frustum.
+#if defined(TAA_CAMERA_MOTION) || defined(TAA_OBJECT_MOTION)
+        // The camera moves, or instances sway: through depth and last frame's camera and ring
+        // frustum, plus where the fragment's own motion (swaying instances) moved it.
         vec2 ndc = (vec2(pix) + 0.5) / u_size * 2.0 - 1.0;
         float z = texelFetch(u_depth, pix, 0).r * 2.0 - 1.0;
         vec2 prev_ndc;
+#ifdef TAA_OBJECT_MOTION
+        vec3 motion = texelFetch(u_motion, pix, 0).xyz;
+        valid = taa_reproject_moving(vec3(ndc, z), motion, u_inv_view_proj, u_prev_view_proj, prev_ndc);
+#else
         valid = taa_reproject(vec3(ndc, z), u_inv_view_proj, u_prev_view_proj, prev_ndc);
+#endif
         prev = (prev_ndc * 0.5 + 0.5) * u_prev_size;
 #else
         // Still camera (the plan knows): a pixel stays on the same display pixel, and only the

@@ -109,6 +109,8 @@ void cli_print_help(command cmd)
            "  --taa-sparse S|off  coverage a uniform 3x3 neighbourhood may have missed, kept in the\n"
            "                      history (sparse stochastic coverage, docs/taa.md; default 0.28)\n"
            "  --jitter-length N   Halton (2,3) jitter period in frames (default 16)\n"
+           "  --object-motion on|off  TAA follows swaying instances' own motion (default on; off\n"
+           "                      reprojects them as if still, to measure what it buys)\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
@@ -259,7 +261,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--supersample", "--samples",
+                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--object-motion", "--supersample", "--samples",
                                                  "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
@@ -345,6 +347,12 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         }
         else if (!strcmp(opt, "--jitter-length"))
             ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
+        else if (!strcmp(opt, "--object-motion")) {
+            ok = !strcmp(val, "on") || !strcmp(val, "off");
+            d->no_object_motion = !strcmp(val, "off");
+            if (!ok)
+                log_error("--object-motion: expected on or off, got '%s'", val);
+        }
         else if (!strcmp(opt, "--modes")) {
             d->bench_mode_count = 0;
             if (!strcmp(val, "all")) {

@@ -26,6 +26,16 @@
 #define ATTR_UV 2
 #define ATTR_COLOR 3
 #define ATTR_INSTANCE 4
+/* Swaying instances only (the plan's SWAY variant): per instance, the sway offset and height
+ * (ATTR_SWAY) and its frequency and phase (ATTR_SWAY_WAVE); see common/sway.glsl. */
+#define ATTR_SWAY 8
+#define ATTR_SWAY_WAVE 9
+
+/* Wind sway of instances (docs/scene-format.md "sway"). GLSL: common/sway.glsl, C twin:
+ * src/scene/sway.c. */
+#define SWAY_TWO_PI 6.28318530717958648
+#define SWAY_FREQUENCY_DEFAULT 0.5  /* Hz */
+#define SWAY_WAVELENGTH_DEFAULT 10.0 /* metres between instances swaying in phase along the wind */
 
 /* Texture units. */
 #define TEX_UNIT_BASE_COLOR 0

@@ -211,14 +211,10 @@ vec4 taa_mul_m4_v4(mat4 m, vec4 v)
     return r;
 }
 
-// C twin: taa_reproject. Current NDC (xy, depth) -> previous frame's NDC (xy, depth) in prev_ndc;
-// returns valid. Where invalid, prev_ndc = taa_sanitize3(ndc).
-bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, out vec3 prev_ndc)
+// C twin: reproject_world. The homogeneous world point into the previous frame's NDC.
+bool taa_reproject_world(vec3 ndc, vec4 world, mat4 prev_view_proj, out vec3 prev_ndc)
 {
     prev_ndc = taa_sanitize3(ndc);
-    if (!taa_is_finite(ndc.x) || !taa_is_finite(ndc.y) || !taa_is_finite(ndc.z))
-        return false;
-    vec4 world = taa_mul_m4_v4(inv_view_proj_jittered, vec4(ndc, 1.0));
     vec4 prev = taa_mul_m4_v4(prev_view_proj, world);
     bool same_side = (prev.w > 0.0 && world.w > 0.0) || (prev.w < 0.0 && world.w < 0.0);
     if (!same_side || !taa_is_finite(prev.w))
@@ -228,6 +224,39 @@ bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, o
         return false;
     prev_ndc = r;
     return true;
+}
+
+// C twin: taa_reproject. Current NDC (xy, depth) -> previous frame's NDC (xy, depth) in prev_ndc;
+// returns valid. Where invalid, prev_ndc = taa_sanitize3(ndc).
+bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, out vec3 prev_ndc)
+{
+    prev_ndc = taa_sanitize3(ndc);
+    if (!taa_is_finite(ndc.x) || !taa_is_finite(ndc.y) || !taa_is_finite(ndc.z))
+        return false;
+    vec4 world = taa_mul_m4_v4(inv_view_proj_jittered, vec4(ndc, 1.0));
+    return taa_reproject_world(ndc, world, prev_view_proj, prev_ndc);
+}
+
+// C twin: taa_reproject_moving. The same for a point that moved by `motion` (world, last frame -
+// now) on its own: added to the homogeneous world point as motion * w.
+bool taa_reproject_moving(vec3 ndc, vec3 motion, mat4 inv_view_proj_jittered, mat4 prev_view_proj, out vec3 prev_ndc)
+{
+    prev_ndc = taa_sanitize3(ndc);
+    if (!taa_is_finite(ndc.x) || !taa_is_finite(ndc.y) || !taa_is_finite(ndc.z))
+        return false;
+    vec4 world = taa_mul_m4_v4(inv_view_proj_jittered, vec4(ndc, 1.0));
+    vec3 m = taa_sanitize3(motion);
+    precise vec3 moved = world.xyz + m * world.w;
+    return taa_reproject_world(ndc, vec4(moved, world.w), prev_view_proj, prev_ndc);
+}
+
+// C twin: taa_reproject_moving (xy only).
+bool taa_reproject_moving(vec3 ndc, vec3 motion, mat4 inv_view_proj_jittered, mat4 prev_view_proj, out vec2 prev_ndc_xy)
+{
+    vec3 p;
+    bool valid = taa_reproject_moving(ndc, motion, inv_view_proj_jittered, prev_view_proj, p);
+    prev_ndc_xy = p.xy;
+    return valid;
 }
 
 // C twin: taa_reproject (its out->x, out->y). The same, for callers that only need xy.

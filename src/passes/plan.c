@@ -47,6 +47,17 @@ const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode)
 
 static int cmp_str(const void *a, const void *b) { return strcmp((const char *)a, (const char *)b); }
 
+/* Appends a define ("NAME VALUE") and keeps the list sorted. */
+static void add_define(plan_pass *ps, const char *name, int value)
+{
+    if (ps->define_count >= PLAN_MAX_DEFINES) {
+        log_error("plan: pass %s: more than %d defines (%s dropped)", ps->name, PLAN_MAX_DEFINES, name);
+        return;
+    }
+    snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "%s %d", name, value);
+    qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
+}
+
 static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
 {
     plan_pass *ps = (plan_pass *)plan_find(p, kind, mode);
@@ -178,11 +189,20 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->taa = o.taa && o.frames > 1;
     for (int i = 0; i < out->pass_count && out->taa; i++) {
         plan_pass *ps = &out->passes[i];
-        if (ps->kind == PLAN_PASS_FORWARD_MASK && (ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C) &&
-            ps->define_count < PLAN_MAX_DEFINES) {
-            snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "TAA_HASH_OFFSET 1");
-            qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
-        }
+        if (ps->kind == PLAN_PASS_FORWARD_MASK && (ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C))
+            add_define(ps, "TAA_HASH_OFFSET", 1);
+    }
+    /* Animation: swaying instances move their vertices in every forward pass (trunk and leaves
+     * together); with TAA the passes also write each fragment's motion, so that history follows
+     * the leaves, not just the camera. A static scene compiles neither. */
+    out->sway_instances = scene_sway_count(sc);
+    out->sway = out->sway_instances > 0;
+    out->velocity = out->sway && out->taa && !o.taa_controls.no_object_motion;
+    for (int i = 0; i < out->pass_count; i++) {
+        if (out->sway)
+            add_define(&out->passes[i], "SWAY", 1);
+        if (out->velocity)
+            add_define(&out->passes[i], "OBJECT_MOTION", 1);
     }
     out->taa_controls = taa_controls_defaults(&o.taa_controls);
     out->camera_motion = camera_moves(&sc->camera);
@@ -198,6 +218,9 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         /* A still camera needs no reprojection through depth (simulate only what the scene needs). */
         if (out->camera_motion)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_CAMERA_MOTION 1");
+        /* Swaying instances: through depth and each fragment's own motion. */
+        if (out->velocity)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_OBJECT_MOTION 1");
         /* The rings a pixel that left its own ring's footprint may take history from: where the
          * alpha tests are stochastic, a coarser ring's history is closer to the converged image
          * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
@@ -289,17 +312,33 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             fprintf(f, "%s%s", d ? ", " : "", p->composite_pass.defines[d]);
         fprintf(f, "]%s\n", p->debug_channels ? ", writes ring.id and eccentricity" : "");
     }
-    fprintf(f, "targets    per ring: colour RGBA16F + coverage R16F + depth 24%s; display: %s\n",
+    if (p->sway)
+        fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",
+                p->sway_instances, sc->instance_count);
+    fprintf(f, "targets    per ring: colour RGBA16F + coverage R16F + depth 24%s%s; display: %s\n",
+            p->velocity ? " + motion RGBA16F (world-space motion of swaying fragments)" : "",
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
                    "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
                 p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
-                p->camera_motion ? "reprojection through depth (the camera moves)"
-                                 : "no reprojection (still camera: only the rings move with the gaze)",
+                p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
+                                                       : "reprojection through depth and per-object motion (instances sway)")
+                : p->camera_motion ? "reprojection through depth (the camera moves)"
+                                   : "no reprojection (still camera: only the rings move with the gaze)",
                 p->taa_coarse_history ? "history that leaves its ring's footprint from a coarser ring"
                                       : "history that leaves its ring's footprint dropped");
-    fprintf(f, "off        %s%s%sper-object motion (static scenes)\n", p->msaa ? "" : "MSAA (no alpha-to-coverage mode), ",
-            p->taa ? "" : "TAA (--taa off, or a single frame), ", "");
+    char off[256] = "";
+    if (!p->msaa)
+        snprintf(off + strlen(off), sizeof off - strlen(off), "%sMSAA (no alpha-to-coverage mode)", off[0] ? ", " : "");
+    if (!p->taa)
+        snprintf(off + strlen(off), sizeof off - strlen(off), "%sTAA (--taa off, or a single frame)", off[0] ? ", " : "");
+    if (!p->sway)
+        snprintf(off + strlen(off), sizeof off - strlen(off), "%ssway and per-object motion (no instance sways)",
+                 off[0] ? ", " : "");
+    else if (!p->velocity)
+        snprintf(off + strlen(off), sizeof off - strlen(off), "%sper-object motion (no TAA, or --object-motion off)",
+                 off[0] ? ", " : "");
+    fprintf(f, "off        %s\n", off[0] ? off : "nothing");
 }

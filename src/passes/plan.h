@@ -3,7 +3,8 @@
  * DESIGN.md "Simulate only what the scene calls for": the plan is computed once from the scene's
  * content and the run options. A scene with no MASK material gets no alpha-test variant whatever
  * --alpha says; no BLEND material, no blend pass; no MSAA target unless an A2C mode is in use; no
- * TAA history, rings or velocity path until those features exist and the scene needs them.
+ * TAA history for a single frame; no rings when foveation is off; no sway without swaying instances
+ * and no per-object motion (velocity) without sway and TAA.
  * `fovsim plan` prints it; tests assert it for the shipped scenes.
  *
  * Pure C (no GL): the renderer consumes a plan, it does not make one.
@@ -20,7 +21,7 @@
 #ifndef PLAN_MAX_PASSES
 #define PLAN_MAX_PASSES 16
 #endif
-#define PLAN_MAX_DEFINES 8
+#define PLAN_MAX_DEFINES 10
 
 typedef enum plan_pass_kind {
     PLAN_PASS_FORWARD_OPAQUE = 0,
@@ -59,6 +60,8 @@ typedef struct taa_controls {
     int jitter_length;  /* Halton (2,3) period in frames, default TAA_JITTER_LENGTH_DEFAULT (16) */
     float sparse;       /* sparse-coverage slack in (0, 1] (taa_sparse_margin), default
                          * TAA_SPARSE_SLACK; negative = off */
+    bool no_object_motion; /* ignore swaying instances' motion (reproject them as if still):
+                            * for measuring what per-object motion buys */
 } taa_controls;
 
 taa_controls taa_controls_defaults(const taa_controls *c);
@@ -92,7 +95,10 @@ typedef struct plan {
     bool taa;                   /* TAA per ring: asked for and more than one frame */
     taa_controls taa_controls;  /* with defaults filled */
     plan_pass taa_pass;         /* shaders of the TAA resolve (valid when taa) */
-    bool velocity;              /* per-object motion: not implemented (scenes are static) */
+    int sway_instances;         /* instances that sway in the wind (scene_sway_count) */
+    bool sway;                  /* some instance sways: forward passes displace vertices (SWAY) */
+    bool velocity;              /* per-object motion: swaying instances and TAA; forward passes
+                                 * write a motion target (OBJECT_MOTION), TAA reads it */
     bool camera_motion;         /* the camera path moves: TAA reprojects through depth */
     bool taa_coarse_history;    /* stochastic alpha tests and rings: a pixel that left its ring's
                                  * footprint takes a coarser ring's history */

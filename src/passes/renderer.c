@@ -27,8 +27,9 @@ static const pass_resource k_forward_resources[] = {
     {"color", "linear premultiplied radiance, A = opacity", GL_RGBA16F, true, false},
     {"coverage", "opacity contributed by alpha-mapped surfaces", GL_R16F, true, false},
     {"depth", "depth buffer", GL_DEPTH_COMPONENT24, true, false},
+    {"motion", "world position last frame - now, of swaying fragments (plan.velocity)", GL_RGBA16F, true, true},
 };
-enum { RES_COLOR, RES_COVERAGE, RES_DEPTH, RES_COUNT };
+enum { RES_COLOR, RES_COVERAGE, RES_DEPTH, RES_MOTION, RES_COUNT };
 
 /* The composite reads every ring's color and coverage and writes these at display resolution. */
 static const pass_resource k_composite_resources[] = {
@@ -42,7 +43,8 @@ enum { OUT_COLOR, OUT_COVERAGE, OUT_DEBUG, OUT_COUNT };
 typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_eye,
-        u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame;
+        u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
+        u_prev_time;
 } gpu_program;
 
 typedef struct composite_program {
@@ -68,6 +70,7 @@ typedef struct gpu_asset {
     float *fade_n;          /* per material: hashed fade-in length in mip levels, 0 = no fade */
     GLuint *samplers;       /* per material */
     GLuint instance_vbo;    /* mat4 per instance of this asset, in instance_ids order */
+    GLuint sway_vbo;        /* plan.sway: (offset, height), (frequency, phase, 0, 0) per instance */
     int *instance_ids;      /* scene instance index of each slot */
     unsigned char *visible; /* per slot: may be visible in the ring being drawn (frustum culling) */
     int instance_count;
@@ -80,9 +83,10 @@ typedef struct gpu_asset {
 typedef struct ring_targets {
     GLuint fbo[MAX_FOV_RINGS];
     GLuint color, coverage, depth;
+    GLuint motion; /* plan.velocity: one display-sized 2D target shared by the rings, as depth is */
     /* A2C modes: every ring draws into one shared multisampled target (display-sized), then
      * resolves its footprint corner into its layer. */
-    GLuint msaa_fbo, msaa_color, msaa_coverage, msaa_depth;
+    GLuint msaa_fbo, msaa_color, msaa_coverage, msaa_depth, msaa_motion;
 } ring_targets;
 
 #define RENDERER_MAX_STAGES (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
@@ -121,6 +125,7 @@ struct renderer {
     int out_parity;                         /* the pair the last frame wrote */
     bool have_prev;
     int prev_index;
+    float prev_time;                        /* the previous frame's time (per-object motion) */
     mat4 prev_vp[MAX_FOV_RINGS];
     fov_ring_rect prev_rect[MAX_FOV_RINGS];
     mat4 draw_vp;                           /* the view-projection the ring being drawn uses */
@@ -164,6 +169,8 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_hash_aniso = glGetUniformLocation(p, "u_hash_aniso");
     out->u_fade_n = glGetUniformLocation(p, "u_fade_n");
     out->u_frame = glGetUniformLocation(p, "u_frame");
+    out->u_time = glGetUniformLocation(p, "u_time");
+    out->u_prev_time = glGetUniformLocation(p, "u_prev_time");
     return FS_OK;
 }
 
@@ -257,7 +264,11 @@ static GLuint make_sampler(const material *m)
     return s;
 }
 
-static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo)
+/* Per-instance sway attributes (binding 5): (offset.xyz, height) at ATTR_SWAY, (frequency, phase)
+ * at ATTR_SWAY_WAVE, 8 floats per instance. */
+enum { SWAY_FLOATS = 8 };
+
+static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint sway_vbo)
 {
     glCreateVertexArrays(1, &g->vao);
     glCreateBuffers(4, g->vbo);
@@ -278,6 +289,16 @@ static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo)
         glVertexArrayAttribFormat(g->vao, ATTR_INSTANCE + c, 4, GL_FLOAT, GL_FALSE, c * 4 * sizeof(float));
         glVertexArrayAttribBinding(g->vao, ATTR_INSTANCE + c, 4);
         glEnableVertexArrayAttrib(g->vao, ATTR_INSTANCE + c);
+    }
+    if (sway_vbo) {
+        glVertexArrayVertexBuffer(g->vao, 5, sway_vbo, 0, SWAY_FLOATS * sizeof(float));
+        glVertexArrayBindingDivisor(g->vao, 5, 1);
+        glVertexArrayAttribFormat(g->vao, ATTR_SWAY, 4, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribFormat(g->vao, ATTR_SWAY_WAVE, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float));
+        glVertexArrayAttribBinding(g->vao, ATTR_SWAY, 5);
+        glVertexArrayAttribBinding(g->vao, ATTR_SWAY_WAVE, 5);
+        glEnableVertexArrayAttrib(g->vao, ATTR_SWAY);
+        glEnableVertexArrayAttrib(g->vao, ATTR_SWAY_WAVE);
     }
     glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * p->index_count), p->indices, 0);
     glVertexArrayElementBuffer(g->vao, g->ibo);
@@ -342,6 +363,20 @@ static fs_status upload_scene(renderer *r)
         glCreateBuffers(1, &ga->instance_vbo);
         glNamedBufferStorage(ga->instance_vbo, (GLsizeiptr)(sizeof(mat4) * (size_t)ga->instance_count), mats, 0);
         free(mats);
+        if (r->pl.sway) {
+            float *sw = malloc(sizeof(float) * SWAY_FLOATS * (size_t)ga->instance_count);
+            if (!sw)
+                return FS_ERR_NOMEM;
+            for (int k = 0; k < ga->instance_count; k++) {
+                const instance_sway *w = &sc->instances[ga->instance_ids[k]].sway;
+                const float v[SWAY_FLOATS] = {w->offset.x, w->offset.y, w->offset.z, w->height, w->frequency, w->phase, 0, 0};
+                memcpy(sw + SWAY_FLOATS * k, v, sizeof v);
+            }
+            glCreateBuffers(1, &ga->sway_vbo);
+            glNamedBufferStorage(ga->sway_vbo, (GLsizeiptr)(sizeof(float) * SWAY_FLOATS * (size_t)ga->instance_count),
+                                 sw, 0);
+            free(sw);
+        }
         for (int i = 0; i < as->image_count; i++) {
             fs_status st;
             ga->textures[i] = upload_chain(&as->images[i], 0.0f, false, &st);
@@ -365,7 +400,7 @@ static fs_status upload_scene(renderer *r)
             }
         }
         for (int p = 0; p < as->prim_count; p++)
-            upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo);
+            upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo, ga->sway_vbo);
     }
     return FS_OK;
 }
@@ -392,27 +427,35 @@ static fs_status create_targets(renderer *r)
     glTextureStorage3D(t->coverage, 1, k_forward_resources[RES_COVERAGE].format, r->width, r->height, n);
     glCreateTextures(GL_TEXTURE_2D, 1, &t->depth);
     glTextureStorage2D(t->depth, 1, k_forward_resources[RES_DEPTH].format, r->width, r->height);
+    int outputs = r->pl.velocity ? 3 : 2;
+    if (r->pl.velocity) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &t->motion);
+        glTextureStorage2D(t->motion, 1, k_forward_resources[RES_MOTION].format, r->width, r->height);
+    }
     for (int i = 0; i < n; i++) {
         glCreateFramebuffers(1, &t->fbo[i]);
         glNamedFramebufferTextureLayer(t->fbo[i], GL_COLOR_ATTACHMENT0, t->color, 0, i);
         glNamedFramebufferTextureLayer(t->fbo[i], GL_COLOR_ATTACHMENT1, t->coverage, 0, i);
         glNamedFramebufferTexture(t->fbo[i], GL_DEPTH_ATTACHMENT, t->depth, 0);
-        glNamedFramebufferDrawBuffers(t->fbo[i], 2, bufs);
+        if (r->pl.velocity)
+            glNamedFramebufferTexture(t->fbo[i], GL_COLOR_ATTACHMENT2, t->motion, 0);
+        glNamedFramebufferDrawBuffers(t->fbo[i], outputs, bufs);
         fs_status st = check_fbo(t->fbo[i], "ring", r->width, r->height);
         if (st != FS_OK)
             return st;
     }
     if (r->pl.msaa) {
         glCreateFramebuffers(1, &t->msaa_fbo);
-        GLuint *ms[3] = {&t->msaa_color, &t->msaa_coverage, &t->msaa_depth};
-        static const GLenum att[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_DEPTH_ATTACHMENT};
-        for (int k = 0; k < 3; k++) {
+        GLuint *ms[RES_COUNT] = {&t->msaa_color, &t->msaa_coverage, &t->msaa_depth, &t->msaa_motion};
+        static const GLenum att[RES_COUNT] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_DEPTH_ATTACHMENT,
+                                              GL_COLOR_ATTACHMENT2};
+        for (int k = 0; k < (r->pl.velocity ? RES_COUNT : RES_MOTION); k++) {
             glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, ms[k]);
             glTextureStorage2DMultisample(*ms[k], MSAA_SAMPLES, k_forward_resources[k].format, r->width, r->height,
                                           GL_TRUE);
             glNamedFramebufferTexture(t->msaa_fbo, att[k], *ms[k], 0);
         }
-        glNamedFramebufferDrawBuffers(t->msaa_fbo, 2, bufs);
+        glNamedFramebufferDrawBuffers(t->msaa_fbo, outputs, bufs);
         fs_status st = check_fbo(t->msaa_fbo, "MSAA ring", r->width, r->height);
         if (st != FS_OK)
             return st;
@@ -543,6 +586,7 @@ void renderer_destroy(renderer *r)
                 glDeleteTextures(as->material_count, ga->castano);
             free(ga->fade_n);
             glDeleteBuffers(1, &ga->instance_vbo);
+            glDeleteBuffers(1, &ga->sway_vbo);
             free(ga->prims);
             free(ga->textures);
             free(ga->samplers);
@@ -560,6 +604,8 @@ void renderer_destroy(renderer *r)
     glDeleteTextures(1, &r->rt.color);
     glDeleteTextures(1, &r->rt.coverage);
     glDeleteTextures(1, &r->rt.depth);
+    glDeleteTextures(1, &r->rt.motion);
+    glDeleteTextures(1, &r->rt.msaa_motion);
     glDeleteFramebuffers(1, &r->rt.msaa_fbo);
     glDeleteTextures(1, &r->rt.msaa_color);
     glDeleteTextures(1, &r->rt.msaa_coverage);
@@ -584,6 +630,13 @@ void renderer_destroy(renderer *r)
 }
 
 /* >>draw */
+/* History is valid when there was a previous frame, it was the frame just before, and no camera
+ * cut lies between (frame_record.cut). */
+static bool taa_history_valid(const renderer *r, const frame_record *fr)
+{
+    return r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
+}
+
 static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
 {
     const light_desc *L = &r->sc->light;
@@ -599,6 +652,11 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     glProgramUniform1i(pg->id, pg->u_hash_kind, ap->hash_kind);
     glProgramUniform1i(pg->id, pg->u_hash_aniso, ap->anisotropic);
     glProgramUniform1ui(pg->id, pg->u_frame, (GLuint)fr->index);
+    if (r->pl.sway) {
+        glProgramUniform1f(pg->id, pg->u_time, fr->time);
+        /* Motion relative to the frame the history holds; none without history. */
+        glProgramUniform1f(pg->id, pg->u_prev_time, taa_history_valid(r, fr) ? r->prev_time : fr->time);
+    }
 }
 
 static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi)
@@ -655,8 +713,19 @@ static void cull_instances(renderer *r, const mat4 *view_proj)
         gpu_asset *ga = &r->assets[a];
         const asset *as = &r->sc->assets[a];
         for (int k = 0; k < ga->instance_count; k++) {
-            mat4 mvp = m4_mul(*view_proj, r->sc->instances[ga->instance_ids[k]].transform);
-            ga->visible[k] = !m4_box_outside_clip(mvp, as->bounds_min, as->bounds_max);
+            const instance *in = &r->sc->instances[ga->instance_ids[k]];
+            mat4 mvp = m4_mul(*view_proj, in->transform);
+            /* A swaying instance moves up to |offset| (world) from its box: grow the box by that
+             * much in asset units, i.e. divided by the transform's smallest axis scale. */
+            vec3 pad = v3(0, 0, 0);
+            if (r->pl.sway && instance_sways(in)) {
+                const float *m = in->transform.m;
+                float smin = fminf(v3_len(v3(m[0], m[1], m[2])),
+                                   fminf(v3_len(v3(m[4], m[5], m[6])), v3_len(v3(m[8], m[9], m[10]))));
+                float d = v3_len(in->sway.offset) / fmaxf(smin, 1e-20f);
+                pad = v3(d, d, d);
+            }
+            ga->visible[k] = !m4_box_outside_clip(mvp, v3_sub(as->bounds_min, pad), v3_add(as->bounds_max, pad));
         }
     }
 }
@@ -732,13 +801,6 @@ static void stage_end(renderer *r, int k, double *t_prev)
     }
 }
 
-/* History is valid when there was a previous frame, it was the frame just before, and no camera
- * cut lies between (frame_record.cut). */
-static bool taa_history_valid(const renderer *r, const frame_record *fr)
-{
-    return r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
-}
-
 /* Once per frame, where the plan has TAA_COARSE_HISTORY and history is valid: every ring's
  * previous footprint, so that a pixel a saccade moved out of its own ring's footprint can take the
  * innermost coarser ring's history. */
@@ -790,6 +852,8 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glBindTextureUnit(0, r->rt.color);
     glBindTextureUnit(1, r->rt.coverage);
     glBindTextureUnit(2, r->rt.depth);
+    if (r->pl.velocity)
+        glBindTextureUnit(5, r->rt.motion);
     glBindTextureUnit(3, r->taa_color[1 - r->parity]);
     glBindTextureUnit(4, r->taa_coverage[1 - r->parity]);
     glBindSampler(3, r->taa_sampler); /* bilinear: the 5-tap Catmull-Rom history fetch */
@@ -819,6 +883,8 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     const float one = 1.0f;
     glClearNamedFramebufferfv(fbo, GL_COLOR, 0, sky);
     glClearNamedFramebufferfv(fbo, GL_COLOR, 1, zero);
+    if (r->pl.velocity)
+        glClearNamedFramebufferfv(fbo, GL_COLOR, 2, zero);
     glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -844,7 +910,12 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             glEnable(GL_BLEND);
             glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
             glDepthMask(GL_FALSE);
+            /* Blended surfaces are see-through: the motion stays that of what lies behind. */
+            if (r->pl.velocity)
+                glColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
             draw_blend_sorted(r, pg, ps, fr);
+            if (r->pl.velocity)
+                glColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
             glDepthMask(GL_TRUE);
             glDisable(GL_BLEND);
         } else if (ps->kind == PLAN_PASS_FORWARD_MASK && ps->mode == ALPHA_MODE_A2C) {
@@ -861,15 +932,17 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     }
     glDisable(GL_SCISSOR_TEST);
     if (r->pl.msaa) {
-        /* Resolve the footprint corner, colour and coverage separately, into this ring's layer. */
-        static const GLenum att[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-        for (int k = 0; k < 2; k++) {
+        /* Resolve the footprint corner, colour, coverage (and motion) separately, into this ring's
+         * layer. Motion resolves to the mean of the samples' motions. */
+        static const GLenum att[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+        int outputs = r->pl.velocity ? 3 : 2;
+        for (int k = 0; k < outputs; k++) {
             glNamedFramebufferReadBuffer(r->rt.msaa_fbo, att[k]);
             glNamedFramebufferDrawBuffer(r->rt.fbo[ring], att[k]);
             glBlitNamedFramebuffer(r->rt.msaa_fbo, r->rt.fbo[ring], 0, 0, rr->width, rr->height, 0, 0, rr->width,
                                    rr->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         }
-        glNamedFramebufferDrawBuffers(r->rt.fbo[ring], 2, att);
+        glNamedFramebufferDrawBuffers(r->rt.fbo[ring], outputs, att);
         if (r->pl.taa) /* TAA reprojects through this ring's depth */
             glBlitNamedFramebuffer(r->rt.msaa_fbo, r->rt.fbo[ring], 0, 0, rr->width, rr->height, 0, 0, rr->width,
                                    rr->height, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
@@ -963,6 +1036,7 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
             r->prev_rect[i] = fr->ring_rect[i];
         }
         r->prev_index = fr->index;
+        r->prev_time = fr->time;
         r->have_prev = true;
         r->out_parity = r->parity; /* what renderer_read and the next frame's history use */
         r->parity = 1 - r->parity;

@@ -216,14 +216,12 @@ static void mul_m4_v4(const mat4 *m, const float v[4], float out[4])
         out[r] = m->m[0 + r] * v[0] + m->m[4 + r] * v[1] + m->m[8 + r] * v[2] + m->m[12 + r] * v[3];
 }
 
-void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj, vec3 *out, bool *valid)
+/* The shared tail of both reprojections: the homogeneous world point into the previous frame. */
+static void reproject_world(vec3 ndc, const float world[4], const mat4 *prev_view_proj, vec3 *out, bool *valid)
 {
+    float prev[4];
     *out = sanitize3(ndc);
     *valid = false;
-    if (!is_finite_bits(ndc.x) || !is_finite_bits(ndc.y) || !is_finite_bits(ndc.z))
-        return;
-    float p[4] = {ndc.x, ndc.y, ndc.z, 1.0f}, world[4], prev[4];
-    mul_m4_v4(inv_view_proj_jittered, p, world);
     mul_m4_v4(prev_view_proj, world, prev);
     bool same_side = (prev[3] > 0.0f && world[3] > 0.0f) || (prev[3] < 0.0f && world[3] < 0.0f);
     if (!same_side || !is_finite_bits(prev[3]))
@@ -234,4 +232,31 @@ void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *pre
         return;
     *out = r;
     *valid = true;
+}
+
+void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj, vec3 *out, bool *valid)
+{
+    *out = sanitize3(ndc);
+    *valid = false;
+    if (!is_finite_bits(ndc.x) || !is_finite_bits(ndc.y) || !is_finite_bits(ndc.z))
+        return;
+    float p[4] = {ndc.x, ndc.y, ndc.z, 1.0f}, world[4];
+    mul_m4_v4(inv_view_proj_jittered, p, world);
+    reproject_world(ndc, world, prev_view_proj, out, valid);
+}
+
+void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj,
+                          vec3 *out, bool *valid)
+{
+    *out = sanitize3(ndc);
+    *valid = false;
+    if (!is_finite_bits(ndc.x) || !is_finite_bits(ndc.y) || !is_finite_bits(ndc.z))
+        return;
+    float p[4] = {ndc.x, ndc.y, ndc.z, 1.0f}, world[4];
+    mul_m4_v4(inv_view_proj_jittered, p, world);
+    vec3 m = sanitize3(motion);
+    world[0] = world[0] + m.x * world[3];
+    world[1] = world[1] + m.y * world[3];
+    world[2] = world[2] + m.z * world[3];
+    reproject_world(ndc, world, prev_view_proj, out, valid);
 }

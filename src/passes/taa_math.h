@@ -16,6 +16,7 @@
  *                                   channel)
  *   taa_sanitize / _color / 4       NaN -> 0, +-Inf -> +-TAA_MAX_VALUE (colours also clamped >= 0)
  *   taa_reproject                   current NDC + depth -> previous frame's NDC
+ *   taa_reproject_moving            the same for a point with its own world-space motion
  *
  * Usage, per ring pixel (what the resolve shader does):
  *   taa_reproject(ndc, inv_vp_jittered, prev_vp, &prev, &valid);      // -> history uv
@@ -112,6 +113,14 @@ float taa_resolve1(float current, float history, bool history_valid, float blend
  * GLSL twin: bool taa_reproject(vec3, mat4, mat4, out vec3 prev_ndc) (returns valid; an overload
  * with out vec2 gives xy only). */
 void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj, vec3 *out, bool *valid);
+/* taa_reproject of a point that itself moved: `motion` is where it was last frame minus where it
+ * is now, in world units (a swaying leaf's per-object motion). The motion, through sanitize3
+ * (NaN -> 0, clamped to +-TAA_MAX_VALUE), is added to the homogeneous world point as
+ * motion * w, so there is still one division. Zero motion gives taa_reproject's result wherever
+ * the world point's w is finite. GLSL twin: bool taa_reproject_moving(vec3, vec3, mat4, mat4,
+ * out vec3 prev_ndc) (and an out vec2 overload). */
+void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj,
+                          vec3 *out, bool *valid);
 
 #ifdef __cplusplus
 }

@@ -27,6 +27,7 @@ struct reference {
     plan pl;
     renderer *r;
     uint64_t base_key; /* scene content, shaders, size, S, K */
+    bool animated;     /* instances sway: the frame's time decides the image too */
     float *half[2];    /* sums of the two halves, REF_CHANNELS planes of width * height each */
     void (*on_pass)(void *user, int done, int total);
     void *user;
@@ -98,6 +99,7 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     for (int i = 0; i < 4; i++)
         h = hash_u64(h, dims[i]);
     rf->base_key = h;
+    rf->animated = scene_sway_count(sc) > 0;
     return rf;
 }
 
@@ -128,9 +130,11 @@ int reference_pass_count(const reference *rf)
 
 uint64_t reference_key(const reference *rf, const frame_record *fr)
 {
-    /* view_proj holds the camera, the fov and the clip planes; the gaze does not enter. */
+    /* view_proj holds the camera, the fov and the clip planes; the gaze does not enter. Swaying
+     * instances move with time, so then the time enters (a still camera sees a new image). */
     uint64_t h = hash_floats(rf->base_key, fr->view_proj.m, 16);
-    return hash_floats(h, &fr->hfov_deg, 1);
+    h = hash_floats(h, &fr->hfov_deg, 1);
+    return rf->animated ? hash_floats(h, &fr->time, 1) : h;
 }
 
 /* >>cache */

@@ -13,7 +13,8 @@
  * estimate, which is also an unbiased estimate of the K estimate's own RMS error. Memory is two
  * display-sized float accumulators whatever S and K are, so 1920x1080 at 4x4 x 64 fits easily.
  *
- * The reference depends on the scene, the frame's camera, the display size, S, K and the shaders,
+ * The reference depends on the scene, the frame's camera (and time, when instances sway), the display
+ * size, S, K and the shaders,
  * not on the gaze or the alpha mode: frames are cached as EXR files named by a 64-bit key of those
  * (reference_key); a cached file is reused when it reads back completely with the same key and
  * size, else it is rebuilt (truncated, stale, or written by another version).

@@ -79,6 +79,19 @@ bool scene_add_instance(scene *sc, int asset_index, mat4 transform)
     return true;
 }
 
+bool instance_sways(const instance *in)
+{
+    return in->sway.offset.x != 0.0f || in->sway.offset.y != 0.0f || in->sway.offset.z != 0.0f;
+}
+
+int scene_sway_count(const scene *sc)
+{
+    int n = 0;
+    for (int i = 0; i < sc->instance_count; i++)
+        n += instance_sways(&sc->instances[i]);
+    return n;
+}
+
 /* >>bounds */
 
 void scene_bounds(const scene *sc, vec3 *min, vec3 *max)
@@ -396,6 +409,12 @@ fs_status scene_validate(const scene *sc)
             log_error("%s: instances[%d]: transform element %zu is not finite", P, i, bad);
             return FS_ERR_SCENE;
         }
+        const instance_sway *w = &in->sway;
+        const float sway[6] = {w->offset.x, w->offset.y, w->offset.z, w->height, w->frequency, w->phase};
+        if (!all_finite(sway, 6, &bad) || (instance_sways(in) && (!(w->height > 0.0f) || !(w->frequency > 0.0f)))) {
+            log_error("%s: instances[%d]: sway needs a finite offset, a height > 0 and a frequency > 0", P, i);
+            return FS_ERR_SCENE;
+        }
     }
     const camera_path *cp = &sc->camera;
     if (cp->count < 1 || cp->count > MAX_CAMERA_KEYS) {
@@ -500,9 +519,9 @@ fs_status scene_load_file(const char *path, scene *out)
     return s;
 }
 
-static const char *const k_builtin_names[] = {"forest", "fence", "tree", "grass"};
+static const char *const k_builtin_names[] = {"forest", "fence", "tree", "grass", "wind"};
 
-const char *scene_builtin_list(void) { return "forest fence tree grass"; }
+const char *scene_builtin_list(void) { return "forest fence tree grass wind"; }
 
 fs_status scene_load_builtin(const char *name, scene *out)
 {
@@ -568,6 +587,9 @@ uint64_t scene_content_hash(const scene *sc)
     for (int i = 0; i < sc->instance_count; i++) {
         h = hash_u64(h, (uint64_t)sc->instances[i].asset);
         h = hash_floats(h, sc->instances[i].transform.m, 16);
+        const instance_sway *w = &sc->instances[i].sway;
+        const float sway[6] = {w->offset.x, w->offset.y, w->offset.z, w->height, w->frequency, w->phase};
+        h = hash_floats(h, sway, 6);
     }
     const light_desc *L = &sc->light;
     const float light[12] = {L->direction.x, L->direction.y, L->direction.z, L->color.x, L->color.y, L->color.z,

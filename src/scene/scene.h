@@ -130,9 +130,19 @@ bool material_is_alpha_mapped(const material *m);
 
 /* >>scene */
 
+/* Wind sway of one instance (src/scene/sway.h has the motion; docs/scene-format.md "sway").
+ * Zeroed = still. */
+typedef struct instance_sway {
+    vec3 offset;     /* world displacement of the top at the wave's peak: amplitude * direction */
+    float height;    /* asset-space height where the displacement reaches offset (> 0) */
+    float frequency; /* Hz */
+    float phase;     /* cycles, [0, 1) */
+} instance_sway;
+
 typedef struct instance {
-    int asset;       /* index into scene.assets */
-    mat4 transform;  /* asset space -> world space */
+    int asset;          /* index into scene.assets */
+    mat4 transform;     /* asset space -> world space */
+    instance_sway sway; /* zeroed: the instance stands still */
 } instance;
 
 /* A camera keyframe. The path between keys is a Catmull-Rom spline through positions and
@@ -212,6 +222,10 @@ void scene_free(scene *sc);
 int scene_add_asset(scene *sc, asset *a);
 /* Adds an instance of asset `asset_index`; returns false when out of memory. */
 bool scene_add_instance(scene *sc, int asset_index, mat4 transform);
+/* True when the instance sways (a nonzero offset). */
+bool instance_sways(const instance *in);
+/* Number of swaying instances: 0 = a static scene (the plan compiles no sway). */
+int scene_sway_count(const scene *sc);
 /* World-space AABB over all instances. */
 void scene_bounds(const scene *sc, vec3 *min, vec3 *max);
 /* A camera path that frames the whole scene from the front (used for glTF-as-scene). */

@@ -19,6 +19,7 @@
 #include "fov/fov_ring.h"
 #include "scene/generators.h"
 #include "scene/gltf_shim.h"
+#include "common/shared_defs.h"
 
 
 /* >>context */
@@ -651,10 +652,79 @@ static fs_status parse_scatter(const jctx *c, const cJSON *it, const char *path,
     return FS_OK;
 }
 
+/* An instance entry's "sway" (docs/scene-format.md), applied to the instances [first, count) the
+ * entry placed. Each one's phase comes from its position along the wind, so a row of trees sways
+ * as a travelling wave. A height of 0 stands for the asset's top (resolve_sway_heights, once the
+ * assets are loaded). */
+static fs_status parse_sway(const jctx *c, const cJSON *it, const char *path, int first)
+{
+    static const char *const keys[] = {"amplitude", "frequency", "direction", "height", "wavelength", "comment", NULL};
+    static const nrange R_AMPLITUDE = {0, 100, false, false, false, false};
+    static const nrange R_FREQUENCY = {0, 100, true, false, false, false};
+    static const nrange R_SWAY_LEN = {0, 1e5, true, false, false, false};
+    char kp[256];
+    fs_status s = jkeys(c, it, path, keys);
+    if (s != FS_OK)
+        return s;
+    const cJSON *ja = cJSON_GetObjectItemCaseSensitive(it, "amplitude");
+    const cJSON *jf = cJSON_GetObjectItemCaseSensitive(it, "frequency");
+    const cJSON *jd = cJSON_GetObjectItemCaseSensitive(it, "direction");
+    const cJSON *jh = cJSON_GetObjectItemCaseSensitive(it, "height");
+    const cJSON *jw = cJSON_GetObjectItemCaseSensitive(it, "wavelength");
+    const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(it, "comment");
+    const char *str;
+    float amplitude = 0, frequency = (float)SWAY_FREQUENCY_DEFAULT, height = 0,
+          wavelength = (float)SWAY_WAVELENGTH_DEFAULT;
+    vec3 dir = v3(1, 0, 0);
+    if (!ja)
+        return jfail(c, path, "missing \"amplitude\" (metres the top moves)");
+    if ((s = jfloat(c, ja, jkey_path(kp, sizeof kp, path, "amplitude"), R_AMPLITUDE, &amplitude)) != FS_OK)
+        return s;
+    if (jf && (s = jfloat(c, jf, jkey_path(kp, sizeof kp, path, "frequency"), R_FREQUENCY, &frequency)) != FS_OK)
+        return s;
+    if (jd) {
+        if ((s = jvec3(c, jd, jkey_path(kp, sizeof kp, path, "direction"), R_ANY, &dir)) != FS_OK)
+            return s;
+        if (!(v3_len(dir) > 1e-6f))
+            return jfail(c, kp, "expected a nonzero direction, got (%g, %g, %g)", dir.x, dir.y, dir.z);
+        dir = v3_norm_or(dir, v3(1, 0, 0));
+    }
+    if (jh && (s = jfloat(c, jh, jkey_path(kp, sizeof kp, path, "height"), R_SWAY_LEN, &height)) != FS_OK)
+        return s;
+    if (jw && (s = jfloat(c, jw, jkey_path(kp, sizeof kp, path, "wavelength"), R_SWAY_LEN, &wavelength)) != FS_OK)
+        return s;
+    if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, path, "comment"), &str)) != FS_OK)
+        return s;
+    for (int i = first; i < c->sc->instance_count; i++) {
+        instance *in = &c->sc->instances[i];
+        vec3 pos = v3(in->transform.m[12], in->transform.m[13], in->transform.m[14]);
+        double along = -(double)v3_dot(pos, dir) / wavelength;
+        in->sway = (instance_sway){.offset = v3_scale(dir, amplitude), .height = height, .frequency = frequency,
+                                   .phase = (float)(along - floor(along))};
+        if (in->sway.phase >= 1.0f) /* along - floor(along) rounds to 1 just below an integer */
+            in->sway.phase = 0.0f;
+    }
+    return FS_OK;
+}
+
+/* Sway heights left at 0 (not given) become the asset's top, or 1 for an asset that does not rise
+ * above its origin. */
+static void resolve_sway_heights(scene *sc)
+{
+    for (int i = 0; i < sc->instance_count; i++) {
+        instance *in = &sc->instances[i];
+        if (instance_sways(in) && in->sway.height <= 0.0f) {
+            float top = sc->assets[in->asset].bounds_max.y;
+            in->sway.height = top > 0.0f ? top : 1.0f;
+        }
+    }
+}
+
 static fs_status parse_instance(const jctx *c, const cJSON *it, const char *path,
                                 const asset_spec *specs, int nspecs)
 {
-    static const char *const keys[] = {"asset", "translation", "rotation_deg", "scale", "scatter", "comment", NULL};
+    static const char *const keys[] = {"asset", "translation", "rotation_deg", "scale", "scatter", "sway",
+                                       "comment", NULL};
     char kp[256];
     fs_status s = jkeys(c, it, path, keys);
     if (s != FS_OK)
@@ -685,9 +755,15 @@ static fs_status parse_instance(const jctx *c, const cJSON *it, const char *path
     if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, path, "comment"), &str)) != FS_OK)
         return s;
     mat4 local = m4_mul(euler_deg(pl.rotation_deg), m4_scale(pl.scale));
+    int first = c->sc->instance_count;
     if (jscatter)
-        return parse_scatter(c, jscatter, jkey_path(kp, sizeof kp, path, "scatter"), index, local);
-    return add_instance(c, path, index, m4_mul(m4_translate(pl.translation), local));
+        s = parse_scatter(c, jscatter, jkey_path(kp, sizeof kp, path, "scatter"), index, local);
+    else
+        s = add_instance(c, path, index, m4_mul(m4_translate(pl.translation), local));
+    const cJSON *jsway = cJSON_GetObjectItemCaseSensitive(it, "sway");
+    if (s == FS_OK && jsway)
+        s = parse_sway(c, jsway, jkey_path(kp, sizeof kp, path, "sway"), first);
+    return s;
 }
 
 /* >>camera */
@@ -1027,6 +1103,8 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
         s = apply_materials(c, jmat, false); /* syntax errors before any asset is loaded */
     if (s == FS_OK)
         s = load_assets(c, specs, nspecs);
+    if (s == FS_OK)
+        resolve_sway_heights(sc);
     if (s == FS_OK && jmat)
         s = apply_materials(c, jmat, true);
     if (s == FS_OK && !jcam)
