@@ -222,7 +222,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 log_error("fovsim %s: unexpected argument '%s' (see fovsim %s --help)", c, a, c);
                 return FS_ERR_USAGE;
             }
-            if (access(a, F_OK) != 0 && !strchr(a, '/') && !strchr(a, '.'))
+            if (!strncmp(a, "builtin:", 8))
+                d->builtin = a + 8; /* as fovsim prints a built-in scene's path */
+            else if (access(a, F_OK) != 0 && !strchr(a, '/') && !strchr(a, '.'))
                 d->builtin = a; /* a name, not a path: scene_load_builtin says if it is unknown */
             else
                 d->scene_path = a;
@@ -281,7 +283,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         if (!strcmp(opt, "--scene"))
             d->scene_path = val;
         else if (!strcmp(opt, "--builtin"))
-            d->builtin = val;
+            d->builtin = !strncmp(val, "builtin:", 8) ? val + 8 : val;
         else if (!strcmp(opt, "--out"))
             d->out_dir = val;
         else if (!strcmp(opt, "--cache"))

@@ -36,6 +36,7 @@
 #define SWAY_TWO_PI 6.28318530717958648
 #define SWAY_FREQUENCY_DEFAULT 0.5  /* Hz */
 #define SWAY_WAVELENGTH_DEFAULT 10.0 /* metres between instances swaying in phase along the wind */
+#define SWAY_OFFSET_MAX 1.0e6       /* an offset component beyond this (or not finite) = no sway */
 
 /* Texture units. */
 #define TEX_UNIT_BASE_COLOR 0

@@ -37,7 +37,10 @@ float sway_wave(float frequency, float phase, float t)
 vec3 sway_displacement(vec4 sway, vec2 wave, float y, float t)
 {
     float k = sway_weight(y, sway.w) * sway_wave(wave.x, wave.y, t);
-    if (!sway_is_finite(sway.x) || !sway_is_finite(sway.y) || !sway_is_finite(sway.z))
+    // Beyond SWAY_OFFSET_MAX or not finite: no sway (bit tests: comparisons may not see NaN).
+    const float lim = float(SWAY_OFFSET_MAX);
+    if (!sway_is_finite(sway.x) || !sway_is_finite(sway.y) || !sway_is_finite(sway.z) || abs(sway.x) > lim ||
+        abs(sway.y) > lim || abs(sway.z) > lim)
         return vec3(0.0);
     precise vec3 d = sway.xyz * k;
     return d;

@@ -1,7 +1,9 @@
-// taa_twin.comp: evaluates every function of common/taa.glsl on a buffer of inputs, for
+// taa_twin.comp: evaluates every function of common/taa.glsl (and of common/sway.glsl, the
+// per-object motion TAA follows) on a buffer of inputs, for
 // tests/gpu/test_taa_twin.c, which compares each result with the C twin (src/passes/taa_math.c).
 // Used only by that test. The structs match twin_in / twin_out of the test (std430, vec4 / mat4
 // fields, mat4 column-major as the C float[16]).
+#include "common/sway.glsl"
 #include "common/taa.glsl"
 
 layout(local_size_x = 64) in;
@@ -15,6 +17,9 @@ struct twin_in {
     uvec4 v;   // x: resolve history_valid
     mat4 inv;  // reproject: inverse jittered view-projection
     mat4 prev; // reproject: previous view-projection
+    vec4 e;    // xyz: per-object motion (reproject_moving); w: sway t_prev
+    vec4 f;    // sway: frequency, phase, y, t
+    vec4 g;    // sway: offset xyz, height
 };
 
 struct twin_out {
@@ -29,6 +34,9 @@ struct twin_out {
     vec4 o8;   // taa_sanitize4(a)
     vec4 o9;   // taa_resolve(a.w, c.w, v.x != 0, b.w) (one channel), taa_sparse_margin(d.w / 4, 0, 0, c.z),
                // taa_sparse_margin(d.w, c.x, c.x, TAA_SPARSE_SLACK), taa_sparse_margin(d.w, c.x, c.y, c.z)
+    vec4 o10;  // taa_reproject_moving(d.xyz, e.xyz, inv, prev), valid ? 1 : 0
+    vec4 o11;  // sway_motion(g, f.xy, f.z, f.w, e.w), sway_wave(f.x, f.y, f.w)
+    vec4 o12;  // sway_displacement(g, f.xy, f.z, f.w), sway_weight(f.z, g.w)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -56,5 +64,9 @@ void main()
     r.o9 = vec4(taa_resolve(p.a.w, p.c.w, p.v.x != 0u, p.b.w), taa_sparse_margin(p.d.w * 0.25, 0.0, 0.0, p.c.z),
                 taa_sparse_margin(p.d.w, p.c.x, p.c.x, float(TAA_SPARSE_SLACK)),
                 taa_sparse_margin(p.d.w, p.c.x, p.c.y, p.c.z));
+    valid = taa_reproject_moving(p.d.xyz, p.e.xyz, p.inv, p.prev, prev_ndc);
+    r.o10 = vec4(prev_ndc, valid ? 1.0 : 0.0);
+    r.o11 = vec4(sway_motion(p.g, p.f.xy, p.f.z, p.f.w, p.e.w), sway_wave(p.f.x, p.f.y, p.f.w));
+    r.o12 = vec4(sway_displacement(p.g, p.f.xy, p.f.z, p.f.w), sway_weight(p.f.z, p.g.w));
     tout[i] = r;
 }

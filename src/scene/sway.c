@@ -37,8 +37,9 @@ vec3 sway_displacement(const instance_sway *s, float y, float t)
 {
     float k = sway_weight(y, s->height) * sway_wave(s->frequency, s->phase, t);
     vec3 o = s->offset;
-    if (!finite_bits(o.x) || !finite_bits(o.y) || !finite_bits(o.z))
-        return v3(0, 0, 0);
+    if (!(fabsf(o.x) <= (float)SWAY_OFFSET_MAX) || !(fabsf(o.y) <= (float)SWAY_OFFSET_MAX) ||
+        !(fabsf(o.z) <= (float)SWAY_OFFSET_MAX))
+        return v3(0, 0, 0); /* also NaN and infinities */
     return v3(o.x * k, o.y * k, o.z * k);
 }
 

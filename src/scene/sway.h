@@ -14,7 +14,8 @@
  *                      not positive and finite -> 0 (no motion)
  *   sway_wave          sin(2 pi fract(frequency t + phase)), in [-1, 1]; fract first, so it stays
  *                      accurate for hours of scene time; a non-finite argument -> 0
- *   sway_displacement  offset * weight * wave (world units)
+ *   sway_displacement  offset * weight * wave (world units); an offset with a component beyond
+ *                      SWAY_OFFSET_MAX or not finite -> 0
  *   sway_motion        displacement at t_prev minus at t: where the vertex was last frame, relative
  *                      to where it is now (TAA's per-object motion)
  *

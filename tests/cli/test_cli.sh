@@ -99,6 +99,17 @@ check "bad taa.sparse names the JSON path" grep -q "badsparse.json: taa.sparse" 
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"sparse": false}}' >"$T/nosparse.json"
 check "scene file turns the sparse-coverage margin off" bash -c "'$BIN' plan '$T/nosparse.json' --frames 4 | grep -q 'sparse-coverage slack 0.00'"
 
+# Wind sway: the plan shows the animation and the per-object motion path, and drops the motion path
+# without TAA or with --object-motion off; bad values name the option or the JSON path.
+check "plan: wind sways with per-object motion" bash -c "'$BIN' plan builtin:wind --frames 8 | grep -q 'animation  18 of 18 instances sway' && '$BIN' plan builtin:wind --frames 8 | grep -q 'reprojection through depth and per-object motion (instances sway)'"
+check "plan: --object-motion off drops the motion path" bash -c "'$BIN' plan builtin:wind --frames 8 --object-motion off | grep -q 'per-object motion (no TAA, or --object-motion off)'"
+check "plan: a static scene has no sway" bash -c "'$BIN' plan --builtin forest --frames 8 | grep -q 'sway and per-object motion (no instance sways)'"
+expect_exit "--object-motion maybe -> 2" 2 "$BIN" plan builtin:wind --object-motion maybe
+check "--object-motion says what it expects" grep -q "object-motion: expected on or off" "$T/err.txt"
+printf '{"assets": [{"name": "t", "generator": "tree"}], "instances": [{"asset": "t", "sway": {"amplitude": 0.2, "frequency": -1}}]}' >"$T/badsway.json"
+expect_exit "bad sway.frequency -> 3" 3 "$BIN" plan "$T/badsway.json"
+check "bad sway.frequency names the JSON path" grep -q "badsway.json: instances\[0\].sway.frequency: expected a number in (0, 100]" "$T/err.txt"
+
 # ---- a glTF file is a scene by itself
 "$BIN" render --scene "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" --frames 1 --width 64 --height 64 --out "$T/gltf" --quiet >/dev/null 2>&1
 check "render a .gltf directly" test -f "$T/gltf/frame.0000.exr"

@@ -1,6 +1,7 @@
 /* GPU twin of the TAA math: shaders/test/taa_twin.comp runs every function of
- * shaders/common/taa.glsl on a buffer of inputs and the results are compared with the C twin
- * (src/passes/taa_math.c), input by input.
+ * shaders/common/taa.glsl, and of shaders/common/sway.glsl (the per-object motion TAA follows), on
+ * a buffer of inputs and the results are compared with the C twins (src/passes/taa_math.c,
+ * src/scene/sway.c), input by input.
  *
  * Input groups: ordinary (HDR colours in [0, 16], sigma in [0, 1], random cameras moving a little
  * between frames with a sub-pixel jitter, NDC inside the frustum) and hard cases (NaN, +-Inf,
@@ -17,6 +18,10 @@
  *     and of the reprojection (2.5 ULP allowed), and denormals a GPU may flush to 0. A few ULP of the
  *     operands is ~1e-6 relative; 1e-5 leaves margin, and the largest difference is printed. The
  *     absolute floor (max(1, ...)) covers results that cancel to ~0 and flushed denormals.
+ *   - sway (wave, displacement, motion): |gpu - cpu| <= 5e-4 * max(1, |offset|). Everything but the
+ *     sine is the same correctly rounded float operations on both sides (the argument is reduced
+ *     with fract first, identically), and GLSL leaves sin's precision to the implementation; 5e-4
+ *     is about 2^-11, the absolute error Vulkan allows sin in [-pi, pi], which GL drivers share.
  *   - reprojection validity: identical for the ordinary group (the flag depends only on the
  *     matrix products, which are exact twins); reported for the hard group.
  *   - contract, every group: sanitize, clip, resolve, the weights and the reprojected NDC are
@@ -30,6 +35,7 @@
 #include "gl/gl_device.h"
 #include "gl/gl_program.h"
 #include "passes/taa_math.h"
+#include "scene/sway.h"
 #include "test.h"
 #include "twin_util.h"
 
@@ -37,10 +43,11 @@ typedef struct twin_in {
     float a[4], b[4], c[4], d[4];
     uint32_t u[4], v[4];
     float inv[16], prev[16];
+    float e[4], f[4], g[4];
 } twin_in;
 
 typedef struct twin_out {
-    float o[10][4];
+    float o[13][4];
 } twin_out;
 
 enum { GROUP = 1 << 15, GROUPS = 2, COUNT = GROUP * GROUPS };
@@ -115,6 +122,18 @@ static void make_input(int i, twin_in *in)
     }
     memcpy(in->inv, inv.m, sizeof in->inv);
     memcpy(in->prev, prev.m, sizeof in->prev);
+    /* Per-object motion (a swaying leaf moves centimetres per frame) and sway parameters, with
+     * scene times up to an hour. */
+    for (int k = 0; k < 3; k++) {
+        in->e[k] = maybe_hard(g, rngf(-0.2, 0.2));
+        in->g[k] = maybe_hard(g, rngf(-1, 1));
+    }
+    in->f[0] = maybe_hard(g, rngf(0.05, 5));
+    in->f[1] = maybe_hard(g, (float)rng01());
+    in->f[2] = maybe_hard(g, rngf(-2, 25));
+    in->f[3] = maybe_hard(g, rng01() < 0.5 ? rngf(0, 10) : rngf(0, 3600));
+    in->e[3] = maybe_hard(g, in->f[3] - 1.0f / 24.0f);
+    in->g[3] = maybe_hard(g, rngf(0.1, 20));
 }
 
 static void set3(float o[4], vec3 v, float w)
@@ -154,6 +173,12 @@ static void run_cpu(const twin_in *p, twin_out *r)
     r->o[9][1] = taa_sparse_margin(p->d[3] * 0.25f, 0.0f, 0.0f, p->c[2]);
     r->o[9][2] = taa_sparse_margin(p->d[3], p->c[0], p->c[0], (float)TAA_SPARSE_SLACK);
     r->o[9][3] = taa_sparse_margin(p->d[3], p->c[0], p->c[1], p->c[2]);
+    taa_reproject_moving(v3(p->d[0], p->d[1], p->d[2]), v3(p->e[0], p->e[1], p->e[2]), &inv, &prev, &o, &valid);
+    set3(r->o[10], o, valid ? 1.0f : 0.0f);
+    const instance_sway sw = {.offset = {p->g[0], p->g[1], p->g[2]}, .height = p->g[3], .frequency = p->f[0],
+                              .phase = p->f[1]};
+    set3(r->o[11], sway_motion(&sw, p->f[2], p->f[3], p->e[3]), sway_wave(p->f[0], p->f[1], p->f[3]));
+    set3(r->o[12], sway_displacement(&sw, p->f[2], p->f[3]), sway_weight(p->f[2], p->g[3]));
 }
 
 /* >>gpu */
@@ -206,7 +231,7 @@ TEST(gpu_results_are_finite)
         const twin_out *g = &gpu[i];
         bool ok = isfinite(g->o[0][3]) && isfinite(g->o[1][3]) && finite4(g->o[3], 3) && finite4(g->o[4], 4) &&
                   finite4(g->o[5], 3) && finite4(g->o[6], 3) && finite4(g->o[7], 4) && finite4(g->o[8], 4) &&
-                  isfinite(g->o[9][0]);
+                  isfinite(g->o[9][0]) && finite4(g->o[10], 3) && finite4(g->o[11], 4) && finite4(g->o[12], 4);
         for (int k = 0; k < 4; k++)
             ok = ok && (k == 3 || (g->o[5][k] >= 0.0f && g->o[5][k] <= (float)TAA_MAX_VALUE)) && g->o[7][k] >= 0.0f &&
                  g->o[7][k] <= (float)TAA_MAX_VALUE && g->o[8][k] >= 0.0f && g->o[8][k] <= (float)TAA_MAX_VALUE;
@@ -241,12 +266,21 @@ static double operand_scale(const twin_in *p, int k)
     }
     if (k == 7 || k == 9) /* the alpha / single channel: a.w and c.w */
         s = fmax(s, fmax(sanitized_abs(p->a[3]), sanitized_abs(p->c[3])));
+    if (k == 11 || k == 12) /* sway: the offset, when finite (else the twins return 0) */
+        for (int c = 0; c < 3; c++)
+            s = fmax(s, isfinite(p->g[c]) ? fabs(p->g[c]) : 0.0);
     return s;
 }
 
-enum { SLOTS = 10 };
+enum { SLOTS = 13 };
 static const char *slot_name[SLOTS] = {"sanitize",  "rgb_to_ycocg", "ycocg_to_rgb", "clip_to_box", "catmull_rom",
-                                       "resolve",   "reproject",    "resolve4",     "sanitize4",   "resolve1+sparse"};
+                                       "resolve",   "reproject",    "resolve4",     "sanitize4",   "resolve1+sparse",
+                                       "reproject_moving", "sway_motion+wave", "sway_displacement+weight"};
+/* Relative tolerance of a slot: sway goes through GLSL's sin (see the header). */
+static double slot_tolerance(int k)
+{
+    return k == 11 || k == 12 ? 5e-4 : 1e-5;
+}
 
 TEST(float_functions_agree)
 {
@@ -260,10 +294,11 @@ TEST(float_functions_agree)
         for (int i = grp * GROUP; i < (grp + 1) * GROUP; i++) {
             const twin_out *g = &gpu[i], *c = &cpu[i];
             bool gv = g->o[6][3] != 0.0f, cv = c->o[6][3] != 0.0f;
-            valid_mismatch += gv != cv;
+            bool gmv = g->o[10][3] != 0.0f, cmv = c->o[10][3] != 0.0f;
+            valid_mismatch += (gv != cv) + (gmv != cmv);
             for (int k = 0; k < SLOTS; k++) {
-                int first = k == 0 ? 3 : 0, last = (k == 0 || k == 4 || k == 7 || k == 8 || k == 9) ? 4 : 3;
-                if (k == 6 && gv != cv)
+                int first = k == 0 ? 3 : 0, last = (k == 0 || k == 4 || k == 7 || k == 8 || k == 9 || k == 11 || k == 12) ? 4 : 3;
+                if ((k == 6 && gv != cv) || (k == 10 && gmv != cmv))
                     continue; /* different branches: counted above */
                 for (int e = first; e < last; e++) {
                     double a = g->o[k][e], b = c->o[k][e];
@@ -272,9 +307,9 @@ TEST(float_functions_agree)
                         d = INFINITY;
                     double scale = fmax(1.0, fmax(fabs(b), operand_scale(&inputs[i], k)));
                     n[k]++;
-                    bad[k] += !(d <= 1e-5 * scale);
+                    bad[k] += !(d <= slot_tolerance(k) * scale);
                     worst_rel[k] = fmax(worst_rel[k], d / scale);
-                    if (!(d <= 1e-5 * scale) && bad[k] <= 2)
+                    if (!(d <= slot_tolerance(k) * scale) && bad[k] <= 2)
                         fprintf(stderr, "  %s [%d] at %d (%s): gpu %.9g cpu %.9g\n", slot_name[k], e, i, group_name[grp], a, b);
                 }
             }

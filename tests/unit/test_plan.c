@@ -130,8 +130,8 @@ TEST(modes_choose_variants_and_targets)
 TEST(shipped_scenes)
 {
     /* Built-in scenes: foliage is MASK over opaque trunks, posts and ground; nothing blends. */
-    const char *names[] = {"forest", "fence", "tree", "grass"};
-    for (int i = 0; i < 4; i++) {
+    const char *names[] = {"forest", "fence", "tree", "grass", "wind"};
+    for (int i = 0; i < 5; i++) {
         scene sc;
         CHECK(scene_load_builtin(names[i], &sc) == FS_OK);
         plan p;
@@ -234,6 +234,41 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     scene_free(&sc);
 }
 
+TEST(sway_and_per_object_motion_only_where_instances_sway)
+{
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    plan p;
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
+    CHECK(!p.sway && !p.velocity && p.sway_instances == 0); /* a static scene compiles neither */
+    for (int i = 0; i < p.pass_count; i++)
+        CHECK(!has_define(&p.passes[i], "SWAY 1") && !has_define(&p.passes[i], "OBJECT_MOTION 1"));
+    CHECK(!has_define(&p.taa_pass, "TAA_OBJECT_MOTION 1"));
+    scene_free(&sc);
+
+    CHECK(scene_load_builtin("wind", &sc) == FS_OK);
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
+    CHECK(p.sway && p.velocity && p.sway_instances == sc.instance_count);
+    CHECK(!p.camera_motion); /* the camera stands still: the leaves are what moves */
+    for (int i = 0; i < p.pass_count; i++) /* trunks and leaves bend together */
+        CHECK(has_define(&p.passes[i], "SWAY 1") && has_define(&p.passes[i], "OBJECT_MOTION 1"));
+    CHECK(has_define(&p.taa_pass, "TAA_OBJECT_MOTION 1") && !has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1"));
+    /* Without TAA nothing reads motion: sway only. */
+    CHECK(plan_build(&sc, &(plan_options){.taa = false, .frames = 48}, &p) == FS_OK);
+    CHECK(p.sway && !p.velocity);
+    for (int i = 0; i < p.pass_count; i++)
+        CHECK(has_define(&p.passes[i], "SWAY 1") && !has_define(&p.passes[i], "OBJECT_MOTION 1"));
+    /* --object-motion off: TAA as for a still scene. */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .taa_controls = {.no_object_motion = true}}, &p) ==
+          FS_OK);
+    CHECK(p.sway && !p.velocity && !has_define(&p.taa_pass, "TAA_OBJECT_MOTION 1"));
+    /* Every alpha mode's pass fits its defines (hashed A2C with TAA has the most). */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED_A2C}, &p) == FS_OK);
+    const plan_pass *m = plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED_A2C);
+    CHECK(m && has_define(m, "OBJECT_MOTION 1") && has_define(m, "TAA_HASH_OFFSET 1") && has_define(m, "MSAA 1"));
+    scene_free(&sc);
+}
+
 int main(void)
 {
     RUN(opaque_scene_has_no_alpha_variant_whatever_the_mode);
@@ -243,5 +278,6 @@ int main(void)
     RUN(shipped_scenes);
     RUN(rings_and_composite_only_when_asked);
     RUN(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera);
+    RUN(sway_and_per_object_motion_only_where_instances_sway);
     return test_summary();
 }

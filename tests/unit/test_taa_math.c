@@ -429,6 +429,37 @@ TEST(reproject_behind_previous_camera_is_invalid)
     CHECK(valid);
 }
 
+TEST(reproject_moving_point)
+{
+    /* A point that moved on its own: with its motion (last frame - now) it lands where the previous
+     * camera saw it last frame; zero motion is taa_reproject bit for bit. */
+    mat4 cur = view_proj(v3(0, 0, 0), v3(0, 0, -1)), prev = view_proj(v3(0.2f, 0.1f, 0), v3(0.2f, 0.1f, -1)), inv;
+    CHECK(m4_invert(cur, &inv));
+    const vec3 now[] = {{1, 2, -5}, {-3, 0.5f, -20}, {0.2f, -0.1f, -1.5f}};
+    const vec3 motion[] = {{0.3f, 0, 0}, {-0.5f, 0.2f, 0.1f}, {0, 0, 0.05f}};
+    for (int i = 0; i < 3; i++) {
+        float w;
+        vec3 n = project(cur, now[i], &w), was = v3_add(now[i], motion[i]), expect = project(prev, was, &w), o, still;
+        bool valid, valid_still, valid_zero;
+        taa_reproject_moving(n, motion[i], &inv, &prev, &o, &valid);
+        CHECK(valid);
+        CHECK_NEAR(o.x, expect.x, 2e-4);
+        CHECK_NEAR(o.y, expect.y, 2e-4);
+        CHECK_NEAR(o.z, expect.z, 2e-4);
+        taa_reproject(n, &inv, &prev, &still, &valid_still);
+        CHECK(fabsf(still.x - o.x) > 1e-3f || fabsf(still.y - o.y) > 1e-3f); /* the motion mattered */
+        taa_reproject_moving(n, v3(0, 0, 0), &inv, &prev, &o, &valid_zero);
+        CHECK(valid_zero == valid_still && v3_eq(o, still));
+    }
+    /* Motion that carries the point behind the previous camera: invalid, finite. */
+    float w;
+    vec3 n = project(cur, v3(0, 0, -2), &w), o;
+    bool valid = true;
+    taa_reproject_moving(n, v3(0, 0, 5), &inv, &prev, &o, &valid);
+    CHECK(!valid);
+    CHECK(v3_finite(o));
+}
+
 /* >>hard cases */
 
 static const float hard_values[] = {NAN, -NAN, INFINITY, -INFINITY, 0.0f, -0.0f, 1e-40f, -1e-40f, 1e30f, -1e30f, FLT_MAX, 0.5f};
@@ -491,6 +522,30 @@ TEST(reproject_hard_cases)
         }
 }
 
+TEST(reproject_moving_hard_cases)
+{
+    /* NaN or infinite motion never yields a non-finite result: NaN counts as no motion, infinities
+     * clamp to TAA_MAX_VALUE (which lands far off screen or behind the camera). */
+    mat4 vp = view_proj(v3(1, 2, 5), v3(0, 0, 0)), inv;
+    CHECK(m4_invert(vp, &inv));
+    const vec3 ndc = v3(0.1f, -0.2f, 0.5f);
+    int n = 0;
+    for (int a = 0; a < HARD_COUNT; a++)
+        for (int b = 0; b < HARD_COUNT; b++) {
+            vec3 m = v3(hard_values[a], hard_values[b], hard_values[(a + b) % HARD_COUNT]), o;
+            bool valid;
+            taa_reproject_moving(ndc, m, &inv, &vp, &o, &valid);
+            CHECK(v3_finite(o));
+            n++;
+        }
+    vec3 o, still;
+    bool valid, valid_still;
+    taa_reproject_moving(ndc, v3(NAN, NAN, NAN), &inv, &vp, &o, &valid);
+    taa_reproject(ndc, &inv, &vp, &still, &valid_still);
+    CHECK(valid == valid_still && v3_eq(o, still)); /* NaN motion = none */
+    CHECK(n == HARD_COUNT * HARD_COUNT);
+}
+
 int main(void)
 {
     RUN(halton_known_values);
@@ -513,5 +568,7 @@ int main(void)
     RUN(reproject_behind_previous_camera_is_invalid);
     RUN(hard_cases_stay_finite);
     RUN(reproject_hard_cases);
+    RUN(reproject_moving_point);
+    RUN(reproject_moving_hard_cases);
     return test_summary();
 }
