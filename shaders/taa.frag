@@ -1,8 +1,9 @@
 // taa.frag: temporal antialiasing of one foveation ring (DESIGN.md "Temporal antialiasing").
 // Runs over the ring's footprint in ring pixels, right after the ring was drawn with sub-pixel
 // jitter. Each pixel reprojects through its depth (and, with TAA_OBJECT_MOTION, its swaying
-// instance's own motion) into the PREVIOUS frame's ring (the ring frustum moves with the gaze), fetches that history with a Catmull-Rom filter, clips it to the variance
-// box of the current 3x3 neighbourhood in YCoCg (widened where sparse stochastic coverage
+// instance's own motion) into the PREVIOUS frame's ring (the ring frustum moves with the gaze),
+// fetches that history with a Catmull-Rom filter, clips it to the variance box of the current 3x3
+// neighbourhood in YCoCg (widened where sparse stochastic coverage
 // makes that neighbourhood miss what the history holds), and blends. History that falls outside the
 // previous ring's footprint (a saccade) comes, with TAA_COARSE_HISTORY (stochastic alpha tests),
 // from the innermost coarser ring whose previous footprint holds it; where none does, without it,
