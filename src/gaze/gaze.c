@@ -584,6 +584,19 @@ static fs_status csv_find_cols(pctx *c, long line, span header, csv_cols *cols, 
     return FS_OK;
 }
 
+/* The rows after a CSV header (times in seconds), then the finished trace. */
+static fs_status csv_body(pctx *c, line_it *it, span header, const csv_cols *cols, gaze_format format,
+                          gaze_trace *out)
+{
+    int ncols = header_count(header);
+    if (ncols < 0)
+        return fail(c, it->no, 1, "expected a closing '\"' in the header, got the end of the line");
+    c->unit = 1.0;
+    c->unit_name = "s";
+    fs_status s = csv_rows(c, it, it->no, ncols, cols);
+    return s != FS_OK ? s : finish(c, format, out);
+}
+
 static fs_status parse_csv(pctx *c, gaze_trace *out)
 {
     line_it it = {c->text, c->text + c->size, 0};
@@ -594,13 +607,7 @@ static fs_status parse_csv(pctx *c, gaze_trace *out)
     fs_status s = csv_find_cols(c, it.no, header, &cols, "t, x and y");
     if (s != FS_OK)
         return s;
-    int ncols = header_count(header);
-    if (ncols < 0)
-        return fail(c, it.no, 1, "expected a closing '\"' in the header, got the end of the line");
-    c->unit = 1.0;
-    c->unit_name = "s";
-    s = csv_rows(c, &it, it.no, ncols, &cols);
-    return s != FS_OK ? s : finish(c, GAZE_FORMAT_CSV, out);
+    return csv_body(c, &it, header, &cols, GAZE_FORMAT_CSV, out);
 }
 
 static fs_status parse_pupil(pctx *c, gaze_trace *out)
@@ -616,13 +623,7 @@ static fs_status parse_pupil(pctx *c, gaze_trace *out)
     fs_status s = csv_find_cols(c, it.no, header, &cols, "gaze_timestamp, norm_pos_x and norm_pos_y");
     if (s != FS_OK)
         return s;
-    int ncols = header_count(header);
-    if (ncols < 0)
-        return fail(c, it.no, 1, "expected a closing '\"' in the header, got the end of the line");
-    c->unit = 1.0;
-    c->unit_name = "s";
-    s = csv_rows(c, &it, it.no, ncols, &cols);
-    return s != FS_OK ? s : finish(c, GAZE_FORMAT_PUPIL, out);
+    return csv_body(c, &it, header, &cols, GAZE_FORMAT_PUPIL, out);
 }
 
 /* >>eyelink */

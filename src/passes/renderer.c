@@ -73,6 +73,7 @@ typedef struct gpu_asset {
     GLuint sway_vbo;        /* plan.sway: (offset, height), (frequency, phase, 0, 0) per instance */
     int *instance_ids;      /* scene instance index of each slot */
     unsigned char *visible; /* per slot: may be visible in the ring being drawn (frustum culling) */
+    float *cull_pad;        /* plan.sway, per slot: how far (asset units) sway may leave the box */
     int instance_count;
 } gpu_asset;
 
@@ -367,8 +368,20 @@ static fs_status upload_scene(renderer *r)
             float *sw = malloc(sizeof(float) * SWAY_FLOATS * (size_t)ga->instance_count);
             if (!sw)
                 return FS_ERR_NOMEM;
+            ga->cull_pad = calloc((size_t)ga->instance_count, sizeof(float));
+            if (!ga->cull_pad) {
+                free(sw);
+                return FS_ERR_NOMEM;
+            }
             for (int k = 0; k < ga->instance_count; k++) {
-                const instance_sway *w = &sc->instances[ga->instance_ids[k]].sway;
+                const instance *in = &sc->instances[ga->instance_ids[k]];
+                const instance_sway *w = &in->sway;
+                /* Sway moves a vertex up to |offset| (world) from the box: in asset units, that
+                 * divided by the transform's smallest axis scale. */
+                const float *m = in->transform.m;
+                float smin = fminf(v3_len(v3(m[0], m[1], m[2])),
+                                   fminf(v3_len(v3(m[4], m[5], m[6])), v3_len(v3(m[8], m[9], m[10]))));
+                ga->cull_pad[k] = instance_sways(in) ? v3_len(w->offset) / fmaxf(smin, 1e-20f) : 0.0f;
                 const float v[SWAY_FLOATS] = {w->offset.x, w->offset.y, w->offset.z, w->height, w->frequency, w->phase, 0, 0};
                 memcpy(sw + SWAY_FLOATS * k, v, sizeof v);
             }
@@ -593,6 +606,7 @@ void renderer_destroy(renderer *r)
             free(ga->castano);
             free(ga->instance_ids);
             free(ga->visible);
+            free(ga->cull_pad);
         }
         free(r->assets);
     }
@@ -713,18 +727,9 @@ static void cull_instances(renderer *r, const mat4 *view_proj)
         gpu_asset *ga = &r->assets[a];
         const asset *as = &r->sc->assets[a];
         for (int k = 0; k < ga->instance_count; k++) {
-            const instance *in = &r->sc->instances[ga->instance_ids[k]];
-            mat4 mvp = m4_mul(*view_proj, in->transform);
-            /* A swaying instance moves up to |offset| (world) from its box: grow the box by that
-             * much in asset units, i.e. divided by the transform's smallest axis scale. */
-            vec3 pad = v3(0, 0, 0);
-            if (r->pl.sway && instance_sways(in)) {
-                const float *m = in->transform.m;
-                float smin = fminf(v3_len(v3(m[0], m[1], m[2])),
-                                   fminf(v3_len(v3(m[4], m[5], m[6])), v3_len(v3(m[8], m[9], m[10]))));
-                float d = v3_len(in->sway.offset) / fmaxf(smin, 1e-20f);
-                pad = v3(d, d, d);
-            }
+            mat4 mvp = m4_mul(*view_proj, r->sc->instances[ga->instance_ids[k]].transform);
+            float d = ga->cull_pad ? ga->cull_pad[k] : 0.0f; /* a swaying instance's box grows */
+            vec3 pad = v3(d, d, d);
             ga->visible[k] = !m4_box_outside_clip(mvp, v3_sub(as->bounds_min, pad), v3_add(as->bounds_max, pad));
         }
     }

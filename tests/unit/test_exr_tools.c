@@ -84,18 +84,30 @@ static const char *write_frame(void)
     return st == FS_OK ? path : NULL;
 }
 
-TEST(exrheader_reads_frame)
+/* Writes the frame and runs `fmt` on it (its one %s is the frame's path), when `tool` is
+ * installed; *path_out (may be NULL) gets the path. False when the tool is missing or the frame
+ * could not be written (both fail the test). */
+static bool run_on_frame(const char *tool, const char *package, const char *fmt, tool_run *r, const char **path_out)
 {
-    if (!have_tool("exrheader", "openexr"))
-        return;
+    if (!have_tool(tool, package))
+        return false;
     const char *path = write_frame();
     CHECK(path != NULL);
     if (!path)
-        return;
+        return false;
     char cmd[1200];
-    snprintf(cmd, sizeof cmd, "exrheader '%s'", path);
+    snprintf(cmd, sizeof cmd, fmt, path);
+    run_tool(cmd, r);
+    if (path_out)
+        *path_out = path;
+    return true;
+}
+
+TEST(exrheader_reads_frame)
+{
     static tool_run r;
-    run_tool(cmd, &r);
+    if (!run_on_frame("exrheader", "openexr", "exrheader '%s'", &r, NULL))
+        return;
     CHECK(r.status == 0);
     CHECK(strstr(r.out, "fovsim:frame (type int): 7") != NULL);
     CHECK(strstr(r.out, "fovsim:renderer (type string): \"fovsim-tools-test\"") != NULL);
@@ -109,17 +121,10 @@ TEST(exrheader_reads_frame)
 
 TEST(exrinfo_strict_reads_frame)
 {
-    if (!have_tool("exrinfo", "openexr"))
-        return;
-    const char *path = write_frame();
-    CHECK(path != NULL);
-    if (!path)
-        return;
-    char cmd[1200];
-    /* -s: strict header validation; -a: all metadata. */
-    snprintf(cmd, sizeof cmd, "exrinfo -s -v -a '%s'", path);
     static tool_run r;
-    run_tool(cmd, &r);
+    /* -s: strict header validation; -a: all metadata. */
+    if (!run_on_frame("exrinfo", "openexr", "exrinfo -s -v -a '%s'", &r, NULL))
+        return;
     CHECK(r.status == 0);
     CHECK(strstr(r.out, "fovsim:frame: int 7") != NULL);
     CHECK(strstr(r.out, "'hazard': half") != NULL);
@@ -128,16 +133,9 @@ TEST(exrinfo_strict_reads_frame)
 
 TEST(oiiotool_info)
 {
-    if (!have_tool("oiiotool", "openimageio-tools"))
-        return;
-    const char *path = write_frame();
-    CHECK(path != NULL);
-    if (!path)
-        return;
-    char cmd[1200];
-    snprintf(cmd, sizeof cmd, "oiiotool --info -v '%s'", path);
     static tool_run r;
-    run_tool(cmd, &r);
+    if (!run_on_frame("oiiotool", "openimageio-tools", "oiiotool --info -v '%s'", &r, NULL))
+        return;
     CHECK(r.status == 0);
     CHECK(strstr(r.out, "40 x   24, 8 channel, half openexr") != NULL);
     CHECK(strstr(r.out, "fovsim:frame: 7") != NULL);
@@ -187,16 +185,11 @@ static bool oiio_channel_order(const char *info, int col_to_ch[NCH])
 
 TEST(oiiotool_stats)
 {
-    if (!have_tool("oiiotool", "openimageio-tools"))
-        return;
-    const char *path = write_frame();
-    CHECK(path != NULL);
-    if (!path)
+    static tool_run info, stats;
+    const char *path;
+    if (!run_on_frame("oiiotool", "openimageio-tools", "oiiotool --info -v '%s'", &info, &path))
         return;
     char cmd[1200];
-    static tool_run info, stats;
-    snprintf(cmd, sizeof cmd, "oiiotool --info -v '%s'", path);
-    run_tool(cmd, &info);
     snprintf(cmd, sizeof cmd, "oiiotool --stats '%s'", path);
     run_tool(cmd, &stats);
     CHECK(info.status == 0 && stats.status == 0);
