@@ -4,6 +4,11 @@
 // ring.id (ring + blend weight of the next) and eccentricity (degrees).
 // The rings are layers of one texture array, so a pixel fetches only the one or two rings it uses
 // (a sampler array would need a dynamically uniform index, i.e. fetching every ring everywhere).
+// The display is drawn as rectangles classified on the CPU (composite.vert): with COMPOSITE_TILE
+// this program draws the rectangles whose every pixel takes one ring without blending, and skips
+// the eccentricity and the search (a branch would not: llvmpipe runs both sides of it); without,
+// it draws the others and searches per pixel. Both fetch exactly the same texels, so the result
+// does not depend on the classification (tested: tiled == per-pixel, bit for bit).
 #include "common/foveation.glsl"
 
 layout(binding = 0) uniform sampler2DArray u_ring_color;    // layer i = ring i
@@ -11,6 +16,8 @@ layout(binding = 1) uniform sampler2DArray u_ring_coverage;
 uniform vec2 u_array_px;                     // width, height of the array layers (texels)
 uniform vec4 u_ring_rect[FOV_RING_COUNT];    // x0, y0, x1, y1 in display pixels (top-left origin)
 uniform float u_ring_block[FOV_RING_COUNT];  // display pixels per ring pixel (1, 2, 4, ...)
+
+flat in int v_ring;                          // COMPOSITE_TILE: the rectangle's ring
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
@@ -34,10 +41,18 @@ vec3 ring_uvw(int i, vec2 p)
 void main()
 {
     vec2 p = vec2(gl_FragCoord.x, u_display_px.y - gl_FragCoord.y); // pixel centre, top-left origin
+#ifdef COMPOSITE_TILE
+    int ring = v_ring;
+    float next = 0.0;
+#if defined(DEBUG_CHANNELS)
+    float e = fov_eccentricity_deg(p);
+#endif
+#else
     float e = fov_eccentricity_deg(p);
     int ring;
     float next;
     fov_composite_weight(e, ring, next);
+#endif
     vec3 uvw = ring_uvw(ring, p);
     vec4 c = textureLod(u_ring_color, uvw, 0.0);
     float cov = textureLod(u_ring_coverage, uvw, 0.0).r;

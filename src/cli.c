@@ -111,6 +111,9 @@ void cli_print_help(command cmd)
            "  --jitter-length N   Halton (2,3) jitter period in frames (default 16)\n"
            "  --object-motion on|off  TAA follows swaying instances' own motion (default on; off\n"
            "                      reprojects them as if still, to measure what it buys)\n"
+           "  --composite tiled|per-pixel  how the rings reach the display: tiled (default) draws\n"
+           "                      the tiles inside one ring without searching it per pixel; per-pixel\n"
+           "                      searches everywhere (same image, to measure what tiling saves)\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
@@ -263,7 +266,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--object-motion", "--supersample", "--samples",
+                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--object-motion", "--composite", "--supersample", "--samples",
                                                  "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
@@ -349,6 +352,12 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         }
         else if (!strcmp(opt, "--jitter-length"))
             ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
+        else if (!strcmp(opt, "--composite")) {
+            ok = !strcmp(val, "tiled") || !strcmp(val, "per-pixel");
+            d->composite_per_pixel = !strcmp(val, "per-pixel");
+            if (!ok)
+                log_error("--composite: expected tiled or per-pixel, got '%s'", val);
+        }
         else if (!strcmp(opt, "--object-motion")) {
             ok = !strcmp(val, "on") || !strcmp(val, "off");
             d->no_object_motion = !strcmp(val, "off");

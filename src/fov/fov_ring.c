@@ -756,3 +756,51 @@ long long fov_shaded_pixels(const display_desc *d, const fov_layout *l, float gx
     }
     return total;
 }
+
+// >>tiles
+
+int fov_tile_ring(const display_desc *d, const fov_layout *l, float gx, float gy, int x0, int y0, int x1, int y1)
+{
+    if (!l || l->count < 1 || x1 <= x0 || y1 <= y0)
+        return -1;
+    disp D = disp_of(d);
+    fov_gaze_clamp(d, &gx, &gy);
+    /* Pixel centres lie in [x0 + 0.5, x1 - 0.5]: bound from the centre of that box. */
+    double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+    double hx = 0.5 * (x1 - x0 - 1), hy = 0.5 * (y1 - y0 - 1);
+    double e = fov_eccentricity_deg(d, gx, gy, (float)cx, (float)cy);
+    double slack = sqrt(hx * hx + hy * hy) / D.f * RAD2DEG + FOV_TILE_SLACK_DEG;
+    if (!isfinite(e) || !isfinite(slack))
+        return -1;
+    fov_blend lo = fov_composite_weight(l, (float)(e - slack)), hi = fov_composite_weight(l, (float)(e + slack));
+    /* Within one ring the next ring's weight only rises with e: 0 at the top bound means 0 inside. */
+    return lo.ring == hi.ring && hi.next == 0.0f ? hi.ring : -1;
+}
+
+int fov_tile_max(const display_desc *d)
+{
+    disp D = disp_of(d);
+    int tx = ((int)D.w + FOV_TILE_PX - 1) / FOV_TILE_PX, ty = ((int)D.h + FOV_TILE_PX - 1) / FOV_TILE_PX;
+    return tx * ty;
+}
+
+int fov_composite_tiles(const display_desc *d, const fov_layout *l, float gx, float gy, fov_tile *out, int max)
+{
+    disp D = disp_of(d);
+    int w = (int)D.w, h = (int)D.h, n = 0;
+    for (int y0 = 0; y0 < h; y0 += FOV_TILE_PX) {
+        int y1 = y0 + FOV_TILE_PX < h ? y0 + FOV_TILE_PX : h;
+        for (int x0 = 0; x0 < w; x0 += FOV_TILE_PX) {
+            int x1 = x0 + FOV_TILE_PX < w ? x0 + FOV_TILE_PX : w;
+            int ring = fov_tile_ring(d, l, gx, gy, x0, y0, x1, y1);
+            if (n > 0 && out[n - 1].y0 == y0 && out[n - 1].x1 == x0 && out[n - 1].ring == ring) {
+                out[n - 1].x1 = x1; /* extends the run */
+                continue;
+            }
+            if (n == max)
+                return n;
+            out[n++] = (fov_tile){x0, y0, x1, y1, ring};
+        }
+    }
+    return n;
+}

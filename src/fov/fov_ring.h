@@ -135,6 +135,35 @@ typedef struct fov_blend {
 } fov_blend;
 fov_blend fov_composite_weight(const fov_layout *l, float ecc_deg);
 
+/* >>tiles: which display pixels may skip the ring search */
+
+/* Side of the composite's classification tiles, display pixels. */
+#define FOV_TILE_PX 16
+/* Slack, in degrees, added to every tile's eccentricity bounds: covers the difference between the
+ * GLSL and the C eccentricity (float atan on the GPU; measured <= 1.5e-3 relative). */
+#define FOV_TILE_SLACK_DEG 0.01f
+
+/* A rectangle of display pixels [x0, x1) x [y0, y1) (top-left origin) the composite draws with one
+ * program: ring >= 0 when every pixel centre in it takes that ring with no blend (fov_composite_weight
+ * gives {ring, 0}), so the composite may fetch that ring without searching; -1 when its pixels differ
+ * or blend (the per-pixel search runs). */
+typedef struct fov_tile {
+    int x0, y0, x1, y1;
+    int ring;
+} fov_tile;
+
+/* The ring every pixel centre of [x0, x1) x [y0, y1) takes with no blend, or -1. Conservative: the
+ * eccentricity of the rectangle's centre +- its half diagonal times the largest angular size of a
+ * display pixel (1 / focal length, at the principal point; the angle between two view rays is at
+ * most their points' distance / focal length), +- FOV_TILE_SLACK_DEG. */
+int fov_tile_ring(const display_desc *d, const fov_layout *l, float gx, float gy, int x0, int y0, int x1, int y1);
+/* Classifies the display in FOV_TILE_PX tiles for gaze g (clamped as fov_gaze_clamp does) and
+ * merges horizontal runs of tiles of one class into one rectangle. The rectangles partition the
+ * display exactly. Writes at most `max` (fov_tile_max) into out; returns how many. */
+int fov_composite_tiles(const display_desc *d, const fov_layout *l, float gx, float gy, fov_tile *out, int max);
+/* Rectangles fov_composite_tiles may write for a display: one per tile. */
+int fov_tile_max(const display_desc *d);
+
 /* Fraction of display pixels each ring shades (sum of ring target pixels / display pixels) for
  * gaze g; returns the total shaded pixels. per_ring may be NULL. */
 long long fov_shaded_pixels(const display_desc *d, const fov_layout *l, float gx, float gy, int margin_blocks,

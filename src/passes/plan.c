@@ -238,7 +238,18 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
             snprintf(c->defines[c->define_count++], sizeof c->defines[0], "OVERLAY 1");
         if (o.debug_channels)
             snprintf(c->defines[c->define_count++], sizeof c->defines[0], "DEBUG_CHANNELS 1");
+        c->vs = "shaders/composite.vert";
         qsort(c->defines, (size_t)c->define_count, sizeof c->defines[0], cmp_str);
+        /* Pixels whose ring is known from their tile skip the search (the overlay draws ring borders
+         * per pixel, so it keeps the search everywhere). */
+        out->composite_tiles = out->rings && !o.overlay && !o.composite_per_pixel;
+        if (out->composite_tiles) {
+            plan_pass *t = &out->composite_tile_pass;
+            *t = *c;
+            snprintf(t->name, sizeof t->name, "composite (tiles of one ring)");
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "COMPOSITE_TILE 1");
+            qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
+        }
     }
     return FS_OK;
 }
@@ -311,6 +322,10 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
         for (int d = 0; d < p->composite_pass.define_count; d++)
             fprintf(f, "%s%s", d ? ", " : "", p->composite_pass.defines[d]);
         fprintf(f, "]%s\n", p->debug_channels ? ", writes ring.id and eccentricity" : "");
+        fprintf(f, "           %s\n", p->composite_tiles
+                                         ? "display drawn in 16-pixel tiles: those inside one ring fetch it directly "
+                                           "(+ COMPOSITE_TILE), the others search per pixel"
+                                         : "every pixel searches its ring");
     }
     if (p->sway)
         fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",

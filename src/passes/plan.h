@@ -79,6 +79,8 @@ typedef struct plan_options {
     taa_controls taa_controls;
     bool reference;        /* the ground truth's passes (reference.h): every MASK material is drawn
                               stochastic, whatever the scene's or material's mode */
+    bool composite_per_pixel; /* every composite pixel searches its ring (no tile classification):
+                                 for measuring what the classification saves */
 } plan_options;
 
 typedef struct plan {
@@ -107,7 +109,11 @@ typedef struct plan {
     bool rings;                 /* foveation on: more than one ring or a reduced scale */
     bool composite;             /* a composite pass runs (rings, overlay or debug channels) */
     bool overlay, debug_channels;
-    plan_pass composite_pass;   /* shaders and defines of the composite (valid when composite) */
+    plan_pass composite_pass;   /* shaders and defines of the composite (valid when composite):
+                                 * the rectangles whose pixels search their ring */
+    bool composite_tiles;       /* rings without overlay: rectangles whose every pixel takes one ring
+                                 * unblended are drawn by composite_tile_pass, without the search */
+    plan_pass composite_tile_pass; /* composite_pass + COMPOSITE_TILE (valid when composite_tiles) */
 } plan;
 
 /* Builds the plan (FS_ERR_INTERNAL only if the scene needs more than PLAN_MAX_PASSES passes). */

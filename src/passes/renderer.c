@@ -105,6 +105,12 @@ struct renderer {
     sort_item *blend_order;                /* scratch for the BLEND sort: one per instance */
     gpu_program programs[PLAN_MAX_PASSES]; /* one per plan pass, same index */
     composite_program comp;
+    composite_program comp_tile;           /* plan.composite_tiles: the rectangles of one ring */
+    GLuint tile_vao, tile_vbo;             /* the composite's rectangles, rebuilt every frame */
+    fov_tile *tiles;                       /* scratch: fov_tile_max rectangles */
+    float *tile_verts;                     /* scratch: 6 vertices (x, y, ring) per rectangle */
+    int tile_max;
+    int tiles_searched;                    /* rectangles of the last frame that searched per pixel */
     ring_targets rt;
     GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
     GLuint empty_vao;                      /* the full-screen triangle needs a bound VAO */
@@ -508,6 +514,21 @@ static fs_status create_targets(renderer *r)
         glNamedFramebufferTexture(r->out_fbo, bufs[k], r->out_tex[k], 0);
     }
     glNamedFramebufferDrawBuffers(r->out_fbo, outs, bufs);
+    /* The composite's rectangles: at most one per tile, 6 vertices of (x, y, ring) each. */
+    display_desc dd = {r->width, r->height, r->pl.hfov_deg};
+    r->tile_max = fov_tile_max(&dd);
+    r->tiles = malloc(sizeof *r->tiles * (size_t)r->tile_max);
+    r->tile_verts = malloc(sizeof(float) * 18 * (size_t)r->tile_max);
+    if (!r->tiles || !r->tile_verts)
+        return FS_ERR_NOMEM;
+    glCreateBuffers(1, &r->tile_vbo);
+    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * (size_t)r->tile_max), NULL,
+                         GL_DYNAMIC_STORAGE_BIT);
+    glCreateVertexArrays(1, &r->tile_vao);
+    glVertexArrayVertexBuffer(r->tile_vao, 0, r->tile_vbo, 0, 3 * sizeof(float));
+    glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(r->tile_vao, 0, 0);
+    glEnableVertexArrayAttrib(r->tile_vao, 0);
     if (!r->empty_vao)
         glCreateVertexArrays(1, &r->empty_vao);
     glCreateSamplers(1, &r->ring_sampler);
@@ -557,6 +578,8 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = program_create(&r->pl.passes[i], &r->programs[i]);
     if (st == FS_OK && r->pl.composite)
         st = composite_create(&r->pl.composite_pass, &r->comp);
+    if (st == FS_OK && r->pl.composite_tiles)
+        st = composite_create(&r->pl.composite_tile_pass, &r->comp_tile);
     if (st == FS_OK && r->pl.taa)
         st = taa_create(&r->pl.taa_pass, &r->taa);
     if (st == FS_OK)
@@ -614,6 +637,11 @@ void renderer_destroy(renderer *r)
     for (int i = 0; i < r->pl.pass_count; i++)
         glDeleteProgram(r->programs[i].id);
     glDeleteProgram(r->comp.id);
+    glDeleteProgram(r->comp_tile.id);
+    glDeleteVertexArrays(1, &r->tile_vao);
+    glDeleteBuffers(1, &r->tile_vbo);
+    free(r->tiles);
+    free(r->tile_verts);
     glDeleteFramebuffers(MAX_FOV_RINGS, r->rt.fbo);
     glDeleteTextures(1, &r->rt.color);
     glDeleteTextures(1, &r->rt.coverage);
@@ -954,9 +982,9 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     }
 }
 
-static void draw_composite(renderer *r, const frame_record *fr)
+/* The composite's uniforms, the same in both of its programs. */
+static void composite_uniforms(const renderer *r, const composite_program *c, const frame_record *fr)
 {
-    const composite_program *c = &r->comp;
     const fov_layout *l = &r->pl.layout;
     display_desc d = {r->width, r->height, fr->hfov_deg};
     float outer[MAX_FOV_RINGS], band[MAX_FOV_RINGS], rect[4 * MAX_FOV_RINGS], block[MAX_FOV_RINGS];
@@ -971,11 +999,6 @@ static void draw_composite(renderer *r, const frame_record *fr)
         rect[4 * i + 3] = (float)rr->y1;
         block[i] = (float)rr->block;
     }
-    /* With TAA the composite reads the resolved rings this frame wrote. */
-    glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);
-    glBindTextureUnit(1, r->pl.taa ? r->taa_coverage[r->parity] : r->rt.coverage);
-    glBindSampler(0, r->ring_sampler);
-    glBindSampler(1, r->ring_sampler);
     glProgramUniform2f(c->id, c->u_display_px, (float)r->width, (float)r->height);
     glProgramUniform2f(c->id, c->u_array_px, (float)r->width, (float)r->height);
     glProgramUniform1f(c->id, c->u_focal_px, fov_focal_px(&d));
@@ -984,14 +1007,57 @@ static void draw_composite(renderer *r, const frame_record *fr)
     glProgramUniform1fv(c->id, c->u_ring_band, l->count, band);
     glProgramUniform4fv(c->id, c->u_ring_rect, l->count, rect);
     glProgramUniform1fv(c->id, c->u_ring_block, l->count, block);
+}
+
+/* The display as rectangles (fov_composite_tiles), those of one ring first: writes their vertices
+ * into the tile buffer and returns how many of the rectangles are of one ring (*total: all). */
+static int composite_rectangles(renderer *r, const frame_record *fr, int *total)
+{
+    display_desc d = {r->width, r->height, fr->hfov_deg};
+    int n = 0;
+    if (r->pl.composite_tiles)
+        n = fov_composite_tiles(&d, &r->pl.layout, fr->gaze_px[0], fr->gaze_px[1], r->tiles, r->tile_max);
+    else /* one rectangle: the display, searched per pixel */
+        r->tiles[n++] = (fov_tile){0, 0, r->width, r->height, -1};
+    int pure = 0;
+    for (int i = 0; i < n; i++)
+        pure += r->tiles[i].ring >= 0;
+    for (int i = 0, a = 0, b = pure; i < n; i++) {
+        const fov_tile *t = &r->tiles[i];
+        float x0 = (float)t->x0, y0 = (float)t->y0, x1 = (float)t->x1, y1 = (float)t->y1, k = (float)t->ring;
+        const float v[18] = {x0, y0, k, x1, y0, k, x1, y1, k, x0, y0, k, x1, y1, k, x0, y1, k};
+        memcpy(r->tile_verts + 18 * (size_t)(t->ring >= 0 ? a++ : b++), v, sizeof v);
+    }
+    *total = n;
+    return pure;
+}
+
+static void draw_composite(renderer *r, const frame_record *fr)
+{
+    int n, pure = composite_rectangles(r, fr, &n);
+    glNamedBufferSubData(r->tile_vbo, 0, (GLsizeiptr)(sizeof(float) * 18 * (size_t)n), r->tile_verts);
+    r->tiles_searched = n - pure;
+    /* With TAA the composite reads the resolved rings this frame wrote. */
+    glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);
+    glBindTextureUnit(1, r->pl.taa ? r->taa_coverage[r->parity] : r->rt.coverage);
+    glBindSampler(0, r->ring_sampler);
+    glBindSampler(1, r->ring_sampler);
     glBindFramebuffer(GL_FRAMEBUFFER, r->out_fbo);
     glViewport(0, 0, r->width, r->height);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
-    glUseProgram(c->id);
-    glBindVertexArray(r->empty_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(r->tile_vao);
+    if (pure > 0) {
+        composite_uniforms(r, &r->comp_tile, fr);
+        glUseProgram(r->comp_tile.id);
+        glDrawArrays(GL_TRIANGLES, 0, 6 * pure);
+    }
+    if (n > pure) {
+        composite_uniforms(r, &r->comp, fr);
+        glUseProgram(r->comp.id);
+        glDrawArrays(GL_TRIANGLES, 6 * pure, 6 * (n - pure));
+    }
     glBindSampler(0, 0);
     glBindSampler(1, 0);
 }

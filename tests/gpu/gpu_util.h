@@ -23,6 +23,7 @@ typedef struct gpu_fov {
     const fov_layout *layout; /* NULL = off */
     float gaze[2];            /* normalised, origin top-left */
     bool overlay, debug_channels;
+    bool per_pixel;           /* the composite searches every pixel's ring (no tiles) */
     alpha_params alpha;       /* zero = defaults */
     int frame;                /* frame index (stochastic thresholds change with it) */
 } gpu_fov;
@@ -38,6 +39,7 @@ static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, 
             po.layout = *fv->layout;
         po.overlay = fv->overlay;
         po.debug_channels = fv->debug_channels;
+        po.composite_per_pixel = fv->per_pixel;
         po.alpha = fv->alpha;
     }
     fs_status st = plan_build(sc, &po, &pl);

@@ -137,6 +137,49 @@ TEST(glsl_eccentricity_and_blend_agree_with_the_c_twins)
     scene_free(&sc);
 }
 
+/* The tiled composite (tiles inside one ring fetch it without searching) gives exactly the image of
+ * the per-pixel search, every channel, for gazes on, at the corners of and outside the display and
+ * for layouts with and without blend bands; the tiles really are used (most of the display). */
+TEST(tiled_composite_equals_the_per_pixel_search_bit_for_bit)
+{
+    enum { W = 320, H = 180 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    static const char *const specs[] = {"auto", "5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", "20:1/2:0,*:1/4:0"};
+    display_desc d = {W, H, 90.0f};
+    for (int s = 0; s < 3; s++) {
+        fov_layout l = layout_of(specs[s], W, H);
+        if (s == 2)
+            l.blend_deg = 0.0f; /* hard ring edges */
+        for (int g = 0; g < NGAZE; g++) {
+            exr_image a, b;
+            gpu_fov fa = {.layout = &l, .gaze = {k_gazes[g][0], k_gazes[g][1]}, .debug_channels = true};
+            gpu_fov fb = fa;
+            fb.per_pixel = true;
+            CHECK(gpu_render_fov(&sc, ALPHA_MODE_HASHED, W, H, 1.0f, &fa, &a) == FS_OK);
+            CHECK(gpu_render_fov(&sc, ALPHA_MODE_HASHED, W, H, 1.0f, &fb, &b) == FS_OK);
+            int differ = 0;
+            for (int c = 0; c < a.channel_count; c++)
+                for (int i = 0; i < W * H; i++)
+                    differ += memcmp(&a.planes[c][i], &b.planes[c][i], sizeof(float)) != 0;
+            /* The share of the display the tiles of one ring cover (what the search no longer pays). */
+            fov_tile tiles[512];
+            float gx = k_gazes[g][0] * W, gy = k_gazes[g][1] * H;
+            int n = fov_composite_tiles(&d, &l, gx, gy, tiles, 512);
+            long long pure = 0;
+            for (int i = 0; i < n; i++)
+                pure += tiles[i].ring >= 0 ? (long long)(tiles[i].x1 - tiles[i].x0) * (tiles[i].y1 - tiles[i].y0) : 0;
+            fprintf(stderr, "layout %s gaze (%.2f, %.2f): %d values differ; tiles of one ring cover %.0f %%\n",
+                    specs[s], k_gazes[g][0], k_gazes[g][1], differ, 100.0 * (double)pure / (W * H));
+            CHECK(differ == 0);
+            CHECK(pure > W * H / 4); /* 33-94 % here (16-pixel tiles are coarse at 320x180) */
+            exr_image_free(&a);
+            exr_image_free(&b);
+        }
+    }
+    scene_free(&sc);
+}
+
 /* Mean |Laplacian| of luminance in a window: high-frequency energy. */
 static double hf_energy(const exr_image *img, int cx, int cy, int half)
 {
@@ -255,6 +298,7 @@ int main(void)
 {
     gpu_begin();
     RUN(constant_scene_composites_to_that_colour_everywhere);
+    RUN(tiled_composite_equals_the_per_pixel_search_bit_for_bit);
     RUN(gaze_marker_lands_on_the_gaze_pixel);
     RUN(glsl_eccentricity_and_blend_agree_with_the_c_twins);
     RUN(full_resolution_region_follows_the_gaze);

@@ -715,6 +715,73 @@ TEST(shaded_pixels_of_the_auto_layout)
     CHECK(fov_shaded_pixels(&d, &off, 3, 4, 0, NULL) == 1280LL * 720);
 }
 
+/* The composite's tiles: they partition the display; every pixel centre of a tile of one ring takes
+ * that ring with no blend, even with the eccentricity off by the GPU's error (checked at e +- half
+ * the slack); most of the display is in such tiles; hard cases fall back to the search. */
+TEST(composite_tiles_are_exact_partitions_and_conservative)
+{
+    static const int sizes[][2] = {{1280, 720}, {320, 180}, {333, 77}, {17, 5}};
+    static const char *const specs[] = {"auto", "5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", "0.01:1:0,*:1/8:1", "*:1/2:0"};
+    int checked = 0;
+    for (int si = 0; si < 4; si++)
+        for (int li = 0; li < 4; li++)
+            for (int g = 0; g < 6; g++) {
+                display_desc d = disp(sizes[si][0], sizes[si][1], si == 3 ? 150.0f : 90.0f);
+                fov_layout l = parse_ok(specs[li], &d);
+                float gx = g == 0 ? 0.5f * d.width : (float)(rnd() * 1.6 - 0.3) * d.width;
+                float gy = g == 0 ? 0.5f * d.height : (float)(rnd() * 1.6 - 0.3) * d.height;
+                int max = fov_tile_max(&d);
+                fov_tile *t = malloc(sizeof *t * (size_t)max);
+                unsigned char *hit = calloc((size_t)d.width * (size_t)d.height, 1);
+                int n = fov_composite_tiles(&d, &l, gx, gy, t, max);
+                CHECK(n >= 1 && n <= max);
+                float cgx = gx, cgy = gy;
+                fov_gaze_clamp(&d, &cgx, &cgy);
+                long long pure = 0;
+                int bad = 0;
+                for (int i = 0; i < n; i++) {
+                    CHECK(t[i].x0 >= 0 && t[i].y0 >= 0 && t[i].x1 <= d.width && t[i].y1 <= d.height);
+                    CHECK(t[i].ring >= -1 && t[i].ring < l.count);
+                    for (int y = t[i].y0; y < t[i].y1; y++)
+                        for (int x = t[i].x0; x < t[i].x1; x++) {
+                            hit[(size_t)y * (size_t)d.width + (size_t)x]++;
+                            if (t[i].ring < 0)
+                                continue;
+                            float e = fov_eccentricity_deg(&d, cgx, cgy, x + 0.5f, y + 0.5f);
+                            for (int k = -1; k <= 1; k++) {
+                                fov_blend b = fov_composite_weight(&l, e + k * 0.5f * FOV_TILE_SLACK_DEG);
+                                bad += b.ring != t[i].ring || b.next != 0.0f;
+                            }
+                            checked++;
+                        }
+                    if (t[i].ring >= 0)
+                        pure += (long long)(t[i].x1 - t[i].x0) * (t[i].y1 - t[i].y0);
+                }
+                int holes = 0;
+                for (size_t i = 0; i < (size_t)d.width * (size_t)d.height; i++)
+                    holes += hit[i] != 1;
+                CHECK(bad == 0);
+                CHECK(holes == 0);
+                /* One ring (no blending anywhere): the whole display is one ring's tiles. */
+                if (l.count == 1)
+                    CHECK(pure == (long long)d.width * d.height);
+                /* The auto layout at 1280x720: the bands are thin next to the rings. */
+                if (si == 0 && li == 0)
+                    CHECK(pure > 0.6 * d.width * d.height);
+                free(t);
+                free(hit);
+            }
+    CHECK(checked > 1000000);
+    /* Hard cases: NaN gaze is the centre, as in the footprints; an empty rectangle searches. */
+    display_desc d = disp(640, 360, 90.0f);
+    fov_layout l = parse_ok("10:1:0,*:1/4:0", &d);
+    CHECK(fov_tile_ring(&d, &l, NAN, NAN, 312, 172, 328, 188) == fov_tile_ring(&d, &l, 320, 180, 312, 172, 328, 188));
+    CHECK(fov_tile_ring(&d, &l, 320, 180, 312, 172, 328, 188) == 0);
+    CHECK(fov_tile_ring(&d, &l, 320, 180, 10, 10, 10, 20) == -1);
+    CHECK(fov_tile_ring(&d, &l, INFINITY, 1e30f, 0, 0, 16, 16) == 1); /* the centre gaze: a corner is ring 1 */
+    CHECK(fov_tile_ring(&d, NULL, 320, 180, 0, 0, 16, 16) == -1);
+}
+
 int main(void)
 {
     log_set_quiet_errors(true);
@@ -731,5 +798,6 @@ int main(void)
     RUN(crop_aligns_ring_pixels_with_display_pixels);
     RUN(composite_weights_are_continuous_and_monotone);
     RUN(shaded_pixels_of_the_auto_layout);
+    RUN(composite_tiles_are_exact_partitions_and_conservative);
     return test_summary();
 }
