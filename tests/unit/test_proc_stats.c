@@ -83,8 +83,9 @@ TEST(reused_buffer_does_not_fault)
         total += d.minor_faults;
     }
     munmap(p, bytes);
-    /* Fresh pages would be PAGES (64) per frame; allow a stray fault or two in all. */
-    CHECK(total <= 2);
+    /* Fresh pages would be PAGES (64) per frame, 1280 in all; allow a few stray faults (NUMA
+     * balancing's hinting faults count as minor faults too). */
+    CHECK(total <= 8);
 }
 
 TEST(cpu_time_grows_with_work)
