@@ -45,8 +45,12 @@ void cli_print_help(command cmd)
     case CMD_BENCH:
         printf("usage: fovsim bench [SCENE | --scene FILE | --builtin NAME] [--frames N] [--warmup W] [--markdown FILE]\n\n"
                "Draws N frames spread over the camera path after W warm-up frames and reports median and\n"
-               "spread of the frame time (wall clock, glFinish), GL time per pass and fragment-shader\n"
-               "invocations per frame. Defaults: N = 30, W = 5, the scene's display size.\n\n");
+               "spread of the frame time (wall clock, glFinish), the process CPU time and minor page faults\n"
+               "of the draw, GL time per stage (pass, or ring, TAA resolve and composite), and work counts\n"
+               "that transfer to a GPU (GL_ARB_pipeline_statistics_query): vertex-shader invocations,\n"
+               "primitives submitted and fragment-shader invocations, per stage and per frame; n/a (JSON\n"
+               "-1) where the driver lacks the extension. Text is Markdown; --format json for scripts.\n"
+               "Defaults: N = 30, W = 5, the scene's display size. See docs/benchmarks.md.\n\n");
         break;
     case CMD_REFERENCE:
         printf("usage: fovsim reference [SCENE | --scene FILE | --builtin NAME] [--supersample S] [--samples K]\n\n"
@@ -134,8 +138,11 @@ void cli_print_help(command cmd)
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
-               "                      off/on, with coverage, RMSE and flicker against the reference; writes\n"
-               "                      DIR/accuracy.csv, accuracy.md and accuracy.png (gnuplot)\n");
+               "                      off/on, with coverage, RMSE and flicker against the reference, and\n"
+               "                      each configuration's CPU time, page faults and work counts; writes\n"
+               "                      DIR/accuracy.csv, accuracy.md, accuracy.png (RMSE vs frame time) and\n"
+               "                      accuracy-fragments.png (RMSE vs fragment-shader invocations per\n"
+               "                      pixel; not drawn without GL_ARB_pipeline_statistics_query), gnuplot\n");
     if (cmd == CMD_REFERENCE || cmd == CMD_COMPARE || cmd == CMD_DEMO || cmd == CMD_BENCH)
         printf("  --supersample S     reference: S x S sub-samples per pixel (default 4)\n"
                "  --samples K         reference: stochastic alpha tests per sub-sample, even (default 64)\n"

@@ -12,6 +12,7 @@
 
 #include "core/file_read.h"
 #include "core/log.h"
+#include "core/proc_stats.h"
 #include "gl/gl_device.h"
 #include "metrics/metrics.h"
 
@@ -529,11 +530,20 @@ fs_status run_demo(const run_desc *d)
 
 static const char *const k_layout_names[3] = {"off", "default", "aggressive"};
 
+/* Per-frame counts of bench --accuracy besides the frame time, in CSV column order: process CPU
+ * time (ms) and minor page faults of the draw, then its pipeline statistics (-1 = unknown). */
+enum { ACC_CPU, ACC_FAULTS, ACC_VS, ACC_PRIMS, ACC_FS, ACC_COUNTS };
+static const char *const k_acc_count_columns[ACC_COUNTS] = {"cpu_ms_median", "minor_faults_median",
+                                                            "vs_invocations_median", "primitives_median",
+                                                            "fs_invocations_median"};
+
 typedef struct acc_config {
     mode_run run;   /* renderer, images and sums (frame_ms: measured frames only) */
     int layout;     /* 0 off, 1 default, 2 aggressive */
     bool taa;
     double med, p10, p90;
+    double *counts[ACC_COUNTS]; /* per measured frame */
+    double count_med[ACC_COUNTS];
 } acc_config;
 
 /* The aggressive layout: the acuity model with twice the slope (resolution falls off twice as
@@ -574,6 +584,43 @@ static fs_status write_text_atomic(const char *path, const char *text)
         return FS_ERR_IO;
     }
     return FS_OK;
+}
+
+/* Plots RMSE (column 8 of DIR/accuracy.csv) against x_expr (a gnuplot column expression) into
+ * DIR/STEM.png through DIR/STEM.gp: every configuration as a labelled point, the Pareto front (rows
+ * with front_col == 1, sorted by sort_col) as a line. buf: scratch of 1 << 16 bytes. */
+static fs_status plot_accuracy(const char *out, const char *stem, const char *title, const char *xlabel,
+                               const char *x_expr, int sort_col, int front_col, char *buf)
+{
+    char gp[1200], png[1200], pngtmp[1300];
+    snprintf(gp, sizeof gp, "%s/%s.gp", out, stem);
+    snprintf(png, sizeof png, "%s/%s.png", out, stem);
+    snprintf(pngtmp, sizeof pngtmp, "%s/.%s.png.tmp.%ld", out, stem, (long)getpid());
+    int o = 0;
+    o += snprintf(buf + o, (1 << 16) - (size_t)o,
+                  "set terminal pngcairo size 1100,750 noenhanced\nset output '%s'\nset datafile "
+                  "separator ','\nset title '%s'\nset xlabel '%s'\nset ylabel 'RMSE vs reference (linear RGB)'\n"
+                  "set grid\nset key top right\n", pngtmp, title, xlabel);
+    o += snprintf(buf + o, (1 << 16) - (size_t)o,
+                  "plot '%s/accuracy.csv' every ::1 using %s:8:(sprintf('%%s/%%s/%%s', stringcolumn(1), "
+                  "stringcolumn(2), stringcolumn(3))) with labels font ',7' offset 0,0.7 notitle, \\\n"
+                  "     '' every ::1 using %s:8 with points pt 7 ps 0.8 title 'configuration', \\\n"
+                  "     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' using %s:8 with "
+                  "linespoints lw 2 pt 6 ps 1.6 title 'Pareto front'\n", out, x_expr, x_expr, sort_col, sort_col, out,
+                  front_col, x_expr);
+    fs_status st = write_text_atomic(gp, buf);
+    char cmd[2600];
+    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
+    if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
+        log_error("%s: gnuplot failed (see %s/gnuplot.log)", gp, out);
+        unlink(pngtmp);
+        st = FS_ERR_IO;
+    }
+    if (st == FS_OK) {
+        snprintf(cmd, sizeof cmd, "%s/gnuplot.log", out);
+        unlink(cmd); /* kept only when gnuplot failed */
+    }
+    return st;
 }
 
 fs_status run_bench_accuracy(const run_desc *d)
@@ -634,10 +681,15 @@ fs_status run_bench_accuracy(const run_desc *d)
                                    .frames = n + warm, .layout = layouts[l], .alpha = s.pl.alpha, .taa = c->taa,
                                    .taa_controls = s.pl.taa_controls};
                 st = plan_build(&s.sc, &po, &c->run.pl);
+                /* timers: the pipeline statistics queries come with them */
                 if (st == FS_OK)
-                    c->run.r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &c->run.pl}, &st);
+                    c->run.r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &c->run.pl, .timers = true},
+                                               &st);
                 if (st == FS_OK && !(c->run.frame_ms = calloc((size_t)n, sizeof(double))))
                     st = FS_ERR_NOMEM;
+                for (int q = 0; q < ACC_COUNTS && st == FS_OK; q++)
+                    if (!(c->counts[q] = calloc((size_t)n, sizeof(double))))
+                        st = FS_ERR_NOMEM;
             }
     ref_progress rp = {0};
     reference *rf = st == FS_OK ? session_reference(&dd, &s, &rp, &st) : NULL;
@@ -670,12 +722,20 @@ fs_status run_bench_accuracy(const run_desc *d)
             frame_record fr = base;
             frame_record_set_gaze(&fr, &mr->pl.layout, &disp, base.gaze[0], base.gaze[1]);
             renderer_finish(mr->r);
+            proc_stats p0 = proc_stats_now();
             double a = time_now();
             st = renderer_draw(mr->r, &fr);
             renderer_finish(mr->r);
+            double ms = (time_now() - a) * 1e3;
+            proc_stats pd = proc_stats_since(p0);
+            renderer_stats rs = renderer_last_stats(mr->r); /* also when not measured: the queries are done */
             if (!measured || st != FS_OK)
                 continue;
-            mr->frame_ms[i - warm] = (time_now() - a) * 1e3;
+            mr->frame_ms[i - warm] = ms;
+            const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,
+                                               (double)rs.primitives, (double)rs.fragments};
+            for (int q = 0; q < ACC_COUNTS; q++)
+                cfg[c].counts[q][i - warm] = counts[q];
             st = renderer_read(mr->r, &mr->img);
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&mr->img), vp = view_of(&mr->prev);
@@ -702,15 +762,17 @@ fs_status run_bench_accuracy(const run_desc *d)
     /* Report: CSV, Markdown, gnuplot. Base of the speedups: full-resolution traditional, TAA off
      * (else the first configuration). */
     char *csv = NULL, *md = NULL;
-    double *tx = NULL, *ey = NULL;
-    bool *front = NULL;
+    double *tx = NULL, *ey = NULL, *fx = NULL;
+    bool *front = NULL, *front_fs = NULL;
     if (st == FS_OK) {
         csv = malloc(1 << 16);
         md = malloc(1 << 16);
         tx = calloc((size_t)nc, sizeof *tx);
         ey = calloc((size_t)nc, sizeof *ey);
+        fx = calloc((size_t)nc, sizeof *fx);
         front = calloc((size_t)nc, sizeof *front);
-        if (!csv || !md || !tx || !ey || !front)
+        front_fs = calloc((size_t)nc, sizeof *front_fs);
+        if (!csv || !md || !tx || !ey || !fx || !front || !front_fs)
             st = FS_ERR_NOMEM;
     }
     if (st == FS_OK) {
@@ -723,10 +785,21 @@ fs_status run_bench_accuracy(const run_desc *d)
             cfg[c].p90 = stats_quantile(v, n, 0.9);
             if (cfg[c].run.mode == ALPHA_MODE_TRADITIONAL && cfg[c].layout == 0 && !cfg[c].taa)
                 base = c;
+            for (int q = 0; q < ACC_COUNTS; q++) {
+                double *u = cfg[c].counts[q];
+                qsort(u, (size_t)n, sizeof *u, stats_cmp_double);
+                cfg[c].count_med[q] = u[0] < 0 ? -1.0 : stats_quantile(u, n, 0.5); /* -1: unknown */
+            }
             tx[c] = cfg[c].med;
+            fx[c] = cfg[c].count_med[ACC_FS];
             ey[c] = mean_or(cfg[c].run.rmse_sum[ml.count], cfg[c].run.err_n[ml.count], 0.0);
         }
         pareto(tx, ey, nc, front);
+        bool have_fs = nc > 0;
+        for (int c = 0; c < nc; c++)
+            have_fs = have_fs && fx[c] >= 0;
+        if (have_fs)
+            pareto(fx, ey, nc, front_fs);
         char cpu[256], rings[256], aggr[256];
         session_cpu_name(cpu, sizeof cpu);
         fov_layout_format(&layouts[1], rings, sizeof rings);
@@ -735,6 +808,9 @@ fs_status run_bench_accuracy(const run_desc *d)
 #define CSV(...) oc += snprintf(csv + oc, (1 << 16) - (size_t)oc, __VA_ARGS__)
 #define MD(...) om += snprintf(md + om, (1 << 16) - (size_t)om, __VA_ARGS__)
         CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,flicker,pareto");
+        for (int q = 0; q < ACC_COUNTS; q++)
+            CSV(",%s", k_acc_count_columns[q]);
+        CSV(",pareto_fragments");
         for (int k = 0; k < ml.count; k++)
             CSV(",coverage_ratio_ring%d", k);
         CSV("\n");
@@ -746,11 +822,13 @@ fs_status run_bench_accuracy(const run_desc *d)
         MD("- reference: %dx%d sub-samples x %d stochastic alpha tests\n", reference_supersample(rf),
            reference_supersample(rf), reference_samples(rf));
         MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
-           "Pareto front of (time, RMSE)\n\n");
-        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | flicker |");
+           "Pareto front of (time, RMSE)\n");
+        MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
+           "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n\n");
+        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | flicker | CPU ms | frag./px |");
         for (int k = 0; k < ml.count; k++)
             MD(" cov. ring %d |", k);
-        MD("\n|---|---|---|---|---|---|---|");
+        MD("\n|---|---|---|---|---|---|---|---|---|");
         for (int k = 0; k < ml.count; k++)
             MD("---|");
         MD("\n");
@@ -759,12 +837,19 @@ fs_status run_bench_accuracy(const run_desc *d)
             int all = ml.count;
             double rmse = ey[c], psnr = mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
                    fl = mean_or(mr->flicker_sum[all], mr->flicker_n[all], 0.0), sp = cfg[base].med / cfg[c].med;
+            const double *cm = cfg[c].count_med;
             CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.4f,%d", alpha_mode_name(mr->mode),
                 k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med, cfg[c].p10, cfg[c].p90, sp,
                 rmse, psnr, fl, front[c]);
-            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.2f |", alpha_mode_name(mr->mode),
+            CSV(",%.4f,%.0f,%.0f,%.0f,%.0f,%d", cm[ACC_CPU], cm[ACC_FAULTS], cm[ACC_VS], cm[ACC_PRIMS], cm[ACC_FS],
+                front_fs[c]);
+            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.2f | %.2f |", alpha_mode_name(mr->mode),
                front[c] ? " *" : "", k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med,
-               cfg[c].p10, cfg[c].p90, sp, rmse, fl);
+               cfg[c].p10, cfg[c].p90, sp, rmse, fl, cm[ACC_CPU]);
+            if (cm[ACC_FS] >= 0)
+                MD(" %.2f |", cm[ACC_FS] / ((double)s.pl.width * s.pl.height));
+            else
+                MD(" n/a |");
             for (int k = 0; k < ml.count; k++) {
                 double r = mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0);
                 CSV(",%.4f", r);
@@ -788,54 +873,44 @@ fs_status run_bench_accuracy(const run_desc *d)
                 st = FS_ERR_IO;
             }
         }
+        char title[600], x_expr[64];
         if (st == FS_OK) {
-            /* gnuplot: every configuration as a labelled point, the Pareto front as a line. */
-            char gp[1200], png[1200], pngtmp[1300];
-            snprintf(gp, sizeof gp, "%s/accuracy.gp", out);
-            snprintf(png, sizeof png, "%s/accuracy.png", out);
-            snprintf(pngtmp, sizeof pngtmp, "%s/.accuracy.png.tmp.%ld", out, (long)getpid());
-            int o = 0;
-            char *g = csv; /* reuse the buffer: the CSV is written */
-            o += snprintf(g + o, (1 << 16) - (size_t)o,
-                          "set terminal pngcairo size 1100,750 noenhanced\nset output '%s'\nset datafile "
-                          "separator ','\nset title 'accuracy vs time: %s %dx%d (%s)'\nset xlabel 'frame time, "
-                          "median (ms)'\nset ylabel 'RMSE vs reference (linear RGB)'\nset grid\nset key top right\n",
-                          pngtmp, s.sc.path, s.pl.width, s.pl.height, gl_device_renderer());
-            o += snprintf(g + o, (1 << 16) - (size_t)o,
-                          "plot '%s/accuracy.csv' every ::1 using 4:8:(sprintf('%%s/%%s/%%s', stringcolumn(1), "
-                          "stringcolumn(2), stringcolumn(3))) with labels font ',7' offset 0,0.7 notitle, \\\n"
-                          "     '' every ::1 using 4:8 with points pt 7 ps 0.8 title 'configuration', \\\n"
-                          "     '< sort -t, -g -k4 %s/accuracy.csv | awk -F, \"\\$11==1\"' using 4:8 with "
-                          "linespoints lw 2 pt 6 ps 1.6 title 'Pareto front'\n", out, out);
-            st = write_text_atomic(gp, g);
-            char cmd[2600];
-            snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
-            if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
-                log_error("%s: gnuplot failed (see %s/gnuplot.log)", gp, out);
-                unlink(pngtmp);
-                st = FS_ERR_IO;
-            }
-            if (st == FS_OK) {
-                snprintf(cmd, sizeof cmd, "%s/gnuplot.log", out);
-                unlink(cmd); /* kept only when gnuplot failed */
-            }
+            snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
+                     gl_device_renderer());
+            st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", 4, 11, csv);
+        }
+        /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
+        snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
+        if (st == FS_OK && have_fs) {
+            snprintf(title, sizeof title, "accuracy vs fragment work: %s %dx%d", s.sc.path, s.pl.width, s.pl.height);
+            snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s.pl.width * s.pl.height);
+            st = plot_accuracy(out, "accuracy-fragments", title,
+                               "fragment-shader invocations per display pixel, median per frame", x_expr, 16, 17, csv);
+        } else if (st == FS_OK) {
+            unlink(path); /* not one from an earlier run beside this run's CSV */
+            log_warn("no GL_ARB_pipeline_statistics_query: fragment counts unknown, %s not drawn", path);
         }
         if (st == FS_OK) {
             fputs(md, stdout);
-            printf("\nwrote %s/accuracy.csv, accuracy.md and accuracy.png\n", out);
+            printf("\nwrote %s/accuracy.csv, accuracy.md, accuracy.png%s\n", out,
+                   have_fs ? " and accuracy-fragments.png" : "");
         }
     }
     free(csv);
     free(md);
     free(tx);
     free(ey);
+    free(fx);
     free(front);
+    free(front_fs);
     exr_image_free(&ref);
     exr_image_free(&prev_ref);
     for (int c = 0; c < nc; c++) {
         exr_image_free(&cfg[c].run.img);
         exr_image_free(&cfg[c].run.prev);
         free(cfg[c].run.frame_ms);
+        for (int q = 0; q < ACC_COUNTS; q++)
+            free(cfg[c].counts[q]);
         renderer_destroy(cfg[c].run.r);
     }
     free(cfg);

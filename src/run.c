@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +16,7 @@
 #include "common/shared_defs.h"
 #include "core/file_read.h"
 #include "core/log.h"
+#include "core/proc_stats.h"
 #include "core/progress.h"
 #include "gl/gl_device.h"
 #include "fov/fov_ring.h"
@@ -187,9 +189,18 @@ typedef struct bench_config {
     bool msaa_only;     /* traditional test drawn through the MSAA targets (A2C cost split) */
     plan pl;
     renderer *r;
-    double *wall, *stage_wall, *stage_gl, *frags, *shaded; /* n, n * stages, n * stages, n, n */
-    renderer_stats names;                                  /* stage names */
+    double *wall, *stage_wall, *stage_gl, *shaded; /* n, n * stages, n * stages, n */
+    double *cpu, *faults; /* n each: process CPU time (ms) and minor page faults of the timed draw */
+    /* Pipeline statistics (BENCH_COUNTS order), -1 = unknown: per frame (n) and per stage (n * stages). */
+    double *count[3], *stage_count[3];
+    renderer_stats names; /* stage names */
 } bench_config;
+
+/* The pipeline statistics bench reports: names in the JSON and in the text. */
+enum { BENCH_COUNTS = 3 };
+static const char *const k_count_keys[BENCH_COUNTS] = {"vs_invocations", "primitives", "fs_invocations"};
+static const char *const k_count_names[BENCH_COUNTS] = {"vertex shader invocations", "primitives submitted",
+                                                        "fragment shader invocations"};
 
 typedef struct summary {
     double median, p10, p90, min, max;
@@ -207,9 +218,16 @@ static bool bench_alloc(bench_config *c, int n)
     c->wall = calloc((size_t)n, sizeof(double));
     c->stage_wall = calloc((size_t)n * RENDERER_STATS_MAX, sizeof(double));
     c->stage_gl = calloc((size_t)n * RENDERER_STATS_MAX, sizeof(double));
-    c->frags = calloc((size_t)n, sizeof(double));
     c->shaded = calloc((size_t)n, sizeof(double));
-    return c->wall && c->stage_wall && c->stage_gl && c->frags && c->shaded;
+    c->cpu = calloc((size_t)n, sizeof(double));
+    c->faults = calloc((size_t)n, sizeof(double));
+    bool ok = c->wall && c->stage_wall && c->stage_gl && c->shaded && c->cpu && c->faults;
+    for (int q = 0; q < BENCH_COUNTS; q++) {
+        c->count[q] = calloc((size_t)n, sizeof(double));
+        c->stage_count[q] = calloc((size_t)n * RENDERER_STATS_MAX, sizeof(double));
+        ok = ok && c->count[q] && c->stage_count[q];
+    }
+    return ok;
 }
 
 static void bench_free(bench_config *c)
@@ -217,12 +235,18 @@ static void bench_free(bench_config *c)
     free(c->wall);
     free(c->stage_wall);
     free(c->stage_gl);
-    free(c->frags);
     free(c->shaded);
+    free(c->cpu);
+    free(c->faults);
+    for (int q = 0; q < BENCH_COUNTS; q++) {
+        free(c->count[q]);
+        free(c->stage_count[q]);
+    }
 }
 
-/* Draws frame k of config c twice: once as the renderer runs it (timed to glFinish), once with a
- * finish after every stage (per-stage wall times). Records when k >= 0. */
+/* Draws frame k of config c twice: once as the renderer runs it (timed to glFinish; its process CPU
+ * time, minor page faults and pipeline statistics are counted too), once with a finish after every
+ * stage (per-stage wall times). Records when k >= 0. */
 static void bench_frame(session *s, bench_config *c, int k, float t, int n)
 {
     frame_record fr = frame_record_at(&s->sc, k < 0 ? 0 : k, t, -1.0f, c->pl.width, c->pl.height);
@@ -235,10 +259,12 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
     display_desc dd = {c->pl.width, c->pl.height, fr.hfov_deg};
     frame_record_set_gaze(&fr, &c->pl.layout, &dd, gx, gy);
     renderer_set_pass_sync(c->r, false);
+    proc_stats p0 = proc_stats_now();
     double t0 = time_now();
     renderer_draw(c->r, &fr);
     renderer_finish(c->r);
     double t1 = time_now();
+    proc_stats pd = proc_stats_since(p0);
     renderer_stats rs = renderer_last_stats(c->r);
     renderer_set_pass_sync(c->r, true);
     renderer_draw(c->r, &fr);
@@ -247,12 +273,73 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
     if (k < 0)
         return;
     c->wall[k] = (t1 - t0) * 1e3;
+    c->cpu[k] = pd.cpu_ms;
+    c->faults[k] = (double)pd.minor_faults;
+    const long long *stage_counts[BENCH_COUNTS] = {rs.pass_vs_invocations, rs.pass_primitives, rs.pass_fs_invocations};
+    const long long frame_counts[BENCH_COUNTS] = {rs.vs_invocations, rs.primitives, rs.fragments};
     for (int p = 0; p < rs.pass_count; p++) {
-        c->stage_wall[(size_t)p * (size_t)n + (size_t)k] = sync.pass_wall_ms[p];
-        c->stage_gl[(size_t)p * (size_t)n + (size_t)k] = rs.pass_ms[p];
+        size_t at = (size_t)p * (size_t)n + (size_t)k;
+        c->stage_wall[at] = sync.pass_wall_ms[p];
+        c->stage_gl[at] = rs.pass_ms[p];
+        for (int q = 0; q < BENCH_COUNTS; q++)
+            c->stage_count[q][at] = (double)stage_counts[q][p];
     }
-    c->frags[k] = (double)rs.fragments;
+    for (int q = 0; q < BENCH_COUNTS; q++)
+        c->count[q][k] = (double)frame_counts[q];
     c->shaded[k] = (double)rs.shaded_pixels;
+}
+
+/* Sum of n values, -1 when any is unknown (< 0). */
+static double sum_known(const double *v, int n)
+{
+    double sum = 0;
+    for (int i = 0; i < n; i++) {
+        if (v[i] < 0)
+            return -1.0;
+        sum += v[i];
+    }
+    return sum;
+}
+
+enum { BENCH_REPORT_CAP = 1 << 20 };
+
+/* Appends to the report (BENCH_REPORT_CAP bytes); *o counts what was asked for, so an overflow
+ * shows as *o >= BENCH_REPORT_CAP. */
+static void report_printf(char *report, int *o, const char *fmt, ...)
+{
+    if (*o >= BENCH_REPORT_CAP - 1) {
+        *o = BENCH_REPORT_CAP;
+        return;
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(report + *o, (size_t)(BENCH_REPORT_CAP - *o), fmt, ap);
+    va_end(ap);
+    *o = k < 0 || k >= BENCH_REPORT_CAP - *o ? BENCH_REPORT_CAP : *o + k;
+}
+
+/* One cell of a count: the integer, or n/a when unknown (< 0). */
+static void out_count(char *report, int *o, double v)
+{
+    if (v < 0)
+        report_printf(report, o, " n/a |");
+    else
+        report_printf(report, o, " %.0f |", v);
+}
+
+/* One row of the bench table: the summary / scale with `decimals` digits; n/a where unknown (< 0). */
+static void bench_row(char *report, int *o, const char *cfg, const char *measure, summary v, double scale,
+                      int decimals)
+{
+    const double x[5] = {v.median, v.p10, v.p90, v.min, v.max};
+    report_printf(report, o, "| %s | %s |", cfg, measure);
+    for (int i = 0; i < 5; i++) {
+        if (x[i] < 0)
+            report_printf(report, o, " n/a |");
+        else
+            report_printf(report, o, " %.*f |", decimals, x[i] / scale);
+    }
+    report_printf(report, o, "\n");
 }
 
 static fs_status run_bench(const run_desc *d)
@@ -314,22 +401,34 @@ static fs_status run_bench(const run_desc *d)
     }
     progress_end(&pr);
 
-    char cpu[256];
-    session_cpu_name(cpu, sizeof cpu);
+    char cpu_name[256];
+    session_cpu_name(cpu_name, sizeof cpu_name);
     struct utsname un;
     uname(&un);
     double px = (double)s.pl.width * s.pl.height;
     char rings[256];
     fov_layout_format(&s.pl.layout, rings, sizeof rings);
-    summary wall[MAX_CFG], shaded[MAX_CFG], frags[MAX_CFG];
+    summary wall[MAX_CFG], shaded[MAX_CFG], cpu[MAX_CFG], faults[MAX_CFG], count[MAX_CFG][BENCH_COUNTS];
     summary stage_wall[MAX_CFG][RENDERER_STATS_MAX], stage_gl[MAX_CFG][RENDERER_STATS_MAX];
+    summary stage_count[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
+    double count_all[MAX_CFG][BENCH_COUNTS], stage_count_all[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
     for (int c = 0; c < ncfg && st == FS_OK; c++) {
         wall[c] = summarise(cfg[c].wall, n);
         shaded[c] = summarise(cfg[c].shaded, n);
-        frags[c] = summarise(cfg[c].frags, n);
+        cpu[c] = summarise(cfg[c].cpu, n);
+        faults[c] = summarise(cfg[c].faults, n);
+        for (int q = 0; q < BENCH_COUNTS; q++) {
+            count_all[c][q] = sum_known(cfg[c].count[q], n);
+            count[c][q] = summarise(cfg[c].count[q], n);
+        }
         for (int p = 0; p < cfg[c].names.pass_count; p++) {
             stage_wall[c][p] = summarise(&cfg[c].stage_wall[(size_t)p * (size_t)n], n);
             stage_gl[c][p] = summarise(&cfg[c].stage_gl[(size_t)p * (size_t)n], n);
+            for (int q = 0; q < BENCH_COUNTS; q++) {
+                double *v = &cfg[c].stage_count[q][(size_t)p * (size_t)n];
+                stage_count_all[c][p][q] = sum_known(v, n);
+                stage_count[c][p][q] = summarise(v, n);
+            }
         }
     }
     /* Foveation's speedup: the first mode, full resolution vs foveated. */
@@ -345,16 +444,17 @@ static fs_status run_bench(const run_desc *d)
         for (int b = 0; b < ncfg; b++)
             if (cfg[b].mode == ALPHA_MODE_TRADITIONAL && !cfg[b].msaa_only && cfg[b].foveated == cfg[c].foveated)
                 rel[c] = wall[c].median / wall[b].median;
-    char *report = malloc(65536);
+    char *report = malloc(BENCH_REPORT_CAP);
     int o = 0;
     if (!report)
         st = FS_ERR_NOMEM;
+#define OUT(...) report_printf(report, &o, __VA_ARGS__)
     if (st == FS_OK && d->json) {
-#define OUT(...) o += snprintf(report + o, 65536 - (size_t)o, __VA_ARGS__)
         OUT("{\n  \"scene\": \"%s\",\n  \"width\": %d,\n  \"height\": %d,\n  \"alpha_mode\": \"%s\",\n", s.sc.path,
             s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode));
         OUT("  \"rings\": \"%s\",\n  \"gaze\": \"%s\",\n  \"renderer\": \"%s\",\n  \"machine\": \"%s, %ld cores\",\n",
-            rings, s.gaze.count ? s.gaze.path : "centre", gl_device_renderer(), cpu, sysconf(_SC_NPROCESSORS_ONLN));
+            rings, s.gaze.count ? s.gaze.path : "centre", gl_device_renderer(), cpu_name, sysconf(_SC_NPROCESSORS_ONLN));
+        OUT("  \"pipeline_statistics\": %s,\n", gl_device_has_pipeline_stats() ? "true" : "false");
         OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", n, d->warmup, px);
         for (int c = 0; c < ncfg; c++) {
             char spec[256];
@@ -365,10 +465,24 @@ static fs_status run_bench(const run_desc *d)
                 shaded[c].median, rel[c]);
             OUT("     \"frame_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
                 wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
-            OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags[c].median >= 0 ? frags[c].median / px : -1.0);
-            for (int p = 0; p < cfg[c].names.pass_count; p++)
-                OUT("%s\n       {\"name\": \"%s\", \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f}", p ? "," : "",
+            OUT("     \"cpu_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
+                cpu[c].median, cpu[c].p10, cpu[c].p90, cpu[c].min, cpu[c].max);
+            OUT("     \"minor_faults\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f},\n",
+                faults[c].median, faults[c].p10, faults[c].p90, faults[c].min, faults[c].max);
+            for (int q = 0; q < BENCH_COUNTS; q++)
+                OUT("     \"%s\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f, "
+                    "\"all_frames\": %.0f},\n", k_count_keys[q], count[c][q].median, count[c][q].p10, count[c][q].p90,
+                    count[c][q].min, count[c][q].max, count_all[c][q]);
+            double frags = count[c][2].median;
+            OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags >= 0 ? frags / px : -1.0);
+            for (int p = 0; p < cfg[c].names.pass_count; p++) {
+                OUT("%s\n       {\"name\": \"%s\", \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f", p ? "," : "",
                     cfg[c].names.pass_names[p], stage_wall[c][p].median, stage_gl[c][p].median);
+                for (int q = 0; q < BENCH_COUNTS; q++)
+                    OUT(",\n        \"%s_median\": %.0f, \"%s_all_frames\": %.0f", k_count_keys[q],
+                        stage_count[c][p][q].median, k_count_keys[q], stage_count_all[c][p][q]);
+                OUT("}");
+            }
             OUT("]}%s\n", c + 1 < ncfg ? "," : "");
         }
         OUT("  ],\n  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", speedup,
@@ -376,28 +490,49 @@ static fs_status run_bench(const run_desc *d)
     } else if (st == FS_OK) {
         OUT("### %s, %dx%d, alpha %s, rings %s\n\n", s.sc.path, s.pl.width, s.pl.height,
             alpha_mode_name(s.pl.global_mode), rings);
-        OUT("- machine: %s, %s %s (%ld cores online)\n", cpu, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
-        OUT("- renderer: %s (OpenGL %s, %s)\n", gl_device_renderer(), gl_device_version(), gl_device_description());
+        OUT("- machine: %s, %s %s (%ld cores online)\n", cpu_name, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
+        OUT("- renderer: %s (OpenGL %s, %s)%s\n", gl_device_renderer(), gl_device_version(), gl_device_description(),
+            gl_device_has_pipeline_stats() ? "" : "; no GL_ARB_pipeline_statistics_query: work counts n/a");
         OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; gaze: %s\n\n", n, span, d->warmup,
             s.gaze.count ? s.gaze.path : "fixation at the centre");
         OUT("| configuration | measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|---|\n");
         for (int c = 0; c < ncfg; c++) {
-            OUT("| %s | frame, wall clock incl. finish (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", cfg[c].name,
-                wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
-            for (int p = 0; p < cfg[c].names.pass_count; p++)
-                OUT("| %s | %s, wall clock with glFinish (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", cfg[c].name,
-                    cfg[c].names.pass_names[p], stage_wall[c][p].median, stage_wall[c][p].p10, stage_wall[c][p].p90,
-                    stage_wall[c][p].min, stage_wall[c][p].max);
-            for (int p = 0; p < cfg[c].names.pass_count; p++)
-                OUT("| %s | %s, GL timer query (ms) | %.2f | %.2f | %.2f | %.2f | %.2f |\n", cfg[c].name,
-                    cfg[c].names.pass_names[p], stage_gl[c][p].median, stage_gl[c][p].p10, stage_gl[c][p].p90,
-                    stage_gl[c][p].min, stage_gl[c][p].max);
-            OUT("| %s | shaded pixels / display pixels | %.3f | %.3f | %.3f | %.3f | %.3f |\n", cfg[c].name,
-                shaded[c].median / px, shaded[c].p10 / px, shaded[c].p90 / px, shaded[c].min / px, shaded[c].max / px);
-            if (frags[c].min >= 0)
-                OUT("| %s | fragment shader invocations / display pixel | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
-                    cfg[c].name, frags[c].median / px, frags[c].p10 / px, frags[c].p90 / px, frags[c].min / px,
-                    frags[c].max / px);
+            const char *cn = cfg[c].name;
+            bench_row(report, &o, cn, "frame, wall clock incl. finish (ms)", wall[c], 1.0, 2);
+            bench_row(report, &o, cn, "frame, process CPU time, all threads (ms)", cpu[c], 1.0, 2);
+            bench_row(report, &o, cn, "frame, minor page faults", faults[c], 1.0, 0);
+            for (int p = 0; p < cfg[c].names.pass_count; p++) {
+                char m[96];
+                snprintf(m, sizeof m, "%s, wall clock with glFinish (ms)", cfg[c].names.pass_names[p]);
+                bench_row(report, &o, cn, m, stage_wall[c][p], 1.0, 2);
+            }
+            for (int p = 0; p < cfg[c].names.pass_count; p++) {
+                char m[96];
+                snprintf(m, sizeof m, "%s, GL timer query (ms)", cfg[c].names.pass_names[p]);
+                bench_row(report, &o, cn, m, stage_gl[c][p], 1.0, 2);
+            }
+            bench_row(report, &o, cn, "shaded pixels / display pixels", shaded[c], px, 3);
+            for (int q = 0; q < BENCH_COUNTS; q++) {
+                char m[96];
+                snprintf(m, sizeof m, "frame, %s", k_count_names[q]);
+                bench_row(report, &o, cn, m, count[c][q], 1.0, 0);
+            }
+            bench_row(report, &o, cn, "fragment shader invocations / display pixel", count[c][2], px, 2);
+        }
+        OUT("\nWork per stage (medians over the frames; the frame row is the median of the per-frame totals):\n\n"
+            "| configuration | stage | vertex shader invocations | primitives submitted | fragment shader "
+            "invocations |\n|---|---|---|---|---|\n");
+        for (int c = 0; c < ncfg; c++) {
+            for (int p = 0; p < cfg[c].names.pass_count; p++) {
+                OUT("| %s | %s |", cfg[c].name, cfg[c].names.pass_names[p]);
+                for (int q = 0; q < BENCH_COUNTS; q++)
+                    out_count(report, &o, stage_count[c][p][q].median);
+                OUT("\n");
+            }
+            OUT("| %s | **frame** |", cfg[c].name);
+            for (int q = 0; q < BENCH_COUNTS; q++)
+                out_count(report, &o, count[c][q].median);
+            OUT("\n");
         }
         if (ncfg > 1) {
             OUT("\n| configuration | frame (ms, median) | relative to traditional |\n|---|---|---|\n");
@@ -408,7 +543,11 @@ static fs_status run_bench(const run_desc *d)
             OUT("\nfoveated vs full resolution (%s): speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
                 "shaded pixels), achieved %.0f %% of ideal\n", alpha_mode_name(cfg[0].mode), speedup, ideal,
                 100.0 * speedup / ideal);
+    }
 #undef OUT
+    if (st == FS_OK && o >= BENCH_REPORT_CAP) {
+        log_error("bench: the report outgrew its %d-byte buffer", BENCH_REPORT_CAP);
+        st = FS_ERR_INTERNAL;
     }
     if (st == FS_OK) {
         fputs(report, stdout);

@@ -130,7 +130,9 @@ static fs_status cache_context_state(bool debug)
     snprintf(g_dev.renderer, sizeof g_dev.renderer, "%s", (const char *)glGetString(GL_RENDERER));
     snprintf(g_dev.version, sizeof g_dev.version, "%s", (const char *)glGetString(GL_VERSION));
     g_dev.timer_query = true; /* core since GL 3.3 */
-    g_dev.pipeline_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query");
+    /* FOVSIM_NO_PIPELINE_STATS: behave as a driver without the extension (tests of "unknown"). */
+    g_dev.pipeline_stats = epoxy_has_gl_extension("GL_ARB_pipeline_statistics_query") &&
+                           getenv("FOVSIM_NO_PIPELINE_STATS") == NULL;
     if (debug) {
         glEnable(GL_DEBUG_OUTPUT);
         glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);

@@ -41,7 +41,9 @@ const char *gl_device_renderer(void);
 const char *gl_device_version(void);
 /* "EGL device 0 (hardware)", "Mesa surfaceless (software)", ... Borrowed. */
 const char *gl_device_description(void);
-/* Whether GL_TIME_ELAPSED queries and fragment-shader-invocation statistics are available. */
+/* Whether GL_TIME_ELAPSED queries and GL_ARB_pipeline_statistics_query (vertex/fragment-shader
+ * invocations, primitives) are available; the environment variable FOVSIM_NO_PIPELINE_STATS makes
+ * the latter false, as on a driver without the extension. */
 bool gl_device_has_timer_query(void);
 bool gl_device_has_pipeline_stats(void);
 /* Lists EGL devices on stdout (for `fovsim --list-gpus`). */

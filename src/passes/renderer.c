@@ -121,7 +121,10 @@ struct renderer {
     char stage_names[RENDERER_MAX_STAGES][48];
     GLuint time_queries[RENDERER_MAX_STAGES];
     double stage_wall_ms[RENDERER_MAX_STAGES];
-    GLuint frag_query;
+    /* Pipeline statistics queries of each stage (GL_ARB_pipeline_statistics_query), one per
+     * k_stat_targets entry; 0 when the extension is missing or timers are off. */
+    GLuint stat_queries[RENDERER_MAX_STAGES][3];
+    bool stat_queries_on;
     bool stats_pending;
     /* >>taa state: resolved rings ping-pong between two pairs of arrays (no read/write of one
      * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
@@ -588,8 +591,9 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = create_targets(r);
     if (st == FS_OK && r->timers) {
         glGenQueries(r->stage_count, r->time_queries);
-        if (gl_device_has_pipeline_stats())
-            glGenQueries(1, &r->frag_query);
+        r->stat_queries_on = gl_device_has_pipeline_stats();
+        if (r->stat_queries_on)
+            glGenQueries(r->stage_count * 3, &r->stat_queries[0][0]);
     }
     if (st != FS_OK) {
         renderer_destroy(r);
@@ -665,8 +669,8 @@ void renderer_destroy(renderer *r)
     glDeleteSamplers(1, &r->ring_sampler);
     if (r->timers) {
         glDeleteQueries(r->stage_count, r->time_queries);
-        if (r->frag_query)
-            glDeleteQueries(1, &r->frag_query);
+        if (r->stat_queries_on)
+            glDeleteQueries(r->stage_count * 3, &r->stat_queries[0][0]);
     }
     free(r);
 }
@@ -813,18 +817,32 @@ static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const pl
         draw_asset(r, pg, ps, items[i].asset, items[i].slot, 1);
 }
 
-/* Timed stage boundaries: GL timer query always (when timers are on), wall clock with glFinish
- * when pass_sync is on. */
+/* What each stage counts (GL_ARB_pipeline_statistics_query), in renderer_stats order. Primitives:
+ * GL_PRIMITIVES_SUBMITTED_ARB, what the draw calls send, rather than GL_CLIPPING_INPUT_PRIMITIVES_ARB:
+ * it is fixed by the draw calls alone (index counts x instances the CPU culling lets through), so
+ * any GPU reports the same number, while what reaches the clipper is implementation-defined. */
+static const GLenum k_stat_targets[3] = {GL_VERTEX_SHADER_INVOCATIONS_ARB, GL_PRIMITIVES_SUBMITTED_ARB,
+                                         GL_FRAGMENT_SHADER_INVOCATIONS_ARB};
+
+/* Timed stage boundaries: GL timer and pipeline statistics queries (when timers are on; one query
+ * per target may be active at a time, and stages never nest), wall clock with glFinish when
+ * pass_sync is on. */
 static void stage_begin(renderer *r, int k)
 {
     if (r->timers)
         glBeginQuery(GL_TIME_ELAPSED, r->time_queries[k]);
+    if (r->stat_queries_on)
+        for (int q = 0; q < 3; q++)
+            glBeginQuery(k_stat_targets[q], r->stat_queries[k][q]);
 }
 
 static void stage_end(renderer *r, int k, double *t_prev)
 {
     if (r->timers)
         glEndQuery(GL_TIME_ELAPSED);
+    if (r->stat_queries_on)
+        for (int q = 0; q < 3; q++)
+            glEndQuery(k_stat_targets[q]);
     r->stage_wall_ms[k] = -1.0;
     if (r->pass_sync) {
         glFinish();
@@ -1065,8 +1083,6 @@ static void draw_composite(renderer *r, const frame_record *fr)
 fs_status renderer_draw(renderer *r, const frame_record *fr)
 {
     FS_ASSERT(fr->ring_count == r->pl.layout.count);
-    if (r->frag_query)
-        glBeginQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB, r->frag_query);
     if (r->pass_sync)
         glFinish();
     double t_prev = time_now();
@@ -1099,8 +1115,6 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         draw_composite(r, fr);
         stage_end(r, k, &t_prev);
     }
-    if (r->frag_query)
-        glEndQuery(GL_FRAGMENT_SHADER_INVOCATIONS_ARB);
     if (r->pl.taa) {
         for (int i = 0; i < fr->ring_count; i++) {
             r->prev_vp[i] = fr->ring_view_proj[i];
@@ -1133,8 +1147,9 @@ renderer_stats renderer_last_stats(renderer *r)
 {
     renderer_stats s = {0};
     s.pass_count = r->stage_count;
-    s.fragments = -1;
     s.shaded_pixels = r->shaded_pixels;
+    bool counts = r->stats_pending && r->stat_queries_on;
+    s.vs_invocations = s.primitives = s.fragments = counts ? 0 : -1;
     for (int i = 0; i < r->stage_count; i++) {
         snprintf(s.pass_names[i], sizeof s.pass_names[i], "%s", r->stage_names[i]);
         s.pass_ms[i] = -1.0;
@@ -1144,11 +1159,17 @@ renderer_stats renderer_last_stats(renderer *r)
             glGetQueryObjectui64v(r->time_queries[i], GL_QUERY_RESULT, &ns);
             s.pass_ms[i] = (double)ns * 1e-6;
         }
-    }
-    if (r->stats_pending && r->frag_query) {
-        GLuint64 n = 0;
-        glGetQueryObjectui64v(r->frag_query, GL_QUERY_RESULT, &n);
-        s.fragments = (long long)n;
+        long long *dst[3] = {&s.pass_vs_invocations[i], &s.pass_primitives[i], &s.pass_fs_invocations[i]};
+        long long *sum[3] = {&s.vs_invocations, &s.primitives, &s.fragments};
+        for (int q = 0; q < 3; q++) {
+            *dst[q] = -1;
+            if (counts) {
+                GLuint64 v = 0;
+                glGetQueryObjectui64v(r->stat_queries[i][q], GL_QUERY_RESULT, &v);
+                *dst[q] = (long long)v;
+                *sum[q] += (long long)v;
+            }
+        }
     }
     return s;
 }

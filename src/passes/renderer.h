@@ -25,7 +25,8 @@ typedef struct renderer renderer;
 typedef struct renderer_desc {
     const scene *scene; /* borrowed: must outlive the renderer */
     const plan *plan;   /* copied */
-    bool timers;        /* GL timer queries around each pass (for bench) */
+    bool timers;        /* GL timer queries around each stage (for bench), and pipeline statistics
+                         * queries where GL_ARB_pipeline_statistics_query is supported */
 } renderer_desc;
 
 #define RENDERER_STATS_MAX (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
@@ -41,7 +42,14 @@ typedef struct renderer_stats {
                                              measured (renderer_set_pass_sync off). Software
                                              rasterisers (llvmpipe) defer work to the flush, so only
                                              this measure is meaningful there. */
-    long long fragments;             /* fragment shader invocations of the last frame, -1 = unknown */
+    /* GL_ARB_pipeline_statistics_query counts of each stage of the last frame, -1 = unknown (no
+     * extension, or no timers): vertex-shader invocations, primitives submitted (what the draw
+     * calls sent, before clipping and culling) and fragment-shader invocations. */
+    long long pass_vs_invocations[RENDERER_STATS_MAX];
+    long long pass_primitives[RENDERER_STATS_MAX];
+    long long pass_fs_invocations[RENDERER_STATS_MAX];
+    /* The frame's: sums of the stages above, -1 = unknown. `fragments` = fragment-shader invocations. */
+    long long vs_invocations, primitives, fragments;
 } renderer_stats;
 
 renderer *renderer_create(const renderer_desc *desc, fs_status *status);

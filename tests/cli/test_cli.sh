@@ -67,6 +67,19 @@ check "bench --format json is JSON with the speedup" python3 -c "
 import json,sys; j=json.load(open('$T/bench.json')); c=j['configs']
 assert len(c)==2 and c[0]['shaded_pixels']==160*90 and 0<c[1]['shaded_pixels']<160*90, c
 assert j['ideal_speedup']>1 and j['speedup']>0 and 'achieved_fraction_of_ideal' in j"
+# Work and process counters (docs/benchmarks.md, "What bench reports"): llvmpipe has
+# GL_ARB_pipeline_statistics_query, so every count is an integer >= 0 and the stages add up to the frame;
+# on the forest the foveated rings shade fewer fragments than full resolution; without the extension
+# (FOVSIM_NO_PIPELINE_STATS) the counts are -1 / n/a, never 0.
+check "bench JSON: counters of the fence" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench.json" known
+"$BIN" bench --builtin forest --frames 2 --warmup 1 --width 160 --height 90 --rings "10:1:0,*:1/4:0" --format json >"$T/bench_forest.json" 2>/dev/null
+check "bench JSON: forest counters, foveation shades fewer fragments" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_forest.json" known --foveation-saves-fragments
+FOVSIM_NO_PIPELINE_STATS=1 "$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --format json >"$T/bench_nostats.json" 2>/dev/null
+check "bench JSON: counts unknown (-1) without the extension" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_nostats.json" unknown
+"$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --rings off >"$T/bench.txt" 2>/dev/null
+check "bench text: CPU time, page faults and work rows" bash -c "grep -Eq '^\| traditional, full resolution \| frame, process CPU time, all threads \(ms\) \| [0-9.]+ \|' '$T/bench.txt' && grep -Eq '\| frame, minor page faults \| [0-9]+ \|' '$T/bench.txt' && grep -Eq '\| frame, fragment shader invocations \| [0-9]+ \|' '$T/bench.txt' && grep -Eq '^\| traditional, full resolution \| forward.mask\[traditional\] \| [0-9]+ \| [0-9]+ \| [0-9]+ \|$' '$T/bench.txt'"
+FOVSIM_NO_PIPELINE_STATS=1 "$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --rings off >"$T/bench_nostats.txt" 2>/dev/null
+check "bench text: n/a counts without the extension" bash -c "grep -q 'frame, fragment shader invocations | n/a | n/a' '$T/bench_nostats.txt' && grep -q 'forward.mask\[traditional\] | n/a | n/a | n/a |' '$T/bench_nostats.txt' && ! grep -Eq 'invocations \| 0 \|' '$T/bench_nostats.txt'"
 
 "$BIN" render fence --gaze builtin:pursuit_circle --frames 2 --width 64 --height 36 --out "$T/bgaze" --quiet >/dev/null 2>&1
 check "built-in gaze trace" bash -c "exrheader '$T/bgaze/frame.0001.exr' | grep -q 'builtin:pursuit_circle'"

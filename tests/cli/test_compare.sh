@@ -96,6 +96,25 @@ check "bench --accuracy exits 0" test $rc -eq 0
 check "accuracy.csv: 2 modes x 3 layouts x 2 TAA rows" bash -c "[ \$(tail -n +2 '$T/acc/accuracy.csv' | wc -l) -eq 12 ]"
 check "accuracy.md table with speedups and the Pareto mark" bash -c "grep -q '| traditional' '$T/acc/accuracy.md' && grep -q ' \\* |' '$T/acc/accuracy.md'"
 check "accuracy.png is a PNG" bash -c "head -c 8 '$T/acc/accuracy.png' | od -c | grep -q 'P   N   G'"
+check "accuracy-fragments.png is a PNG" bash -c "head -c 8 '$T/acc/accuracy-fragments.png' | od -c | grep -q 'P   N   G'"
+# The work and process columns (docs/metrics.md): integers >= 0 on llvmpipe, and a configuration with
+# TAA shades more fragments per frame than the same without (TAA adds a full-screen resolve per ring).
+check "accuracy.csv: CPU, fault and work columns" python3 -c "
+import csv
+rows = list(csv.DictReader(open('$T/acc/accuracy.csv')))
+assert len(rows) == 12, len(rows)
+for r in rows:
+    assert float(r['cpu_ms_median']) >= 0, r
+    for k in ('minor_faults_median', 'vs_invocations_median', 'primitives_median', 'fs_invocations_median'):
+        assert int(r[k]) >= 0, (k, r)
+    assert int(r['fs_invocations_median']) > 0 and int(r['primitives_median']) > 0, r
+    assert r['pareto_fragments'] in ('0', '1'), r
+assert any(r['pareto_fragments'] == '1' for r in rows)
+key = lambda r: (r['mode'], r['rings'])
+off = {key(r): int(r['fs_invocations_median']) for r in rows if r['taa'] == 'off'}
+on = {key(r): int(r['fs_invocations_median']) for r in rows if r['taa'] == 'on'}
+assert all(off[k] < on[k] for k in off), (off, on)  # TAA adds a full-screen resolve per ring
+"
 
 # ---- bad input: one line, exit 2, nothing created
 for args in "--modes traditional,bogus" "--samples 3" "--supersample 0" "--alpha hashed" "--cache $T/c --no-cache"; do
