@@ -35,6 +35,22 @@ uniform bool u_history_valid;    // false on the first frame and after a camera 
 uniform float u_blend;           // weight of the current sample, default 0.1
 uniform float u_gamma;           // variance box half-width in sigmas, default 1
 uniform float u_sparse;          // sparse-coverage slack (taa_sparse_margin), default 0.28; 0 = off
+#ifdef TAA_RING_CULL
+#include "common/eccentricity.glsl"
+uniform vec2 u_cull_gaze_px;     // last frame's gaze, display pixels (top-left origin)
+uniform vec2 u_cull_display_px;  // display width, height
+uniform float u_cull_focal_px;   // last frame's focal length, display pixels
+uniform float u_ring_hole_deg[TAA_RING_COUNT]; // fov_ring_hole_deg of each ring (0: no hole)
+
+// Last frame, ring `layer` skipped the instances that lay wholly in its hole around the gaze of
+// then (plan.ring_cull): its history at display point `at` is valid only outside that hole. The
+// hole is the culled region grown by FOV_CULL_MARGIN_BLOCKS ring pixels, which covers the
+// Catmull-Rom taps around `at` (2 ring pixels) and the jitter.
+bool culled_history(vec2 at, int layer)
+{
+    return fov_angle_deg(at, u_cull_gaze_px, u_cull_display_px, u_cull_focal_px) < u_ring_hole_deg[layer];
+}
+#endif
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
@@ -149,6 +165,14 @@ void main()
             }
 #endif
         }
+#ifdef TAA_RING_CULL
+        // History from where last frame's ring drew only part of the scene (its hole): none.
+        if (valid) {
+            vec4 r = prev_layer == u_layer ? u_prev_rect : u_ring_prev_rect[prev_layer];
+            float b = prev_layer == u_layer ? u_block : u_ring_block[prev_layer];
+            valid = !culled_history(vec2(r.x + prev.x * b, r.w - prev.y * b), prev_layer);
+        }
+#endif
     }
     vec4 hist = cur;
     float hist_cov = cur_cov;

@@ -115,6 +115,8 @@ void cli_print_help(command cmd)
            "  --jitter-length N   Halton (2,3) jitter period in frames (default 16)\n"
            "  --object-motion on|off  TAA follows swaying instances' own motion (default on; off\n"
            "                      reprojects them as if still, to measure what it buys)\n"
+           "  --ring-cull on|off  rings skip instances that lie wholly where the finer ring is shown\n"
+           "                      alone (default on; off draws them, to measure what it saves)\n"
            "  --composite tiled|per-pixel  how the rings reach the display: tiled (default) draws\n"
            "                      the tiles inside one ring without searching it per pixel; per-pixel\n"
            "                      searches everywhere (same image, to measure what tiling saves)\n"
@@ -273,7 +275,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--object-motion", "--composite", "--supersample", "--samples",
+                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
@@ -359,6 +361,12 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         }
         else if (!strcmp(opt, "--jitter-length"))
             ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
+        else if (!strcmp(opt, "--ring-cull")) {
+            ok = !strcmp(val, "on") || !strcmp(val, "off");
+            d->no_ring_cull = !strcmp(val, "off");
+            if (!ok)
+                log_error("--ring-cull: expected on or off, got '%s'", val);
+        }
         else if (!strcmp(opt, "--composite")) {
             ok = !strcmp(val, "tiled") || !strcmp(val, "per-pixel");
             d->composite_per_pixel = !strcmp(val, "per-pixel");

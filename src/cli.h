@@ -58,6 +58,7 @@ typedef struct run_desc {
     float taa_sparse;        /* --taa-sparse S|off, 0 = default 0.28, negative = off */
     int jitter_length;       /* --jitter-length, 0 = default 16 */
     bool no_object_motion;   /* --object-motion off: TAA ignores swaying instances' own motion */
+    bool no_ring_cull;       /* --ring-cull off: rings draw what only their hole would see */
     bool composite_per_pixel; /* --composite per-pixel: no tile classification (to measure it) */
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */

@@ -679,7 +679,8 @@ fs_status run_bench_accuracy(const run_desc *d)
                 c->taa = t == 1;
                 plan_options po = {.alpha_mode = modes[m], .width = s.pl.width, .height = s.pl.height,
                                    .frames = n + warm, .layout = layouts[l], .alpha = s.pl.alpha, .taa = c->taa,
-                                   .taa_controls = s.pl.taa_controls};
+                                   .taa_controls = s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
+                                   .composite_per_pixel = d->composite_per_pixel};
                 st = plan_build(&s.sc, &po, &c->run.pl);
                 /* timers: the pipeline statistics queries come with them */
                 if (st == FS_OK)

@@ -191,6 +191,7 @@ typedef struct bench_config {
     renderer *r;
     double *wall, *stage_wall, *stage_gl, *shaded; /* n, n * stages, n * stages, n */
     double *cpu, *faults; /* n each: process CPU time (ms) and minor page faults of the timed draw */
+    double *instances;    /* n * MAX_FOV_RINGS: instances each ring drew (ring-major) */
     /* Pipeline statistics (BENCH_COUNTS order), -1 = unknown: per frame (n) and per stage (n * stages). */
     double *count[3], *stage_count[3];
     renderer_stats names; /* stage names */
@@ -221,7 +222,8 @@ static bool bench_alloc(bench_config *c, int n)
     c->shaded = calloc((size_t)n, sizeof(double));
     c->cpu = calloc((size_t)n, sizeof(double));
     c->faults = calloc((size_t)n, sizeof(double));
-    bool ok = c->wall && c->stage_wall && c->stage_gl && c->shaded && c->cpu && c->faults;
+    c->instances = calloc((size_t)n * MAX_FOV_RINGS, sizeof(double));
+    bool ok = c->wall && c->stage_wall && c->stage_gl && c->shaded && c->cpu && c->faults && c->instances;
     for (int q = 0; q < BENCH_COUNTS; q++) {
         c->count[q] = calloc((size_t)n, sizeof(double));
         c->stage_count[q] = calloc((size_t)n * RENDERER_STATS_MAX, sizeof(double));
@@ -238,6 +240,7 @@ static void bench_free(bench_config *c)
     free(c->shaded);
     free(c->cpu);
     free(c->faults);
+    free(c->instances);
     for (int q = 0; q < BENCH_COUNTS; q++) {
         free(c->count[q]);
         free(c->stage_count[q]);
@@ -287,6 +290,8 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
     for (int q = 0; q < BENCH_COUNTS; q++)
         c->count[q][k] = (double)frame_counts[q];
     c->shaded[k] = (double)rs.shaded_pixels;
+    for (int i = 0; i < rs.ring_count; i++)
+        c->instances[(size_t)i * (size_t)n + (size_t)k] = rs.ring_instances[i];
 }
 
 /* Sum of n values, -1 when any is unknown (< 0). */
@@ -377,7 +382,8 @@ static fs_status run_bench(const run_desc *d)
     for (int c = 0; c < ncfg && st == FS_OK; c++) {
         plan_options po = {.alpha_mode = cfg[c].mode, .width = d->width, .height = d->height, .frames = n,
                            .alpha = s.pl.alpha, .force_msaa = cfg[c].msaa_only, .taa = s.pl.taa,
-                           .taa_controls = s.pl.taa_controls};
+                           .taa_controls = s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
+                           .composite_per_pixel = d->composite_per_pixel};
         if (cfg[c].foveated)
             po.layout = s.pl.layout;
         st = plan_build(&s.sc, &po, &cfg[c].pl);
@@ -411,12 +417,15 @@ static fs_status run_bench(const run_desc *d)
     summary wall[MAX_CFG], shaded[MAX_CFG], cpu[MAX_CFG], faults[MAX_CFG], count[MAX_CFG][BENCH_COUNTS];
     summary stage_wall[MAX_CFG][RENDERER_STATS_MAX], stage_gl[MAX_CFG][RENDERER_STATS_MAX];
     summary stage_count[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
+    summary instances[MAX_CFG][MAX_FOV_RINGS];
     double count_all[MAX_CFG][BENCH_COUNTS], stage_count_all[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
     for (int c = 0; c < ncfg && st == FS_OK; c++) {
         wall[c] = summarise(cfg[c].wall, n);
         shaded[c] = summarise(cfg[c].shaded, n);
         cpu[c] = summarise(cfg[c].cpu, n);
         faults[c] = summarise(cfg[c].faults, n);
+        for (int i = 0; i < cfg[c].pl.layout.count; i++)
+            instances[c][i] = summarise(&cfg[c].instances[(size_t)i * (size_t)n], n);
         for (int q = 0; q < BENCH_COUNTS; q++) {
             count_all[c][q] = sum_known(cfg[c].count[q], n);
             count[c][q] = summarise(cfg[c].count[q], n);
@@ -473,6 +482,10 @@ static fs_status run_bench(const run_desc *d)
                 OUT("     \"%s\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f, "
                     "\"all_frames\": %.0f},\n", k_count_keys[q], count[c][q].median, count[c][q].p10, count[c][q].p90,
                     count[c][q].min, count[c][q].max, count_all[c][q]);
+            OUT("     \"ring_instances_median\": [");
+            for (int i = 0; i < cfg[c].pl.layout.count; i++)
+                OUT("%s%.0f", i ? ", " : "", instances[c][i].median);
+            OUT("],\n");
             double frags = count[c][2].median;
             OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags >= 0 ? frags / px : -1.0);
             for (int p = 0; p < cfg[c].names.pass_count; p++) {
@@ -501,6 +514,11 @@ static fs_status run_bench(const run_desc *d)
             bench_row(report, &o, cn, "frame, wall clock incl. finish (ms)", wall[c], 1.0, 2);
             bench_row(report, &o, cn, "frame, process CPU time, all threads (ms)", cpu[c], 1.0, 2);
             bench_row(report, &o, cn, "frame, minor page faults", faults[c], 1.0, 0);
+            for (int i = 0; i < cfg[c].pl.layout.count; i++) {
+                char m[96];
+                snprintf(m, sizeof m, "ring %d, instances drawn", i);
+                bench_row(report, &o, cn, cfg[c].pl.layout.count > 1 ? m : "instances drawn", instances[c][i], 1.0, 0);
+            }
             for (int p = 0; p < cfg[c].names.pass_count; p++) {
                 char m[96];
                 snprintf(m, sizeof m, "%s, wall clock with glFinish (ms)", cfg[c].names.pass_names[p]);

@@ -92,7 +92,7 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .jitter_length = d->jitter_length > 0 ? d->jitter_length
                                                                                  : sc->taa.jitter_length,
                                            .no_object_motion = d->no_object_motion},
-                          .composite_per_pixel = d->composite_per_pixel};
+                          .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
     return resolve_layout(d, sc, d->width, d->height, &out->layout);
 }
 

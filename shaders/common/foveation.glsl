@@ -4,6 +4,7 @@
 #ifndef FOV_RING_COUNT
 #error "foveation.glsl needs FOV_RING_COUNT (set by the plan)"
 #endif
+#include "common/eccentricity.glsl"
 
 uniform vec2 u_display_px;              // width, height
 uniform float u_focal_px;               // (width / 2) / tan(hfov / 2)
@@ -11,17 +12,10 @@ uniform vec2 u_gaze_px;                 // gaze, display pixels, top-left origin
 uniform float u_ring_outer[FOV_RING_COUNT]; // degrees; the last is large (covers everything)
 uniform float u_ring_band[FOV_RING_COUNT];  // blend band inside each border, degrees
 
-vec3 fov_view_ray(vec2 p)
-{
-    return vec3(p.x - 0.5 * u_display_px.x, -(p.y - 0.5 * u_display_px.y), -u_focal_px);
-}
-
-// Angle in degrees between the view rays through display point p and the gaze (atan2 form: exact 0
-// at the gaze, accurate for small angles).
+// Angle in degrees between the view rays through display point p and the gaze.
 float fov_eccentricity_deg(vec2 p)
 {
-    vec3 a = fov_view_ray(p), b = fov_view_ray(u_gaze_px);
-    return degrees(atan(length(cross(a, b)), dot(a, b)));
+    return fov_angle_deg(p, u_gaze_px, u_display_px, u_focal_px);
 }
 
 // Innermost ring whose outer radius exceeds e, and the weight of the next ring inside the blend band.

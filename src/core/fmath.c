@@ -1,6 +1,7 @@
 #include "fmath.h"
 
 #include <math.h>
+#include <string.h>
 
 vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
 vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
@@ -192,4 +193,26 @@ bool m4_box_outside_clip(mat4 mvp, vec3 lo, vec3 hi)
             return false;
     }
     return all != 0;
+}
+
+bool m4_box_screen_rect(mat4 mvp, vec3 lo, vec3 hi, float w, float h, float rect[4])
+{
+    float r[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z};
+        float v[4];
+        for (int k = 0; k < 4; k++)
+            v[k] = mvp.m[k] * p[0] + mvp.m[4 + k] * p[1] + mvp.m[8 + k] * p[2] + mvp.m[12 + k];
+        if (!(v[3] > 1e-6f))
+            return false;
+        float x = (0.5f + 0.5f * v[0] / v[3]) * w, y = (0.5f - 0.5f * v[1] / v[3]) * h;
+        if (!isfinite(x) || !isfinite(y))
+            return false;
+        r[0] = fminf(r[0], x);
+        r[1] = fminf(r[1], y);
+        r[2] = fmaxf(r[2], x);
+        r[3] = fmaxf(r[3], y);
+    }
+    memcpy(rect, r, sizeof r);
+    return true;
 }

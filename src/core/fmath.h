@@ -58,6 +58,11 @@ mat4 m4_normal_matrix(mat4 a);
  * entirely outside one clip plane (-w <= x, y, z <= w), so nothing of it can be visible.
  * Conservative: false means "maybe visible". */
 bool m4_box_outside_clip(mat4 mvp, vec3 lo, vec3 hi);
+/* Bounding rectangle, in pixels of a w x h viewport (top-left origin, y down), of the axis-aligned
+ * box [lo, hi] seen through mvp: rect = {x0, y0, x1, y1}. False (rect untouched) when a corner lies
+ * on or behind the eye plane (clip w <= 1e-6) or the projection is not finite: then the box has no
+ * bounded image. */
+bool m4_box_screen_rect(mat4 mvp, vec3 lo, vec3 hi, float w, float h, float rect[4]);
 
 #ifdef __cplusplus
 }

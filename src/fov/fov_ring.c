@@ -804,3 +804,37 @@ int fov_composite_tiles(const display_desc *d, const fov_layout *l, float gx, fl
     }
     return n;
 }
+
+// >>culling
+
+float fov_ring_hole_deg(const fov_layout *l, int i)
+{
+    if (!l || i < 1 || i >= l->count || i >= MAX_FOV_RINGS)
+        return 0.0f;
+    float outer = l->rings[i - 1].outer_deg, inner = i > 1 ? l->rings[i - 2].outer_deg : 0.0f;
+    float band = fminf(l->blend_deg, 0.5f * (outer - inner));
+    float h = outer - (band > 0.0f ? band : 0.0f);
+    return isfinite(h) && h > 0.0f ? h : 0.0f;
+}
+
+float fov_ring_cull_deg(const display_desc *d, const fov_layout *l, int i)
+{
+    float h = fov_ring_hole_deg(l, i);
+    if (!(h > 0.0f) || h >= 90.0f)
+        return 0.0f;
+    disp D = disp_of(d);
+    double c = h - FOV_CULL_MARGIN_BLOCKS * (double)(1 << l->rings[i].scale_log2) / D.f * RAD2DEG;
+    return c > 0.0 ? (float)c : 0.0f;
+}
+
+bool fov_rect_within_deg(const display_desc *d, float gx, float gy, const float rect[4], float deg)
+{
+    if (!(deg > 0.0f) || !(deg < 90.0f))
+        return false;
+    for (int c = 0; c < 4; c++) {
+        float e = fov_eccentricity_deg(d, gx, gy, rect[c & 1 ? 2 : 0], rect[c & 2 ? 3 : 1]);
+        if (!(e < deg))
+            return false;
+    }
+    return true;
+}

@@ -164,6 +164,26 @@ int fov_composite_tiles(const display_desc *d, const fov_layout *l, float gx, fl
 /* Rectangles fov_composite_tiles may write for a display: one per tile. */
 int fov_tile_max(const display_desc *d);
 
+/* >>culling: what a ring never shows */
+
+/* Ring pixels kept around the region a ring never shows, for the filters that read next to where it
+ * is shown: the composite's bilinear tap (1), TAA's 3x3 neighbourhood (1) and its sub-pixel jitter
+ * (1/2), and the Catmull-Rom history taps of the next frame (2 + 1/2). */
+#define FOV_CULL_MARGIN_BLOCKS 3
+
+/* Ring i's hole: the eccentricity below which no display pixel takes ring i, the finer ring being
+ * shown alone there (outer radius of ring i-1 minus its blend band); 0 for ring 0 (no hole). */
+float fov_ring_hole_deg(const fov_layout *l, int i);
+/* The radius inside which ring i may skip geometry: the hole less FOV_CULL_MARGIN_BLOCKS ring pixels
+ * at the display's largest angular pixel size, so every filter that reads ring i where it is shown
+ * reads drawn pixels; 0 (nothing culled) when that is not positive or the hole reaches 90 degrees
+ * (where the cone's image is no longer a convex region of the display plane). */
+float fov_ring_cull_deg(const display_desc *d, const fov_layout *l, int i);
+/* Whether every point of the display rectangle rect = {x0, y0, x1, y1} (pixels, top-left origin)
+ * lies less than `deg` (< 90) from gaze g: the region is a cone's section, convex, so its four
+ * corners decide. */
+bool fov_rect_within_deg(const display_desc *d, float gx, float gy, const float rect[4], float deg);
+
 /* Fraction of display pixels each ring shades (sum of ring target pixels / display pixels) for
  * gaze g; returns the total shaded pixels. per_ring may be NULL. */
 long long fov_shaded_pixels(const display_desc *d, const fov_layout *l, float gx, float gy, int margin_blocks,

@@ -212,6 +212,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->overlay = o.overlay;
     out->debug_channels = o.debug_channels;
     out->composite = out->rings || o.overlay || o.debug_channels;
+    out->ring_cull = out->layout.count > 1 && !o.no_ring_cull;
     if (out->taa) {
         plan_pass *t = &out->taa_pass;
         fullscreen_pass(t, "taa", "shaders/taa.frag");
@@ -226,6 +227,9 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
          * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
         snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_COUNT %d", out->layout.count);
         out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
+        /* Rings that skip instances in their hole: history from there is not whole. */
+        if (out->ring_cull)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_CULL 1");
         if (out->taa_coarse_history)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_COARSE_HISTORY 1");
         qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);

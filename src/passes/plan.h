@@ -79,6 +79,8 @@ typedef struct plan_options {
     taa_controls taa_controls;
     bool reference;        /* the ground truth's passes (reference.h): every MASK material is drawn
                               stochastic, whatever the scene's or material's mode */
+    bool no_ring_cull;     /* rings draw every instance in their frustum, also those only their hole
+                              (where the finer ring is shown alone) would see: to measure culling */
     bool composite_per_pixel; /* every composite pixel searches its ring (no tile classification):
                                  for measuring what the classification saves */
 } plan_options;
@@ -111,6 +113,8 @@ typedef struct plan {
     bool overlay, debug_channels;
     plan_pass composite_pass;   /* shaders and defines of the composite (valid when composite):
                                  * the rectangles whose pixels search their ring */
+    bool ring_cull;             /* rings skip instances whose image lies inside their hole (the
+                                 * finer ring shown alone there), fov_ring_cull_deg */
     bool composite_tiles;       /* rings without overlay: rectangles whose every pixel takes one ring
                                  * unblended are drawn by composite_tile_pass, without the search */
     plan_pass composite_tile_pass; /* composite_pass + COMPOSITE_TILE (valid when composite_tiles) */

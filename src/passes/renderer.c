@@ -55,7 +55,8 @@ typedef struct composite_program {
 typedef struct taa_program {
     GLuint id;
     GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
-        u_gamma, u_sparse, u_rect, u_prev_rect, u_block, u_ring_prev_rect, u_ring_block;
+        u_gamma, u_sparse, u_rect, u_prev_rect, u_block, u_ring_prev_rect, u_ring_block, u_cull_gaze_px,
+        u_cull_display_px, u_cull_focal_px, u_ring_hole_deg;
 } taa_program;
 
 typedef struct gpu_prim {
@@ -138,9 +139,12 @@ struct renderer {
     float prev_time;                        /* the previous frame's time (per-object motion) */
     mat4 prev_vp[MAX_FOV_RINGS];
     fov_ring_rect prev_rect[MAX_FOV_RINGS];
+    float prev_gaze_px[2], prev_focal_px;   /* plan.ring_cull: where the previous frame's holes were */
+    float prev_hole_deg[MAX_FOV_RINGS];     /* fov_ring_hole_deg of the rings that culled, else 0 */
     mat4 draw_vp;                           /* the view-projection the ring being drawn uses */
     bool pass_sync;
     long long shaded_pixels;               /* ring target pixels drawn by the last frame */
+    int ring_instances[MAX_FOV_RINGS];     /* instances each ring drew in the last frame */
 };
 
 /* >>programs */
@@ -205,6 +209,10 @@ static fs_status taa_create(const plan_pass *ps, taa_program *out)
     out->u_ring_prev_rect = glGetUniformLocation(h, "u_ring_prev_rect");
     out->u_ring_block = glGetUniformLocation(h, "u_ring_block");
     out->u_block = glGetUniformLocation(h, "u_block");
+    out->u_cull_gaze_px = glGetUniformLocation(h, "u_cull_gaze_px");
+    out->u_cull_display_px = glGetUniformLocation(h, "u_cull_display_px");
+    out->u_cull_focal_px = glGetUniformLocation(h, "u_cull_focal_px");
+    out->u_ring_hole_deg = glGetUniformLocation(h, "u_ring_hole_deg");
     return FS_OK;
 }
 
@@ -751,20 +759,33 @@ static void draw_asset(const renderer *r, const gpu_program *pg, const plan_pass
     }
 }
 
-/* Marks which instances may be visible through a ring's frustum (its footprint's cropped
- * projection): inner rings see a narrow cone and skip most instances' vertex work. */
-static void cull_instances(renderer *r, const mat4 *view_proj)
+/* Marks which instances ring `ring` draws: those that may be visible through its frustum (its
+ * footprint's cropped projection: inner rings see a narrow cone and skip most instances' vertex
+ * work), less, with plan.ring_cull, those whose whole image lies in the ring's hole (the region the
+ * finer ring shows alone, fov_ring_cull_deg: it keeps a margin for the filters). Returns how many
+ * instances it draws. TAA treats history from the hole as invalid (taa.frag, TAA_RING_CULL). */
+static int cull_instances(renderer *r, const frame_record *fr, int ring)
 {
+    display_desc dd = {r->width, r->height, fr->hfov_deg};
+    float hole = r->pl.ring_cull ? fov_ring_cull_deg(&dd, &r->pl.layout, ring) : 0.0f;
+    int drawn = 0;
     for (int a = 0; a < r->sc->asset_count; a++) {
         gpu_asset *ga = &r->assets[a];
         const asset *as = &r->sc->assets[a];
         for (int k = 0; k < ga->instance_count; k++) {
-            mat4 mvp = m4_mul(*view_proj, r->sc->instances[ga->instance_ids[k]].transform);
+            const mat4 *model = &r->sc->instances[ga->instance_ids[k]].transform;
             float d = ga->cull_pad ? ga->cull_pad[k] : 0.0f; /* a swaying instance's box grows */
-            vec3 pad = v3(d, d, d);
-            ga->visible[k] = !m4_box_outside_clip(mvp, v3_sub(as->bounds_min, pad), v3_add(as->bounds_max, pad));
+            vec3 lo = v3_sub(as->bounds_min, v3(d, d, d)), hi = v3_add(as->bounds_max, v3(d, d, d));
+            bool vis = !m4_box_outside_clip(m4_mul(fr->ring_view_proj[ring], *model), lo, hi);
+            float rect[4];
+            if (vis && hole > 0.0f &&
+                m4_box_screen_rect(m4_mul(fr->view_proj, *model), lo, hi, (float)r->width, (float)r->height, rect))
+                vis = !fov_rect_within_deg(&dd, fr->gaze_px[0], fr->gaze_px[1], rect, hole);
+            ga->visible[k] = vis;
+            drawn += vis;
         }
     }
+    return drawn;
 }
 
 /* Every asset, instanced, in runs of consecutive visible instance slots. */
@@ -900,6 +921,12 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glProgramUniform4f(p->id, p->u_rect, (float)rr->x0, (float)rr->y0, (float)rr->x1, (float)rr->y1);
     glProgramUniform4f(p->id, p->u_prev_rect, (float)pr->x0, (float)pr->y0, (float)pr->x1, (float)pr->y1);
     glProgramUniform1f(p->id, p->u_block, (float)rr->block);
+    if (r->pl.ring_cull) {
+        glProgramUniform2f(p->id, p->u_cull_gaze_px, r->prev_gaze_px[0], r->prev_gaze_px[1]);
+        glProgramUniform2f(p->id, p->u_cull_display_px, (float)r->width, (float)r->height);
+        glProgramUniform1f(p->id, p->u_cull_focal_px, r->prev_focal_px);
+        glProgramUniform1fv(p->id, p->u_ring_hole_deg, fr->ring_count, r->prev_hole_deg);
+    }
     glBindTextureUnit(0, r->rt.color);
     glBindTextureUnit(1, r->rt.coverage);
     glBindTextureUnit(2, r->rt.depth);
@@ -941,7 +968,7 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     glDepthFunc(GL_LESS);
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
-    cull_instances(r, &fr->ring_view_proj[ring]);
+    r->ring_instances[ring] = cull_instances(r, fr, ring);
     r->draw_vp = fr->ring_view_proj[ring];
     if (r->pl.taa) {
         /* Sub-pixel jitter (Halton 2,3), in this ring's own pixels: an NDC offset of 2 j / size. */
@@ -1122,6 +1149,14 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         }
         r->prev_index = fr->index;
         r->prev_time = fr->time;
+        display_desc dd = {r->width, r->height, fr->hfov_deg};
+        r->prev_gaze_px[0] = fr->gaze_px[0];
+        r->prev_gaze_px[1] = fr->gaze_px[1];
+        r->prev_focal_px = fov_focal_px(&dd);
+        for (int i = 0; i < fr->ring_count; i++)
+            r->prev_hole_deg[i] = r->pl.ring_cull && fov_ring_cull_deg(&dd, &r->pl.layout, i) > 0.0f
+                                      ? fov_ring_hole_deg(&r->pl.layout, i)
+                                      : 0.0f;
         r->have_prev = true;
         r->out_parity = r->parity; /* what renderer_read and the next frame's history use */
         r->parity = 1 - r->parity;
@@ -1148,6 +1183,8 @@ renderer_stats renderer_last_stats(renderer *r)
     renderer_stats s = {0};
     s.pass_count = r->stage_count;
     s.shaded_pixels = r->shaded_pixels;
+    s.ring_count = r->pl.layout.count;
+    memcpy(s.ring_instances, r->ring_instances, sizeof s.ring_instances);
     bool counts = r->stats_pending && r->stat_queries_on;
     s.vs_invocations = s.primitives = s.fragments = counts ? 0 : -1;
     for (int i = 0; i < r->stage_count; i++) {

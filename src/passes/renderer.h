@@ -48,6 +48,8 @@ typedef struct renderer_stats {
     long long pass_vs_invocations[RENDERER_STATS_MAX];
     long long pass_primitives[RENDERER_STATS_MAX];
     long long pass_fs_invocations[RENDERER_STATS_MAX];
+    int ring_count;                          /* rings of the plan (1 when foveation is off) */
+    int ring_instances[MAX_FOV_RINGS];       /* instances each ring drew (frustum and hole culling) */
     /* The frame's: sums of the stages above, -1 = unknown. `fragments` = fragment-shader invocations. */
     long long vs_invocations, primitives, fragments;
 } renderer_stats;

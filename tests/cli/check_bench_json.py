@@ -5,8 +5,8 @@
 usage: check_bench_json.py FILE known|unknown [--foveation-saves-fragments]
 
 known: every count is an integer >= 0, each stage's counts add up to its configuration's
-(all_frames sums, exact), full-screen stages (TAA resolve, composite) submit one primitive per
-frame, and the per-frame medians lie within [min, max]. unknown (no GL_ARB_pipeline_statistics_query,
+(all_frames sums, exact), full-screen stages (TAA resolve) submit one primitive per frame, the
+composite an even number of them (its display rectangles, two triangles each), and the per-frame medians lie within [min, max]. unknown (no GL_ARB_pipeline_statistics_query,
 or FOVSIM_NO_PIPELINE_STATS): every count is -1. Either way CPU time and minor page faults are
 numbers >= 0 (faults integers). --foveation-saves-fragments: the foveated configuration of the
 first mode shades fewer fragments than full resolution over the same frames.
@@ -66,9 +66,12 @@ def main():
             if c["fs_invocations"]["median"] <= 0 or c["primitives"]["median"] <= 0:
                 fail("%s: nothing drawn? %r" % (name, c))
             for st in c["stages"]:
-                if "resolve" in st["name"] or st["name"] == "composite":
+                if "resolve" in st["name"]:
                     if st["primitives_all_frames"] != frames or st["vs_invocations_median"] < 3:
                         fail("%s: full-screen stage %s: %r" % (name, st["name"], st))
+                if st["name"] == "composite":
+                    if st["primitives_all_frames"] < 2 * frames or st["primitives_all_frames"] % 2:
+                        fail("%s: composite stage: %r" % (name, st))
             if abs(c["fragments_per_pixel"] - c["fs_invocations"]["median"] / j["display_pixels"]) > 1e-3:
                 fail("%s: fragments_per_pixel disagrees with fs_invocations" % name)
         elif c["fragments_per_pixel"] != -1:

@@ -11,12 +11,13 @@ typedef struct seq {
 } seq;
 
 static taa_controls g_taa_controls; /* zero = defaults; a test may loosen them to show a failure */
+static bool g_no_ring_cull;         /* rings draw every instance in their frustum */
 
 static bool seq_begin(seq *q, const scene *sc, alpha_mode mode, int w, int h, const fov_layout *l, bool taa,
                       alpha_params ap)
 {
     plan_options po = {.alpha_mode = mode, .width = w, .height = h, .frames = 1000, .taa = taa, .alpha = ap,
-                       .taa_controls = g_taa_controls};
+                       .taa_controls = g_taa_controls, .no_ring_cull = g_no_ring_cull};
     if (l)
         po.layout = *l;
     fs_status st = plan_build(sc, &po, &q->pl);
@@ -286,6 +287,59 @@ TEST(camera_cut_and_saccade_history)
 /* Seed 000 and the TAA issue: with TAA, hashed alpha's thresholds change every frame (a golden-ratio
  * offset) and the history averages them: coverage moves towards the converged reference and
  * flickers less under slow camera motion than hashed without TAA. */
+/* A ring skips instances that lie wholly in its hole (where the finer ring is shown alone), so its
+ * history there lacks them. After a saccade away from that hole, the pixels there take the ring and
+ * must not take that history: each equals a fresh history's, bit for bit; and the ring did skip
+ * instances (else the test shows nothing). Traditional (no coarser-ring fallback) and hashed
+ * (TAA_COARSE_HISTORY). */
+TEST(saccade_into_a_culled_region_takes_a_fresh_history)
+{
+    enum { W = 320, H = 180 };
+    scene sc;
+    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
+    still_camera(&sc, 3.0f);
+    display_desc d = {W, H, sc.display.hfov_deg};
+    fov_layout l;
+    char err[128];
+    CHECK(fov_layout_parse("24:1:0,*:1/2:0", &d, &l, err, sizeof err) == FS_OK);
+    /* The hole less the two ring-1 pixels the composite's bilinear tap may reach across. */
+    float hole = fov_ring_hole_deg(&l, 1) - 2.0f * 2.0f / fov_focal_px(&d) * (float)(180.0 / FS_PI);
+    static const alpha_mode modes[] = {ALPHA_MODE_TRADITIONAL, ALPHA_MODE_HASHED};
+    for (int m = 0; m < 2; m++) {
+        seq a, b, c;
+        CHECK(seq_begin(&a, &sc, modes[m], W, H, &l, true, (alpha_params){0}));
+        CHECK(seq_begin(&b, &sc, modes[m], W, H, &l, true, (alpha_params){0}));
+        g_no_ring_cull = true;
+        CHECK(seq_begin(&c, &sc, modes[m], W, H, &l, true, (alpha_params){0}));
+        g_no_ring_cull = false;
+        for (int f = 0; f < 8; f++)
+            CHECK(seq_frame(&a, &sc, f, 0, -1, 0.5f, 0.5f, NULL) == FS_OK);
+        CHECK(seq_frame(&c, &sc, 7, 0, -1, 0.5f, 0.5f, NULL) == FS_OK);
+        int culled = renderer_last_stats(c.r).ring_instances[1] - renderer_last_stats(a.r).ring_instances[1];
+        exr_image x, y;
+        CHECK(seq_frame(&a, &sc, 8, 0, -1, 0.02f, 0.03f, &x) == FS_OK);
+        CHECK(seq_frame(&b, &sc, 8, 0, -1, 0.02f, 0.03f, &y) == FS_OK);
+        long inside = 0, differ = 0;
+        for (int py = 0; py < H; py++)
+            for (int px = 0; px < W; px++)
+                if (fov_eccentricity_deg(&d, 0.5f * W, 0.5f * H, px + 0.5f, py + 0.5f) < hole) {
+                    inside++;
+                    for (int ch = 0; ch < 5; ch++)
+                        differ += x.planes[ch][py * W + px] != y.planes[ch][py * W + px];
+                }
+        fprintf(stderr, "%s: ring 1 skipped %d instances; %ld pixels of its old hole, %ld values differ from a "
+                "fresh history\n", alpha_mode_name(modes[m]), culled, inside, differ);
+        CHECK(culled > 0);
+        CHECK(inside > 1000 && differ == 0);
+        exr_image_free(&x);
+        exr_image_free(&y);
+        renderer_destroy(a.r);
+        renderer_destroy(b.r);
+        renderer_destroy(c.r);
+    }
+    scene_free(&sc);
+}
+
 TEST(hashed_with_taa_flickers_less_and_covers_closer)
 {
     enum { W = 320, H = 180, N = 24 };
@@ -561,6 +615,7 @@ int main(void)
     RUN(static_view_converges_towards_the_supersampled_image);
     RUN(nan_and_inf_never_enter_history);
     RUN(camera_cut_and_saccade_history);
+    RUN(saccade_into_a_culled_region_takes_a_fresh_history);
     RUN(hashed_with_taa_flickers_less_and_covers_closer);
     RUN(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts);
     RUN(jitter_does_not_leak_into_the_image);

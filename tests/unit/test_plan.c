@@ -157,6 +157,14 @@ TEST(shipped_scenes)
     scene_free(&sc);
 }
 
+static bool has_define(const plan_pass *ps, const char *d)
+{
+    for (int i = 0; ps && i < ps->define_count; i++)
+        if (strcmp(ps->defines[i], d) == 0)
+            return true;
+    return false;
+}
+
 TEST(rings_and_composite_only_when_asked)
 {
     scene sc;
@@ -183,19 +191,25 @@ TEST(rings_and_composite_only_when_asked)
     for (int i = 0; i < p.composite_pass.define_count; i++)
         debug |= strcmp(p.composite_pass.defines[i], "DEBUG_CHANNELS 1") == 0;
     CHECK(debug);
+    /* Rings: the composite draws tiles of one ring with its COMPOSITE_TILE variant, and rings skip
+     * what only their hole would see; neither without rings, the tiles not with the overlay (it
+     * draws ring borders per pixel), and each can be turned off to measure it. */
+    CHECK(p.composite_tiles && p.ring_cull && has_define(&p.composite_tile_pass, "COMPOSITE_TILE 1") &&
+          !has_define(&p.composite_pass, "COMPOSITE_TILE 1"));
+    po.composite_per_pixel = po.no_ring_cull = true;
+    CHECK(plan_build(&sc, &po, &p) == FS_OK);
+    CHECK(p.rings && !p.composite_tiles && !p.ring_cull);
+    po.composite_per_pixel = po.no_ring_cull = false;
+    po.overlay = true;
+    CHECK(plan_build(&sc, &po, &p) == FS_OK);
+    CHECK(!p.composite_tiles && p.ring_cull);
+    CHECK(plan_build(&sc, &(plan_options){.overlay = true}, &p) == FS_OK);
+    CHECK(!p.composite_tiles && !p.ring_cull);
     /* The forward passes are the same with or without rings: rings multiply draws, not variants. */
     plan off;
     CHECK(plan_build(&sc, NULL, &off) == FS_OK);
     CHECK(off.pass_count == p.pass_count);
     scene_free(&sc);
-}
-
-static bool has_define(const plan_pass *ps, const char *d)
-{
-    for (int i = 0; ps && i < ps->define_count; i++)
-        if (strcmp(ps->defines[i], d) == 0)
-            return true;
-    return false;
 }
 
 TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
@@ -223,6 +237,10 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(fov_layout_parse("10:1:0,*:1/2:0", &sc.display, &l, err, sizeof err) == FS_OK);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED, .layout = l}, &p) == FS_OK);
     CHECK(p.taa_coarse_history && has_define(&p.taa_pass, "TAA_COARSE_HISTORY 1") && has_define(&p.taa_pass, "TAA_RING_COUNT 2"));
+    /* Rings that cull: history from a hole is invalid (TAA_RING_CULL); not when culling is off. */
+    CHECK(p.ring_cull && has_define(&p.taa_pass, "TAA_RING_CULL 1"));
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .layout = l, .no_ring_cull = true}, &p) == FS_OK);
+    CHECK(!p.ring_cull && !has_define(&p.taa_pass, "TAA_RING_CULL 1"));
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_STOCHASTIC, .layout = l}, &p) == FS_OK);
     CHECK(p.taa_coarse_history);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_TRADITIONAL, .layout = l}, &p) == FS_OK);
