@@ -145,6 +145,7 @@ struct renderer {
     bool pass_sync;
     long long shaded_pixels;               /* ring target pixels drawn by the last frame */
     int ring_instances[MAX_FOV_RINGS];     /* instances each ring drew in the last frame */
+    float *read_buf, *read_row;            /* renderer_read's scratch, made on first use */
 };
 
 /* >>programs */
@@ -654,6 +655,8 @@ void renderer_destroy(renderer *r)
     glDeleteBuffers(1, &r->tile_vbo);
     free(r->tiles);
     free(r->tile_verts);
+    free(r->read_buf);
+    free(r->read_row);
     glDeleteFramebuffers(MAX_FOV_RINGS, r->rt.fbo);
     glDeleteTextures(1, &r->rt.color);
     glDeleteTextures(1, &r->rt.coverage);
@@ -1212,35 +1215,37 @@ renderer_stats renderer_last_stats(renderer *r)
 }
 
 /* >>readback */
-static void flip_rows(float *p, int w, int h, int comps)
+/* Reverses the row order of p (h rows of w * comps floats) through `row` (w * comps floats). */
+static void flip_rows(float *p, float *row, int w, int h, int comps)
 {
-    size_t row = (size_t)w * (size_t)comps;
-    float *tmp = malloc(sizeof(float) * row);
-    if (!tmp)
-        return;
+    size_t n = (size_t)w * (size_t)comps;
     for (int y = 0; y < h / 2; y++) {
-        float *a = p + (size_t)y * row, *b = p + (size_t)(h - 1 - y) * row;
-        memcpy(tmp, a, sizeof(float) * row);
-        memcpy(a, b, sizeof(float) * row);
-        memcpy(b, tmp, sizeof(float) * row);
+        float *a = p + (size_t)y * n, *b = p + (size_t)(h - 1 - y) * n;
+        memcpy(row, a, sizeof(float) * n);
+        memcpy(a, b, sizeof(float) * n);
+        memcpy(b, row, sizeof(float) * n);
     }
-    free(tmp);
 }
 
 fs_status renderer_read(renderer *r, exr_image *img)
 {
     size_t n = (size_t)r->width * (size_t)r->height;
-    float *rgba = malloc(sizeof(float) * 4 * n);
-    if (!rgba || !exr_image_init(img, r->width, r->height)) {
-        free(rgba);
-        return FS_ERR_NOMEM;
+    /* The interleaved read-back lives as long as the renderer: nothing in the frame loop is
+     * allocated per frame but the image handed to the caller (docs/benchmarks.md, "Allocator"). */
+    if (!r->read_buf) {
+        r->read_buf = malloc(sizeof(float) * 4 * n);
+        r->read_row = malloc(sizeof(float) * 4 * (size_t)r->width);
+        if (!r->read_buf || !r->read_row)
+            return FS_ERR_NOMEM;
     }
+    float *rgba = r->read_buf;
+    if (!exr_image_init(img, r->width, r->height))
+        return FS_ERR_NOMEM;
     static const char *const names[] = {"R", "G", "B", "A", "coverage", "ring.id", "eccentricity"};
     int channels = r->pl.debug_channels ? 7 : 5;
     float *planes[7];
     for (int c = 0; c < channels; c++)
         if (!(planes[c] = exr_image_add_channel(img, names[c]))) {
-            free(rgba);
             exr_image_free(img);
             return FS_ERR_NOMEM;
         }
@@ -1254,20 +1259,19 @@ fs_status renderer_read(renderer *r, exr_image *img)
                          (GLsizei)(sizeof(float) * 4 * n), rgba);
     glGetTextureSubImage(coverage, 0, 0, 0, 0, r->width, r->height, 1, GL_RED, GL_FLOAT,
                          (GLsizei)(sizeof(float) * n), planes[4]);
-    flip_rows(rgba, r->width, r->height, 4); /* GL rows are bottom first, EXR top first */
-    flip_rows(planes[4], r->width, r->height, 1);
+    flip_rows(rgba, r->read_row, r->width, r->height, 4); /* GL rows are bottom first, EXR top first */
+    flip_rows(planes[4], r->read_row, r->width, r->height, 1);
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 4; c++)
             planes[c][i] = rgba[4 * i + (size_t)c];
     if (r->pl.debug_channels) {
         glGetTextureImage(r->out_tex[OUT_DEBUG], 0, GL_RG, GL_FLOAT, (GLsizei)(sizeof(float) * 2 * n), rgba);
-        flip_rows(rgba, r->width, r->height, 2);
+        flip_rows(rgba, r->read_row, r->width, r->height, 2);
         for (size_t i = 0; i < n; i++) {
             planes[5][i] = rgba[2 * i];
             planes[6][i] = rgba[2 * i + 1];
         }
     }
-    free(rgba);
     return FS_OK;
 }
 
