@@ -1,5 +1,6 @@
 /* main.c: fovsim entry point: parse the command line, run it, map the result to an exit status. */
 #include <malloc.h>
+#include <stdlib.h>
 
 #include "cli.h"
 #include "run.h"
@@ -14,9 +15,12 @@
  * 256 MiB of freed heap, growing it 64 MiB at a time and serving blocks up to 32 MiB (a
  * 1280x720 read-back frame) from the heap rather than from fresh mmaps makes the steady-state
  * frame fault-free: about 75 faults per draw. The memory is reused, not leaked: the heap stays
- * as large as the largest frame needed. docs/benchmarks.md, "Allocator churn". */
+ * as large as the largest frame needed. docs/benchmarks.md, "Allocator churn".
+ * FOVSIM_MALLOC_DEFAULTS=1 keeps glibc's defaults, to measure the difference. */
 static void tune_allocator(void)
 {
+    if (getenv("FOVSIM_MALLOC_DEFAULTS"))
+        return;
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
     mallopt(M_TOP_PAD, 64 << 20);
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
