@@ -782,6 +782,56 @@ TEST(composite_tiles_are_exact_partitions_and_conservative)
     CHECK(fov_tile_ring(&d, NULL, 320, 180, 0, 0, 16, 16) == -1);
 }
 
+/* Ring culling: the hole is where the finer ring is shown alone (no pixel there takes ring i, even
+ * blended); the culled radius keeps a margin of 3 ring pixels; a rectangle whose corners are
+ * within a radius is wholly within it (the region is convex). */
+TEST(ring_holes_and_culling_are_conservative)
+{
+    display_desc d = disp(1280, 720, 90);
+    fov_layout l = parse_ok("10:1:0,20:1/2:0,30:1/4:0,*:1/16:0", &d);
+    CHECK(fov_ring_hole_deg(&l, 0) == 0.0f);
+    CHECK_NEAR(fov_ring_hole_deg(&l, 1), 8.0, 1e-6);  /* 10 less the 2-degree band */
+    CHECK_NEAR(fov_ring_hole_deg(&l, 2), 18.0, 1e-6);
+    CHECK_NEAR(fov_ring_hole_deg(&l, 3), 28.0, 1e-6);
+    CHECK(fov_ring_hole_deg(&l, 4) == 0.0f && fov_ring_hole_deg(&l, -1) == 0.0f && fov_ring_hole_deg(NULL, 1) == 0.0f);
+    /* Margin: 3 ring pixels at the largest angular pixel size (1 / focal length, radians). */
+    double f = focal(&d);
+    CHECK_NEAR(fov_ring_cull_deg(&d, &l, 3), 28.0 - 3 * 16 / f * 180 / PI_D, 1e-4);
+    CHECK(fov_ring_cull_deg(&d, &l, 0) == 0.0f);
+    fov_layout tiny = parse_ok("0.5:1:0,*:1/16:0", &d); /* hole smaller than the margin: nothing culled */
+    CHECK(fov_ring_cull_deg(&d, &tiny, 1) == 0.0f);
+    fov_layout wide = parse_ok("100:1:0,*:1/2:0", &d); /* the hole's cone is no longer convex in the plane */
+    CHECK(fov_ring_cull_deg(&d, &wide, 1) == 0.0f);
+    /* No eccentricity below ring i's hole takes ring i, with or without blending. */
+    for (int k = 0; k < 20000; k++) {
+        float e = (float)(rnd() * 40.0);
+        fov_blend b = fov_composite_weight(&l, e);
+        for (int i = 1; i < l.count; i++)
+            if (e < fov_ring_hole_deg(&l, i))
+                CHECK(b.ring < i && !(b.ring == i - 1 && b.next > 0.0f));
+    }
+    /* Rectangles within a radius: every point inside is within it too. */
+    int within = 0;
+    for (int k = 0; k < 3000; k++) {
+        float gx = (float)(rnd() * 1280), gy = (float)(rnd() * 720), deg = (float)(rnd() * 40 + 1);
+        float x0 = (float)(rnd() * 1400 - 60), y0 = (float)(rnd() * 800 - 40);
+        float rect[4] = {x0, y0, x0 + (float)(rnd() * 300), y0 + (float)(rnd() * 300)};
+        if (!fov_rect_within_deg(&d, gx, gy, rect, deg))
+            continue;
+        within++;
+        for (int s = 0; s < 64; s++) {
+            float px = rect[0] + (rect[2] - rect[0]) * (float)(s % 8) / 7, py = rect[1] + (rect[3] - rect[1]) * (float)(s / 8) / 7;
+            CHECK(fov_eccentricity_deg(&d, gx, gy, px, py) < deg + 1e-4f);
+        }
+    }
+    CHECK(within > 200);
+    const float r[4] = {600, 300, 700, 400};
+    CHECK(fov_rect_within_deg(&d, 640, 360, r, 10.0f));
+    CHECK(!fov_rect_within_deg(&d, 640, 360, r, 1.0f));
+    CHECK(!fov_rect_within_deg(&d, 640, 360, r, 95.0f));   /* not convex: refused */
+    CHECK(!fov_rect_within_deg(&d, 640, 360, r, NAN));
+}
+
 int main(void)
 {
     log_set_quiet_errors(true);
@@ -799,5 +849,6 @@ int main(void)
     RUN(composite_weights_are_continuous_and_monotone);
     RUN(shaded_pixels_of_the_auto_layout);
     RUN(composite_tiles_are_exact_partitions_and_conservative);
+    RUN(ring_holes_and_culling_are_conservative);
     return test_summary();
 }

@@ -114,6 +114,54 @@ TEST(box_culling_is_conservative)
     CHECK(culled > 100);
 }
 
+/* The screen rectangle of a box holds the image of every point of the box, is exact for a box seen
+ * head-on, and is refused for a box reaching behind the eye or a non-finite projection. */
+TEST(box_screen_rect_bounds_the_box_image)
+{
+    const float W = 640, H = 360;
+    mat4 vp = m4_mul(m4_perspective_hfov((float)FS_PI / 2, W / H, 0.1f, 100.0f),
+                     m4_look_at(v3(0, 0, 0), v3(0, 0, -1), v3(0, 1, 0)));
+    float r[4];
+    /* A flat square 1 m wide at 2 m, head-on: hfov 90 gives a focal length of W / 2 pixels. */
+    CHECK(m4_box_screen_rect(vp, v3(-0.5f, -0.5f, -2), v3(0.5f, 0.5f, -2), W, H, r));
+    CHECK_NEAR(r[0], 320 - 80, 1e-3);
+    CHECK_NEAR(r[2], 320 + 80, 1e-3);
+    CHECK_NEAR(r[1], 180 - 80, 1e-3); /* y down: the top edge (y = +0.5) has the smaller row */
+    CHECK_NEAR(r[3], 180 + 80, 1e-3);
+    const float keep[4] = {1, 2, 3, 4};
+    memcpy(r, keep, sizeof r);
+    CHECK(!m4_box_screen_rect(vp, v3(-1, -1, -3), v3(1, 1, 1), W, H, r)); /* reaches behind the eye */
+    CHECK(memcmp(r, keep, sizeof r) == 0);
+    CHECK(!m4_box_screen_rect(vp, v3(NAN, 0, -3), v3(1, 1, -2), W, H, r));
+    unsigned seed = 11;
+    int tested = 0;
+    for (int k = 0; k < 500; k++) {
+        float c[3], h[3];
+        for (int i = 0; i < 3; i++) {
+            seed = seed * 1664525u + 1013904223u;
+            c[i] = ((float)(seed >> 8) / 16777216.0f - 0.5f) * 20.0f;
+            seed = seed * 1664525u + 1013904223u;
+            h[i] = (float)(seed >> 8) / 16777216.0f * 2.0f;
+        }
+        vec3 lo = v3(c[0] - h[0], c[1] - h[1], c[2] - h[2]), hi = v3(c[0] + h[0], c[1] + h[1], c[2] + h[2]);
+        if (!m4_box_screen_rect(vp, lo, hi, W, H, r))
+            continue;
+        tested++;
+        for (int s = 0; s < 27; s++) {
+            vec3 q = v3(lo.x + (hi.x - lo.x) * (float)(s % 3) / 2, lo.y + (hi.y - lo.y) * (float)(s / 3 % 3) / 2,
+                        lo.z + (hi.z - lo.z) * (float)(s / 9) / 2);
+            float v[4];
+            for (int i = 0; i < 4; i++)
+                v[i] = vp.m[i] * q.x + vp.m[4 + i] * q.y + vp.m[8 + i] * q.z + vp.m[12 + i];
+            float x = (0.5f + 0.5f * v[0] / v[3]) * W, y = (0.5f - 0.5f * v[1] / v[3]) * H;
+            /* Relative slack: a corner point recomputed as lo + (hi - lo) rounds differently. */
+            float ex = 1e-3f + 1e-5f * fabsf(x), ey = 1e-3f + 1e-5f * fabsf(y);
+            CHECK(v[3] > 0 && x >= r[0] - ex && x <= r[2] + ex && y >= r[1] - ey && y <= r[3] + ey);
+        }
+    }
+    CHECK(tested > 100);
+}
+
 int main(void)
 {
     RUN(look_at_puts_target_on_the_view_axis);
@@ -121,5 +169,6 @@ int main(void)
     RUN(invert_and_trs);
     RUN(norm_or_falls_back);
     RUN(box_culling_is_conservative);
+    RUN(box_screen_rect_bounds_the_box_image);
     return test_summary();
 }
