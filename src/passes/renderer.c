@@ -111,7 +111,6 @@ struct renderer {
     fov_tile *tiles;                       /* scratch: fov_tile_max rectangles */
     float *tile_verts;                     /* scratch: 6 vertices (x, y, ring) per rectangle */
     int tile_max;
-    int tiles_searched;                    /* rectangles of the last frame that searched per pixel */
     ring_targets rt;
     GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
     GLuint empty_vao;                      /* the full-screen triangle needs a bound VAO */
@@ -1084,7 +1083,6 @@ static void draw_composite(renderer *r, const frame_record *fr)
 {
     int n, pure = composite_rectangles(r, fr, &n);
     glNamedBufferSubData(r->tile_vbo, 0, (GLsizeiptr)(sizeof(float) * 18 * (size_t)n), r->tile_verts);
-    r->tiles_searched = n - pure;
     /* With TAA the composite reads the resolved rings this frame wrote. */
     glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);
     glBindTextureUnit(1, r->pl.taa ? r->taa_coverage[r->parity] : r->rt.coverage);
