@@ -558,19 +558,22 @@ static int clamp_zip_level(int level)
     return level <= 0 ? EXR_ZIP_LEVEL_DEFAULT : level > 9 ? 9 : level;
 }
 
-static fs_status write_file(const char *path, const exr_image *img,
-                            exr_compression_kind compression, int zip_level)
+/* Writes one file atomically. On failure fills `err` (err_size bytes) with the one-line message
+ * and logs nothing: the caller decides whether it is the error to report (the writer's workers
+ * report only the first, so a full disk that fails two concurrent writes still prints one line). */
+static fs_status write_file(const char *path, const exr_image *img, exr_compression_kind compression, int zip_level,
+                            char *err, size_t err_size)
 {
-    FS_ASSERT(path && img);
+    FS_ASSERT(path && img && err);
     char why_buf[256];
     const char *why = check_image(img, why_buf, sizeof why_buf);
     if (why) {
-        log_error("%s: cannot write EXR: %s", path, why);
+        snprintf(err, err_size, "%s: cannot write EXR: %s", path, why);
         return FS_ERR_IO;
     }
     char *tmp = temp_path_for(path);
     if (!tmp) {
-        log_error("%s: cannot write EXR: out of memory", path);
+        snprintf(err, err_size, "%s: cannot write EXR: out of memory", path);
         return FS_ERR_IO;
     }
 
@@ -637,14 +640,18 @@ fail:
     if (s.fd >= 0)
         close(s.fd);
     unlink(tmp); /* ENOENT when it was never created: harmless */
-    log_error("%s: cannot write EXR: %s", path, sys_msg[0] ? sys_msg : exr_reason(&s, rv));
+    snprintf(err, err_size, "%s: cannot write EXR: %s", path, sys_msg[0] ? sys_msg : exr_reason(&s, rv));
     free(tmp);
     return FS_ERR_IO;
 }
 
 fs_status exr_write_file(const char *path, const exr_image *img, exr_compression_kind compression)
 {
-    return write_file(path, img, compression, EXR_ZIP_LEVEL_DEFAULT);
+    char err[1600];
+    fs_status st = write_file(path, img, compression, EXR_ZIP_LEVEL_DEFAULT, err, sizeof err);
+    if (st != FS_OK)
+        log_error("%s", err);
+    return st;
 }
 
 // >>read
@@ -1008,13 +1015,15 @@ static void *writer_main(void *arg)
 
         /* Jobs accepted before a failure are still written: each write is atomic, so a complete
          * frame is never worse than none, and --resume can use it. */
-        fs_status st = write_file(job.path, &job.img, w->compression, w->zip_level);
+        char err[1600];
+        fs_status st = write_file(job.path, &job.img, w->compression, w->zip_level, err, sizeof err);
         exr_image_free(&job.img);
 
         pthread_mutex_lock(&w->mu);
         me->busy_path = NULL;
         free(job.path); /* only after busy_path no longer points at it */
         if (st != FS_OK && w->err == FS_OK) {
+            log_error("%s", err); /* the first failure only: the run stops on it */
             w->err = st;
             pthread_cond_broadcast(&w->not_full); /* blocked submitters return the error */
         }

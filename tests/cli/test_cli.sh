@@ -76,6 +76,23 @@ check "bench JSON: counters of the fence" python3 "$SRC/tests/cli/check_bench_js
 check "bench JSON: forest counters, foveation shades fewer fragments" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_forest.json" known --foveation-saves-fragments
 FOVSIM_NO_PIPELINE_STATS=1 "$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --format json >"$T/bench_nostats.json" 2>/dev/null
 check "bench JSON: counts unknown (-1) without the extension" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_nostats.json" unknown
+# Ring culling (docs/foveation.md): the rings of the auto layout skip instances only their hole
+# would show, so they draw fewer than with --ring-cull off, and fewer primitives; the same frames.
+for c in on off; do
+  "$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --ring-cull $c --format json >"$T/bench_cull_$c.json" 2>/dev/null
+done
+check "bench: rings cull what only their hole shows (fewer instances and primitives than --ring-cull off)" python3 -c "
+import json; on, off = [json.load(open('$T/bench_cull_%s.json' % c))['configs'][1] for c in ('on', 'off')]
+print('instances per ring', on['ring_instances_median'], 'vs', off['ring_instances_median'])
+assert len(on['ring_instances_median']) > 2 and sum(on['ring_instances_median']) < sum(off['ring_instances_median'])
+assert all(a <= b for a, b in zip(on['ring_instances_median'], off['ring_instances_median']))
+assert on['primitives']['all_frames'] < off['primitives']['all_frames']"
+expect_exit "--ring-cull maybe -> 2" 2 "$BIN" plan forest --ring-cull maybe
+check "--ring-cull says what it expects" grep -q "ring-cull: expected on or off" "$T/err.txt"
+expect_exit "--composite blurry -> 2" 2 "$BIN" plan forest --composite blurry
+check "--composite says what it expects" grep -q "composite: expected tiled or per-pixel" "$T/err.txt"
+check "plan: the composite draws tiles of one ring" bash -c "'$BIN' plan forest | grep -q 'COMPOSITE_TILE'"
+check "plan: --composite per-pixel searches everywhere" bash -c "'$BIN' plan forest --composite per-pixel | grep -q 'every pixel searches its ring'"
 "$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --rings off >"$T/bench.txt" 2>/dev/null
 check "bench text: CPU time, page faults and work rows" bash -c "grep -Eq '^\| traditional, full resolution \| frame, process CPU time, all threads \(ms\) \| [0-9.]+ \|' '$T/bench.txt' && grep -Eq '\| frame, minor page faults \| [0-9]+ \|' '$T/bench.txt' && grep -Eq '\| frame, fragment shader invocations \| [0-9]+ \|' '$T/bench.txt' && grep -Eq '^\| traditional, full resolution \| forward.mask\[traditional\] \| [0-9]+ \| [0-9]+ \| [0-9]+ \|$' '$T/bench.txt'"
 FOVSIM_NO_PIPELINE_STATS=1 "$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --rings off >"$T/bench_nostats.txt" 2>/dev/null
