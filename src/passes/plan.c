@@ -331,6 +331,10 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
                                            "(+ COMPOSITE_TILE), the others search per pixel"
                                          : "every pixel searches its ring");
     }
+    if (p->layout.count > 1)
+        fprintf(f, "culling    per ring: instances outside its frustum%s\n",
+                p->ring_cull ? ", and those wholly inside its hole (where the finer ring is shown alone)"
+                             : " (--ring-cull off: not those in its hole)");
     if (p->sway)
         fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",
                 p->sway_instances, sc->instance_count);
@@ -339,7 +343,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s\n",
+                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s%s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
                 p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
                 p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
@@ -347,7 +351,8 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
                 : p->camera_motion ? "reprojection through depth (the camera moves)"
                                    : "no reprojection (still camera: only the rings move with the gaze)",
                 p->taa_coarse_history ? "history that leaves its ring's footprint from a coarser ring"
-                                      : "history that leaves its ring's footprint dropped");
+                                      : "history that leaves its ring's footprint dropped",
+                p->ring_cull ? "; history from where a ring culled (its hole) dropped" : "");
     char off[256] = "";
     if (!p->msaa)
         snprintf(off + strlen(off), sizeof off - strlen(off), "%sMSAA (no alpha-to-coverage mode)", off[0] ? ", " : "");
