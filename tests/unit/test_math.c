@@ -74,6 +74,20 @@ TEST(norm_or_falls_back)
     CHECK(isfinite(f.x) && isfinite(f.y));
 }
 
+/* A random axis-aligned box: centre within +-spread/2 on each axis, half size up to `half`. */
+static void random_box(unsigned *seed, float spread, float half, vec3 *lo, vec3 *hi)
+{
+    float c[3], h[3];
+    for (int i = 0; i < 3; i++) {
+        *seed = *seed * 1664525u + 1013904223u;
+        c[i] = ((float)(*seed >> 8) / 16777216.0f - 0.5f) * spread;
+        *seed = *seed * 1664525u + 1013904223u;
+        h[i] = (float)(*seed >> 8) / 16777216.0f * half;
+    }
+    *lo = v3(c[0] - h[0], c[1] - h[1], c[2] - h[2]);
+    *hi = v3(c[0] + h[0], c[1] + h[1], c[2] + h[2]);
+}
+
 TEST(box_culling_is_conservative)
 {
     mat4 vp = m4_mul(m4_perspective_hfov((float)FS_PI / 2, 16.0f / 9.0f, 0.1f, 100.0f),
@@ -90,14 +104,8 @@ TEST(box_culling_is_conservative)
     unsigned seed = 7;
     int culled = 0;
     for (int k = 0; k < 2000; k++) {
-        float c[3], h[3];
-        for (int i = 0; i < 3; i++) {
-            seed = seed * 1664525u + 1013904223u;
-            c[i] = ((float)(seed >> 8) / 16777216.0f - 0.5f) * 60.0f;
-            seed = seed * 1664525u + 1013904223u;
-            h[i] = (float)(seed >> 8) / 16777216.0f * 3.0f;
-        }
-        vec3 lo = v3(c[0] - h[0], c[1] - h[1], c[2] - h[2]), hi = v3(c[0] + h[0], c[1] + h[1], c[2] + h[2]);
+        vec3 lo, hi;
+        random_box(&seed, 60.0f, 3.0f, &lo, &hi);
         if (!m4_box_outside_clip(vp, lo, hi))
             continue;
         culled++;
@@ -136,14 +144,8 @@ TEST(box_screen_rect_bounds_the_box_image)
     unsigned seed = 11;
     int tested = 0;
     for (int k = 0; k < 500; k++) {
-        float c[3], h[3];
-        for (int i = 0; i < 3; i++) {
-            seed = seed * 1664525u + 1013904223u;
-            c[i] = ((float)(seed >> 8) / 16777216.0f - 0.5f) * 20.0f;
-            seed = seed * 1664525u + 1013904223u;
-            h[i] = (float)(seed >> 8) / 16777216.0f * 2.0f;
-        }
-        vec3 lo = v3(c[0] - h[0], c[1] - h[1], c[2] - h[2]), hi = v3(c[0] + h[0], c[1] + h[1], c[2] + h[2]);
+        vec3 lo, hi;
+        random_box(&seed, 20.0f, 2.0f, &lo, &hi);
         if (!m4_box_screen_rect(vp, lo, hi, W, H, r))
             continue;
         tested++;
