@@ -58,6 +58,9 @@ typedef struct run_desc {
     float taa_sparse;        /* --taa-sparse S|off, 0 = default 0.28, negative = off */
     int jitter_length;       /* --jitter-length, 0 = default 16 */
     bool no_object_motion;   /* --object-motion off: TAA ignores swaying instances' own motion */
+    int taa_neighbourhood;   /* --taa-neighbourhood 3x3|cross: TAA_NEIGHBOURHOOD_* (plan.h), 0 = default */
+    int taa_history;         /* --taa-history catmull|bilinear: TAA_HISTORY_* (plan.h), 0 = default */
+    int taa_nan;             /* --taa-nan tap|set: TAA_NAN_* (plan.h), 0 = default */
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;
