@@ -109,7 +109,7 @@ void cli_print_help(command cmd)
            "  --taa-gamma G       history clipping box, in standard deviations (default 1)\n"
            "  --taa-sparse S|off  coverage a uniform 3x3 neighbourhood may have missed, kept in the\n"
            "                      history (sparse stochastic coverage, docs/taa.md; default 0.28)\n"
-           "  --taa-neighbourhood 3x3|cross  taps of the history clipping box (docs/taa.md; default 3x3)\n"
+           "  --taa-neighbourhood 3x3|cross  taps of the history clipping box (docs/taa.md; default cross)\n"
            "  --taa-history catmull|bilinear  history fetch: 5-tap Catmull-Rom or one bilinear tap\n"
            "                      (default catmull)\n"
            "  --taa-nan tap|set   NaN/Inf checked per fetched tap or once per set of fetches (default tap)\n"

@@ -30,7 +30,7 @@ taa_controls taa_controls_defaults(const taa_controls *c)
     if (!(r.sparse < 0.0f) && !(r.sparse > 0.0f && r.sparse <= 1.0f))
         r.sparse = TAA_SPARSE_SLACK; /* negative (off) stays */
     if (r.neighbourhood != TAA_NEIGHBOURHOOD_3X3 && r.neighbourhood != TAA_NEIGHBOURHOOD_CROSS)
-        r.neighbourhood = TAA_NEIGHBOURHOOD_3X3;
+        r.neighbourhood = TAA_NEIGHBOURHOOD_CROSS;
     if (r.history != TAA_HISTORY_CATMULL && r.history != TAA_HISTORY_BILINEAR)
         r.history = TAA_HISTORY_CATMULL;
     if (r.nan_check != TAA_NAN_TAP && r.nan_check != TAA_NAN_SET)
@@ -333,19 +333,19 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; "
-                   "clip box from the %s, %s history, NaN checked per %s; %s; %s\n",
+                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s; "
+                   "clip box from the %s, %s history, NaN checked per %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
                 p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
-                p->taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS ? "5-tap cross" : "3x3",
-                p->taa_controls.history == TAA_HISTORY_BILINEAR ? "bilinear" : "Catmull-Rom",
-                p->taa_controls.nan_check == TAA_NAN_SET ? "set of fetches" : "tap",
                 p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
                                                        : "reprojection through depth and per-object motion (instances sway)")
                 : p->camera_motion ? "reprojection through depth (the camera moves)"
                                    : "no reprojection (still camera: only the rings move with the gaze)",
                 p->taa_coarse_history ? "history that leaves its ring's footprint from a coarser ring"
-                                      : "history that leaves its ring's footprint dropped");
+                                      : "history that leaves its ring's footprint dropped",
+                p->taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS ? "5-tap cross" : "3x3",
+                p->taa_controls.history == TAA_HISTORY_BILINEAR ? "bilinear" : "Catmull-Rom",
+                p->taa_controls.nan_check == TAA_NAN_SET ? "set of fetches" : "tap");
     char off[256] = "";
     if (!p->msaa)
         snprintf(off + strlen(off), sizeof off - strlen(off), "%sMSAA (no alpha-to-coverage mode)", off[0] ? ", " : "");
