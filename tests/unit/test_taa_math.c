@@ -206,7 +206,8 @@ TEST(clip_margin_widens_the_box)
 /* One pixel's coverage history over many frames, resolved as taa.frag does with the C twin: the
  * 3x3 neighbourhood holds three Bernoulli samples of a wire with coverage p (the pixel itself and
  * the two beside it along the wire) and six samples of nothing. Returns the mean resolved coverage
- * after a settling period. */
+ * after a settling period. The default cross neighbourhood holds the same three wire samples and
+ * two of nothing, so its coverage range, and this simulation, are the same. */
 static double simulate_wire(double p, float slack, uint64_t seed)
 {
     uint64_t s = seed;
