@@ -2,8 +2,8 @@
 // Runs over the ring's footprint in ring pixels, right after the ring was drawn with sub-pixel
 // jitter. Each pixel reprojects through its depth (and, with TAA_OBJECT_MOTION, its swaying
 // instance's own motion) into the PREVIOUS frame's ring (the ring frustum moves with the gaze),
-// fetches that history with a Catmull-Rom filter, clips it to the variance box of the current 3x3
-// neighbourhood in YCoCg (widened where sparse stochastic coverage
+// fetches that history (Catmull-Rom or bilinear), clips it to the variance box of the current
+// neighbourhood (3x3 or cross) in YCoCg (widened where sparse stochastic coverage
 // makes that neighbourhood miss what the history holds), and blends. History that falls outside the
 // previous ring's footprint (a saccade) comes, with TAA_COARSE_HISTORY (stochastic alpha tests),
 // from the innermost coarser ring whose previous footprint holds it; where none does, without it,
@@ -55,39 +55,49 @@ bool culled_history(vec2 at, int layer)
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
 
-vec4 fetch_cur(ivec2 p)
-{
-    p = clamp(p, ivec2(0), ivec2(u_size) - 1);
-    return taa_sanitize4(texelFetch(u_cur_color, ivec3(p, u_layer), 0));
-}
+// Compile-time variants (`fovsim plan` shows which; docs/taa.md "A leaner resolve" has their
+// measured accuracy and cost): TAA_NEIGHBOURS 9 (3x3) or 5 (the cross) taps for the clip box;
+// TAA_HISTORY_CATMULL_ROM: 5-tap Catmull-Rom history, else one bilinear tap; TAA_NAN_PER_SET: NaN
+// and Inf checked once per set of fetches, else per tap.
+#ifndef TAA_NEIGHBOURS
+#define TAA_NEIGHBOURS 9
+#endif
+#ifdef TAA_NAN_PER_SET
+const bool TAA_PER_TAP = false;
+#else
+const bool TAA_PER_TAP = true;
+#endif
+// The centre, the cross, then the corners: the first TAA_NEIGHBOURS of these.
+const ivec2 TAA_OFFSET[TAA_MAX_TAPS] = ivec2[TAA_MAX_TAPS](ivec2(0, 0), ivec2(0, -1), ivec2(-1, 0), ivec2(1, 0),
+                                                           ivec2(0, 1), ivec2(-1, -1), ivec2(1, -1), ivec2(-1, 1),
+                                                           ivec2(1, 1));
 
-// Catmull-Rom history fetch at ring-pixel position p of the previous footprint, with 5 bilinear
-// taps instead of 16 point taps (the 4x4 Catmull-Rom kernel's inner 2x2 taps merged into one
-// bilinear fetch per row/column and the four corner taps, whose weights are tiny, dropped:
-// Jimenez's approximation). Tap positions are clamped to the rendered texels' centres.
+// History at ring-pixel position p of the previous footprint (common/taa.glsl: taa_catmull_rom_taps,
+// taa_history_sum). Coverage: one bilinear tap (its history needs no sharpening).
 vec4 fetch_history(vec2 p, int layer, vec2 prev_size, out float cov)
 {
-    vec2 t1 = floor(p - 0.5) + 0.5;
-    vec2 f = p - t1;
-    vec4 wx = taa_catmull_rom_weights(f.x), wy = taa_catmull_rom_weights(f.y);
-    vec2 w0 = vec2(wx.x, wy.x), w12 = vec2(wx.y + wx.z, wy.y + wy.z), w3 = vec2(wx.w, wy.w);
-    vec2 t12 = t1 + vec2(wx.z, wy.z) / max(w12, vec2(1e-6));
     vec2 lo = vec2(0.5), hi = prev_size - 0.5;
-    vec2 t0 = clamp(t1 - 1.0, lo, hi), t3 = clamp(t1 + 2.0, lo, hi);
-    t12 = clamp(t12, lo, hi);
-    vec3 taps[5] = vec3[5](vec3(t12.x, t0.y, w12.x * w0.y), vec3(t0.x, t12.y, w0.x * w12.y),
-                           vec3(t12.x, t12.y, w12.x * w12.y), vec3(t3.x, t12.y, w3.x * w12.y),
-                           vec3(t12.x, t3.y, w12.x * w3.y));
-    vec4 c = vec4(0.0);
-    float wsum = 0.0;
-    for (int i = 0; i < 5; i++) {
-        vec3 uvw = vec3(taps[i].xy / u_array_px, float(layer));
-        c += taps[i].z * taa_sanitize4(textureLod(u_hist_color, uvw, 0.0));
-        wsum += taps[i].z;
+    vec4 t[5];
+    float w[5];
+#ifdef TAA_HISTORY_CATMULL_ROM
+    vec3 taps[5];
+    taa_catmull_rom_taps(p, prev_size, taps);
+    for (int k = 0; k < 5; k++) {
+        t[k] = textureLod(u_hist_color, vec3(taps[k].xy / u_array_px, float(layer)), 0.0);
+        w[k] = taps[k].z;
     }
-    // Coverage: one bilinear tap (its history needs no sharpening).
+    const int n = 5;
+#else
+    t[0] = textureLod(u_hist_color, vec3(clamp(p, lo, hi) / u_array_px, float(layer)), 0.0);
+    w[0] = 1.0;
+    for (int k = 1; k < 5; k++) {
+        t[k] = vec4(0.0);
+        w[k] = 0.0;
+    }
+    const int n = 1;
+#endif
     cov = taa_sanitize(textureLod(u_hist_coverage, vec3(clamp(p, lo, hi) / u_array_px, float(layer)), 0.0).r);
-    return max(c / wsum, vec4(0.0)); // Catmull-Rom undershoots below 0 at sharp edges
+    return taa_history_sum(t, w, n, TAA_PER_TAP);
 }
 
 // p (ring pixels) lies where the Catmull-Rom fetch has rendered texels around it.
@@ -99,27 +109,22 @@ bool inside_footprint(vec2 p, vec2 size)
 void main()
 {
     ivec2 pix = ivec2(gl_FragCoord.xy);
-    vec4 cur = fetch_cur(pix);
-    float cur_cov = taa_sanitize(texelFetch(u_cur_coverage, ivec3(pix, u_layer), 0).r);
-
-    // Neighbourhood statistics in YCoCg (variance clipping).
-    vec3 m1 = vec3(0.0), m2 = vec3(0.0);
-    float a_min = 1e9, a_max = -1e9, c_min = 1e9, c_max = -1e9;
-    for (int j = -1; j <= 1; j++)
-        for (int i = -1; i <= 1; i++) {
-            vec4 s = fetch_cur(pix + ivec2(i, j));
-            vec3 y = taa_rgb_to_ycocg(s.rgb);
-            m1 += y;
-            m2 += y * y;
-            a_min = min(a_min, s.a);
-            a_max = max(a_max, s.a);
-            ivec2 q = clamp(pix + ivec2(i, j), ivec2(0), ivec2(u_size) - 1);
-            float cv = taa_sanitize(texelFetch(u_cur_coverage, ivec3(q, u_layer), 0).r);
-            c_min = min(c_min, cv);
-            c_max = max(c_max, cv);
+    // The neighbourhood's statistics in YCoCg (variance clipping); its centre is the current sample.
+    vec4 taps[TAA_MAX_TAPS];
+    float covs[TAA_MAX_TAPS];
+    for (int k = 0; k < TAA_MAX_TAPS; k++) {
+        if (k < TAA_NEIGHBOURS) {
+            ivec2 q = clamp(pix + TAA_OFFSET[k], ivec2(0), ivec2(u_size) - 1);
+            taps[k] = texelFetch(u_cur_color, ivec3(q, u_layer), 0);
+            covs[k] = texelFetch(u_cur_coverage, ivec3(q, u_layer), 0).r;
+        } else {
+            taps[k] = vec4(0.0);
+            covs[k] = 0.0;
         }
-    vec3 mean = m1 / 9.0;
-    vec3 sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3(0.0)));
+    }
+    taa_box box = taa_neighbourhood(taps, covs, TAA_NEIGHBOURS, TAA_PER_TAP);
+    vec4 cur = taa_sanitize4(taps[0]);
+    float cur_cov = taa_sanitize(covs[0]);
 
     // Reproject through depth into last frame's ring.
     bool valid = u_history_valid;
@@ -181,10 +186,10 @@ void main()
         // Sparse stochastic coverage: where the nine samples all missed (or all hit) a surface the
         // history covers partly, widen the coverage range by what they can miss, and the colour
         // box by a quarter of that (docs/taa.md).
-        float m = taa_sparse_margin(hist_cov, c_min, c_max, u_sparse);
-        vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), mean, sigma, u_gamma, float(TAA_SPARSE_COLOR) * m);
-        hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, a_min - m, a_max + m));
-        hist_cov = clamp(hist_cov, c_min - m, c_max + m);
+        float m = taa_sparse_margin(hist_cov, box.coverage.x, box.coverage.y, u_sparse);
+        vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), box.mean, box.sigma, u_gamma, float(TAA_SPARSE_COLOR) * m);
+        hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, box.alpha.x - m, box.alpha.y + m));
+        hist_cov = clamp(hist_cov, box.coverage.x - m, box.coverage.y + m);
     }
     o_color = taa_resolve4(cur, hist, valid, u_blend);
     o_coverage = vec4(taa_resolve(cur_cov, hist_cov, valid, u_blend), 0.0, 0.0, 1.0);

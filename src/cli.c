@@ -10,6 +10,7 @@
 #include "core/config.h"
 #include "common/shared_defs.h"
 #include "core/log.h"
+#include "passes/plan.h"
 
 static const struct {
     const char *name;
@@ -112,6 +113,10 @@ void cli_print_help(command cmd)
            "  --taa-gamma G       history clipping box, in standard deviations (default 1)\n"
            "  --taa-sparse S|off  coverage a uniform 3x3 neighbourhood may have missed, kept in the\n"
            "                      history (sparse stochastic coverage, docs/taa.md; default 0.28)\n"
+           "  --taa-neighbourhood 3x3|cross  taps of the history clipping box (docs/taa.md; default cross)\n"
+           "  --taa-history catmull|bilinear  history fetch: 5-tap Catmull-Rom or one bilinear tap\n"
+           "                      (default catmull)\n"
+           "  --taa-nan tap|set   NaN/Inf checked per fetched tap or once per set of fetches (default tap)\n"
            "  --jitter-length N   Halton (2,3) jitter period in frames (default 16)\n"
            "  --object-motion on|off  TAA follows swaying instances' own motion (default on; off\n"
            "                      reprojects them as if still, to measure what it buys)\n"
@@ -275,7 +280,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--taa-sparse", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
+                                                 "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
@@ -358,6 +363,22 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->taa_sparse = !strcmp(val, "off") ? -1.0f : (float)x;
             if (!ok)
                 log_error("--taa-sparse: expected off or a number in (0, 1], got '%s'", val);
+        }
+        else if (!strcmp(opt, "--taa-neighbourhood")) {
+            d->taa_neighbourhood = !strcmp(val, "3x3") ? TAA_NEIGHBOURHOOD_3X3 : !strcmp(val, "cross") ? TAA_NEIGHBOURHOOD_CROSS : 0;
+            ok = d->taa_neighbourhood != 0;
+            if (!ok)
+                log_error("--taa-neighbourhood: expected 3x3 or cross, got '%s'", val);
+        } else if (!strcmp(opt, "--taa-history")) {
+            d->taa_history = !strcmp(val, "catmull") ? TAA_HISTORY_CATMULL : !strcmp(val, "bilinear") ? TAA_HISTORY_BILINEAR : 0;
+            ok = d->taa_history != 0;
+            if (!ok)
+                log_error("--taa-history: expected catmull or bilinear, got '%s'", val);
+        } else if (!strcmp(opt, "--taa-nan")) {
+            d->taa_nan = !strcmp(val, "tap") ? TAA_NAN_TAP : !strcmp(val, "set") ? TAA_NAN_SET : 0;
+            ok = d->taa_nan != 0;
+            if (!ok)
+                log_error("--taa-nan: expected tap or set, got '%s'", val);
         }
         else if (!strcmp(opt, "--jitter-length"))
             ok = parse_int(opt, val, 1, 1024, &d->jitter_length);

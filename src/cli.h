@@ -60,6 +60,9 @@ typedef struct run_desc {
     bool no_object_motion;   /* --object-motion off: TAA ignores swaying instances' own motion */
     bool no_ring_cull;       /* --ring-cull off: rings draw what only their hole would see */
     bool composite_per_pixel; /* --composite per-pixel: no tile classification (to measure it) */
+    int taa_neighbourhood;   /* --taa-neighbourhood 3x3|cross: TAA_NEIGHBOURHOOD_* (plan.h), 0 = default */
+    int taa_history;         /* --taa-history catmull|bilinear: TAA_HISTORY_* (plan.h), 0 = default */
+    int taa_nan;             /* --taa-nan tap|set: TAA_NAN_* (plan.h), 0 = default */
     float fade_n;            /* --fade-n, 0 = default 6 */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;

@@ -91,7 +91,10 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .sparse = d->taa_sparse != 0 ? d->taa_sparse : sc->taa.sparse,
                                            .jitter_length = d->jitter_length > 0 ? d->jitter_length
                                                                                  : sc->taa.jitter_length,
-                                           .no_object_motion = d->no_object_motion},
+                                           .no_object_motion = d->no_object_motion,
+                                           .neighbourhood = (taa_neighbourhood_kind)d->taa_neighbourhood,
+                                           .history = (taa_history_kind)d->taa_history,
+                                           .nan_check = (taa_nan_kind)d->taa_nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
     return resolve_layout(d, sc, d->width, d->height, &out->layout);
 }

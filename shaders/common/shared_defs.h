@@ -73,5 +73,6 @@
 #define TAA_MAX_VALUE 65504.0        /* half-float max: history is RGBA16F, larger values clamp */
 #define TAA_SPARSE_SLACK 0.28        /* default coverage a uniform 3x3 may miss (taa_sparse_margin) */
 #define TAA_SPARSE_COLOR 0.25        /* colour box widening per unit of that coverage (docs/taa.md) */
+#define TAA_MAX_TAPS 9               /* neighbourhood taps at most (3x3; the cross uses the first 5) */
 
 #endif

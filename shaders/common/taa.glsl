@@ -202,6 +202,108 @@ float taa_resolve(float current, float history, bool history_valid, float blend)
     return taa_resolve4(vec4(current), vec4(history), history_valid, blend).x;
 }
 
+// >>neighbourhood
+
+// Variance-clipping box of the current frame's neighbourhood (YCoCg mean and standard deviation)
+// and the range of its alpha and coverage. C twin: taa_box.
+struct taa_box {
+    vec3 mean;
+    vec3 sigma;
+    vec2 alpha;    // min, max
+    vec2 coverage; // min, max
+};
+
+// C twin: taa_neighbourhood. Statistics of the first n (clamped to [1, TAA_MAX_TAPS]) taps, taps[0]
+// the centre. per_tap: every tap through taa_sanitize4 / taa_sanitize (a NaN tap counts as 0, the
+// others still count). Otherwise the taps are used raw and checked once: where the sum of every
+// Y, alpha, coverage and squared Y, Co, Cg is not finite (a tap held NaN or Inf), the box says
+// nothing: mean 0, sigma and ranges open to +-TAA_MAX_VALUE, so history passes unclipped (the
+// caller sanitizes it).
+taa_box taa_neighbourhood(vec4 taps[TAA_MAX_TAPS], float cov[TAA_MAX_TAPS], int n, bool per_tap)
+{
+    int count = clamp(n, 1, TAA_MAX_TAPS);
+    precise vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+    precise float check = 0.0;
+    vec4 s0 = per_tap ? taa_sanitize4(taps[0]) : taps[0];
+    float c0 = per_tap ? taa_sanitize(cov[0]) : cov[0];
+    vec2 ar = vec2(s0.a), cr = vec2(c0);
+    for (int k = 0; k < TAA_MAX_TAPS; k++) {
+        if (k >= count)
+            break;
+        vec4 s = per_tap ? taa_sanitize4(taps[k]) : taps[k];
+        float cv = per_tap ? taa_sanitize(cov[k]) : cov[k];
+        vec3 y = taa_rgb_to_ycocg(s.rgb);
+        m1 = m1 + y;
+        m2 = m2 + y * y;
+        check = check + s.a + cv;
+        ar = vec2(min(ar.x, s.a), max(ar.y, s.a));
+        cr = vec2(min(cr.x, cv), max(cr.y, cv));
+    }
+    precise vec3 mean = m1 / float(count);
+    precise vec3 var = m2 / float(count) - mean * mean;
+    taa_box b;
+    b.mean = mean;
+    b.sigma = sqrt(max(var, vec3(0.0)));
+    b.alpha = ar;
+    b.coverage = cr;
+    precise float all_sums = check + m1.x + m2.x + m2.y + m2.z;
+    if (!per_tap && !taa_is_finite(all_sums)) {
+        b.mean = vec3(0.0);
+        b.sigma = vec3(float(TAA_MAX_VALUE));
+        b.alpha = vec2(-float(TAA_MAX_VALUE), float(TAA_MAX_VALUE));
+        b.coverage = vec2(-float(TAA_MAX_VALUE), float(TAA_MAX_VALUE));
+    }
+    return b;
+}
+
+// >>history
+
+// C twin: taa_catmull_rom_taps. The 5 bilinear taps of the Catmull-Rom history fetch at position p
+// (ring pixels) of a footprint of `size` ring pixels: xy the tap's position (clamped to the
+// rendered texels' centres), z its weight. The 4x4 kernel's inner 2x2 taps are merged into one
+// bilinear fetch per row and column and the four corner taps, whose weights are tiny, dropped
+// (Jimenez's approximation).
+void taa_catmull_rom_taps(vec2 p, vec2 size, out vec3 taps[5])
+{
+    vec2 q = vec2(taa_sanitize(p.x), taa_sanitize(p.y));
+    vec2 t1 = floor(q - 0.5) + 0.5;
+    precise vec2 f = q - t1;
+    vec4 wx = taa_catmull_rom_weights(f.x), wy = taa_catmull_rom_weights(f.y);
+    precise vec2 w12 = vec2(wx.y + wx.z, wy.y + wy.z);
+    precise vec2 t12 = t1 + vec2(wx.z, wy.z) / max(w12, vec2(1e-6));
+    vec2 lo = vec2(0.5), hi = max(vec2(taa_sanitize(size.x), taa_sanitize(size.y)) - 0.5, lo);
+    vec2 t0 = clamp(t1 - 1.0, lo, hi), t3 = clamp(t1 + 2.0, lo, hi);
+    t12 = clamp(t12, lo, hi);
+    precise float w_top = w12.x * wy.x, w_left = wx.x * w12.y, w_mid = w12.x * w12.y, w_right = wx.w * w12.y,
+                  w_bottom = w12.x * wy.w;
+    taps[0] = vec3(t12.x, t0.y, w_top);
+    taps[1] = vec3(t0.x, t12.y, w_left);
+    taps[2] = vec3(t12.x, t12.y, w_mid);
+    taps[3] = vec3(t3.x, t12.y, w_right);
+    taps[4] = vec3(t12.x, t3.y, w_bottom);
+}
+
+// C twin: taa_history_sum. sum(w[k] * taps[k]) / sum(w[k]) over the first n (clamped to [1, 5])
+// fetched history taps, through taa_sanitize4: finite, in [0, TAA_MAX_VALUE] (Catmull-Rom
+// undershoots below 0 at sharp edges), whatever the inputs. per_tap: every tap through
+// taa_sanitize4 first (a NaN tap counts as 0, the others still count); otherwise only the result
+// is checked (a NaN tap makes the whole fetch 0, which the neighbourhood clip then pulls into its
+// box).
+vec4 taa_history_sum(vec4 taps[5], float w[5], int n, bool per_tap)
+{
+    int count = clamp(n, 1, 5);
+    precise vec4 c = vec4(0.0);
+    precise float wsum = 0.0;
+    for (int k = 0; k < 5; k++) {
+        if (k >= count)
+            break;
+        c = c + w[k] * (per_tap ? taa_sanitize4(taps[k]) : taps[k]);
+        wsum = wsum + w[k];
+    }
+    precise vec4 r = c / wsum;
+    return taa_sanitize4(r);
+}
+
 // >>reproject
 
 // C twin: mul_m4_v4 (column by column, left to right).

@@ -20,6 +20,11 @@ struct twin_in {
     vec4 e;    // xyz: per-object motion (reproject_moving); w: sway t_prev
     vec4 f;    // sway: frequency, phase, y, t
     vec4 g;    // sway: offset xyz, height
+    vec4 nb[TAA_MAX_TAPS]; // neighbourhood taps (RGBA); nb[0..4]: history taps
+    vec4 nbcov[3];         // neighbourhood coverages, 9 of 12
+    vec4 hw[2];            // history tap weights, 5 of 8
+    vec4 h;                // catmull-rom taps: position xy, footprint size zw
+    uvec4 w;               // x: neighbourhood n, y: per_tap (neighbourhood and history), z: history n
 };
 
 struct twin_out {
@@ -37,6 +42,14 @@ struct twin_out {
     vec4 o10;  // taa_reproject_moving(d.xyz, e.xyz, inv, prev), valid ? 1 : 0
     vec4 o11;  // sway_motion(g, f.xy, f.z, f.w, e.w), sway_wave(f.x, f.y, f.w)
     vec4 o12;  // sway_displacement(g, f.xy, f.z, f.w), sway_weight(f.z, g.w)
+    vec4 o13;  // taa_neighbourhood(nb, nbcov, w.x, w.y != 0): mean, alpha.x
+    vec4 o14;  //   sigma, alpha.y
+    vec4 o15;  //   coverage.xy, 0, 0
+    vec4 o16;  // taa_catmull_rom_taps(h.xy, h.zw): taps 0, 1 (x, y)
+    vec4 o17;  //   taps 2, 3 (x, y)
+    vec4 o18;  //   tap 4 (x, y), weights 0, 1
+    vec4 o19;  //   weights 2, 3, 4, 0
+    vec4 o20;  // taa_history_sum(nb[0..4], hw, w.z, w.y != 0)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -68,5 +81,28 @@ void main()
     r.o10 = vec4(prev_ndc, valid ? 1.0 : 0.0);
     r.o11 = vec4(sway_motion(p.g, p.f.xy, p.f.z, p.f.w, p.e.w), sway_wave(p.f.x, p.f.y, p.f.w));
     r.o12 = vec4(sway_displacement(p.g, p.f.xy, p.f.z, p.f.w), sway_weight(p.f.z, p.g.w));
+    vec4 taps[TAA_MAX_TAPS];
+    float cov[TAA_MAX_TAPS];
+    for (int k = 0; k < TAA_MAX_TAPS; k++) {
+        taps[k] = p.nb[k];
+        cov[k] = p.nbcov[k / 4][k % 4];
+    }
+    taa_box b = taa_neighbourhood(taps, cov, int(p.w.x), p.w.y != 0u);
+    r.o13 = vec4(b.mean, b.alpha.x);
+    r.o14 = vec4(b.sigma, b.alpha.y);
+    r.o15 = vec4(b.coverage, 0.0, 0.0);
+    vec3 ct[5];
+    taa_catmull_rom_taps(p.h.xy, p.h.zw, ct);
+    r.o16 = vec4(ct[0].xy, ct[1].xy);
+    r.o17 = vec4(ct[2].xy, ct[3].xy);
+    r.o18 = vec4(ct[4].xy, ct[0].z, ct[1].z);
+    r.o19 = vec4(ct[2].z, ct[3].z, ct[4].z, 0.0);
+    vec4 ht[5];
+    float hw[5];
+    for (int k = 0; k < 5; k++) {
+        ht[k] = p.nb[k];
+        hw[k] = p.hw[k / 4][k % 4];
+    }
+    r.o20 = taa_history_sum(ht, hw, int(p.w.z), p.w.y != 0u);
     tout[i] = r;
 }

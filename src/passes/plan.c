@@ -29,6 +29,12 @@ taa_controls taa_controls_defaults(const taa_controls *c)
         r.jitter_length = TAA_JITTER_LENGTH_DEFAULT;
     if (!(r.sparse < 0.0f) && !(r.sparse > 0.0f && r.sparse <= 1.0f))
         r.sparse = TAA_SPARSE_SLACK; /* negative (off) stays */
+    if (r.neighbourhood != TAA_NEIGHBOURHOOD_3X3 && r.neighbourhood != TAA_NEIGHBOURHOOD_CROSS)
+        r.neighbourhood = TAA_NEIGHBOURHOOD_CROSS;
+    if (r.history != TAA_HISTORY_CATMULL && r.history != TAA_HISTORY_BILINEAR)
+        r.history = TAA_HISTORY_CATMULL;
+    if (r.nan_check != TAA_NAN_TAP && r.nan_check != TAA_NAN_SET)
+        r.nan_check = TAA_NAN_TAP;
     return r;
 }
 
@@ -226,6 +232,13 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
          * alpha tests are stochastic, a coarser ring's history is closer to the converged image
          * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
         snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_COUNT %d", out->layout.count);
+        /* The resolve's variants (docs/taa.md, "A leaner resolve"). */
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NEIGHBOURS %d",
+                 out->taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS ? 5 : 9);
+        if (out->taa_controls.history == TAA_HISTORY_CATMULL)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_HISTORY_CATMULL_ROM 1");
+        if (out->taa_controls.nan_check == TAA_NAN_SET)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
         out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
         /* Rings that skip instances in their hole: history from there is not whole. */
         if (out->ring_cull)
@@ -343,7 +356,8 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s%s\n",
+                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s%s; "
+                   "clip box from the %s, %s history, NaN checked per %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
                 p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
                 p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
@@ -352,7 +366,10 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
                                    : "no reprojection (still camera: only the rings move with the gaze)",
                 p->taa_coarse_history ? "history that leaves its ring's footprint from a coarser ring"
                                       : "history that leaves its ring's footprint dropped",
-                p->ring_cull ? "; history from where a ring culled (its hole) dropped" : "");
+                p->ring_cull ? "; history from where a ring culled (its hole) dropped" : "",
+                p->taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS ? "5-tap cross" : "3x3",
+                p->taa_controls.history == TAA_HISTORY_BILINEAR ? "bilinear" : "Catmull-Rom",
+                p->taa_controls.nan_check == TAA_NAN_SET ? "set of fetches" : "tap");
     char off[256] = "";
     if (!p->msaa)
         snprintf(off + strlen(off), sizeof off - strlen(off), "%sMSAA (no alpha-to-coverage mode)", off[0] ? ", " : "");

@@ -53,6 +53,11 @@ typedef struct alpha_params {
 /* Fills zero fields with defaults. */
 alpha_params alpha_params_defaults(const alpha_params *p);
 
+/* The resolve's variants (docs/taa.md, "A leaner resolve"); 0 = the default. */
+typedef enum taa_neighbourhood_kind { TAA_NEIGHBOURHOOD_DEFAULT, TAA_NEIGHBOURHOOD_3X3, TAA_NEIGHBOURHOOD_CROSS } taa_neighbourhood_kind;
+typedef enum taa_history_kind { TAA_HISTORY_DEFAULT, TAA_HISTORY_CATMULL, TAA_HISTORY_BILINEAR } taa_history_kind;
+typedef enum taa_nan_kind { TAA_NAN_DEFAULT, TAA_NAN_TAP, TAA_NAN_SET } taa_nan_kind;
+
 /* Temporal antialiasing controls (DESIGN.md "Temporal antialiasing"); zero = default. */
 typedef struct taa_controls {
     float blend;        /* weight of the current frame, default TAA_BLEND_DEFAULT (0.1) */
@@ -62,6 +67,9 @@ typedef struct taa_controls {
                          * TAA_SPARSE_SLACK; negative = off */
     bool no_object_motion; /* ignore swaying instances' motion (reproject them as if still):
                             * for measuring what per-object motion buys */
+    taa_neighbourhood_kind neighbourhood; /* clip box from the 3x3 or the 5-tap cross (docs/taa.md) */
+    taa_history_kind history;           /* history fetch: 5-tap Catmull-Rom or one bilinear tap */
+    taa_nan_kind nan_check;       /* NaN / Inf checked per tap or once per set of fetches */
 } taa_controls;
 
 taa_controls taa_controls_defaults(const taa_controls *c);

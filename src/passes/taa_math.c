@@ -206,6 +206,107 @@ float taa_resolve1(float current, float history, bool history_valid, float blend
     return r[0];
 }
 
+/* >>neighbourhood */
+
+taa_box taa_neighbourhood(const float taps[][4], const float cov[], int n, bool per_tap)
+{
+    int count = n < 1 ? 1 : n > TAA_MAX_TAPS ? TAA_MAX_TAPS : n;
+    float m1[3] = {0, 0, 0}, m2[3] = {0, 0, 0}, check = 0.0f;
+    float s0[4], c0 = per_tap ? taa_sanitize(cov[0]) : cov[0];
+    if (per_tap)
+        taa_sanitize4(taps[0], s0);
+    else
+        memcpy(s0, taps[0], sizeof s0);
+    float ar[2] = {s0[3], s0[3]}, cr[2] = {c0, c0};
+    for (int k = 0; k < count; k++) {
+        float s[4], cv = per_tap ? taa_sanitize(cov[k]) : cov[k];
+        if (per_tap)
+            taa_sanitize4(taps[k], s);
+        else
+            memcpy(s, taps[k], sizeof s);
+        vec3 y = taa_rgb_to_ycocg(v3(s[0], s[1], s[2]));
+        const float yv[3] = {y.x, y.y, y.z};
+        for (int c = 0; c < 3; c++) {
+            m1[c] = m1[c] + yv[c];
+            m2[c] = m2[c] + yv[c] * yv[c];
+        }
+        check = check + s[3] + cv;
+        ar[0] = ar[0] < s[3] ? ar[0] : s[3];
+        ar[1] = ar[1] > s[3] ? ar[1] : s[3];
+        cr[0] = cr[0] < cv ? cr[0] : cv;
+        cr[1] = cr[1] > cv ? cr[1] : cv;
+    }
+    taa_box b;
+    float mean[3], sigma[3];
+    for (int c = 0; c < 3; c++) {
+        mean[c] = m1[c] / (float)count;
+        float var = m2[c] / (float)count - mean[c] * mean[c];
+        sigma[c] = sqrtf(var > 0.0f ? var : 0.0f);
+    }
+    b.mean = v3(mean[0], mean[1], mean[2]);
+    b.sigma = v3(sigma[0], sigma[1], sigma[2]);
+    b.alpha[0] = ar[0];
+    b.alpha[1] = ar[1];
+    b.coverage[0] = cr[0];
+    b.coverage[1] = cr[1];
+    float all_sums = check + m1[0] + m2[0] + m2[1] + m2[2];
+    if (!per_tap && !is_finite_bits(all_sums)) {
+        const float mx = (float)TAA_MAX_VALUE;
+        b.mean = v3(0, 0, 0);
+        b.sigma = v3(mx, mx, mx);
+        b.alpha[0] = b.coverage[0] = -mx;
+        b.alpha[1] = b.coverage[1] = mx;
+    }
+    return b;
+}
+
+/* >>history */
+
+void taa_catmull_rom_taps(float px, float py, float size_x, float size_y, float taps[5][3])
+{
+    const float p[2] = {taa_sanitize(px), taa_sanitize(py)}, size[2] = {taa_sanitize(size_x), taa_sanitize(size_y)};
+    float t0[2], t12[2], t3[2], w0[2], w12[2], w3[2];
+    for (int a = 0; a < 2; a++) {
+        float t1 = floorf(p[a] - 0.5f) + 0.5f, f = p[a] - t1, w[4];
+        taa_catmull_rom_weights(f, w);
+        w0[a] = w[0];
+        w12[a] = w[1] + w[2];
+        w3[a] = w[3];
+        float lo = 0.5f, hi = size[a] - 0.5f;
+        hi = hi > lo ? hi : lo;
+        float t = t1 + w[2] / (w12[a] > 1e-6f ? w12[a] : 1e-6f);
+        t12[a] = clampf(t, lo, hi);
+        t0[a] = clampf(t1 - 1.0f, lo, hi);
+        t3[a] = clampf(t1 + 2.0f, lo, hi);
+    }
+    const float out[5][3] = {{t12[0], t0[1], w12[0] * w0[1]},
+                             {t0[0], t12[1], w0[0] * w12[1]},
+                             {t12[0], t12[1], w12[0] * w12[1]},
+                             {t3[0], t12[1], w3[0] * w12[1]},
+                             {t12[0], t3[1], w12[0] * w3[1]}};
+    memcpy(taps, out, sizeof out);
+}
+
+void taa_history_sum(const float taps[][4], const float w[], int n, bool per_tap, float out[4])
+{
+    int count = n < 1 ? 1 : n > 5 ? 5 : n;
+    float c[4] = {0, 0, 0, 0}, wsum = 0.0f;
+    for (int k = 0; k < count; k++) {
+        float t[4];
+        if (per_tap)
+            taa_sanitize4(taps[k], t);
+        else
+            memcpy(t, taps[k], sizeof t);
+        for (int e = 0; e < 4; e++)
+            c[e] = c[e] + w[k] * t[e];
+        wsum = wsum + w[k];
+    }
+    float r[4];
+    for (int e = 0; e < 4; e++)
+        r[e] = c[e] / wsum;
+    taa_sanitize4(r, out);
+}
+
 /* >>reproject */
 
 /* m * (x, y, z, w), column by column, left to right (the GLSL writes m[0]*x + m[1]*y + ...).

@@ -11,7 +11,10 @@
  *   taa_clip_to_box                 variance clipping (Salvi 2016, Karis 2014): AABB clip of the
  *                                   history towards the neighbourhood mean
  *   taa_sparse_margin               how far the box widens for sparse stochastic coverage
+ *   taa_neighbourhood               the clip box's statistics from the 3x3 or cross taps
  *   taa_catmull_rom_weights         4-tap cubic weights of one axis, for the history fetch
+ *   taa_catmull_rom_taps            the 5 bilinear taps of the Catmull-Rom history fetch
+ *   taa_history_sum                 the history from its fetched taps (Catmull-Rom or bilinear)
  *   taa_resolve / 4 / 1             exponential blend of history and current sample (RGB, RGBA, one
  *                                   channel)
  *   taa_sanitize / _color / 4       NaN -> 0, +-Inf -> +-TAA_MAX_VALUE (colours also clamped >= 0)
@@ -93,6 +96,38 @@ float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, fl
  * past tap 0. They sum to 1 (up to rounding) and reproduce linear functions.
  * GLSL twin: vec4 taa_catmull_rom_weights(float). */
 void taa_catmull_rom_weights(float frac, float w[4]);
+
+/* Variance-clipping box of the current frame's neighbourhood: YCoCg mean and standard deviation,
+ * range (min, max) of alpha and of coverage. GLSL twin: struct taa_box. */
+typedef struct taa_box {
+    vec3 mean, sigma;
+    float alpha[2], coverage[2];
+} taa_box;
+
+/* Statistics of the first n taps (n clamped to [1, TAA_MAX_TAPS]; taps[0] is the centre; RGBA and
+ * coverage). mean = sum(Y) / n, sigma = sqrt(max(sum(Y^2) / n - mean^2, 0)) per YCoCg axis.
+ * per_tap: every tap goes through taa_sanitize4 / taa_sanitize first, so a NaN tap counts as 0
+ * and the others still count (today's resolve). Otherwise the taps are used raw and checked once:
+ * where the sum of every Y, alpha, coverage and squared Y, Co, Cg is not finite (a tap held NaN or
+ * Inf, or values so large their squares overflow; the current frame is half float, so real taps
+ * cannot) the box says nothing: mean 0, sigma and both ranges open to +-TAA_MAX_VALUE, and the
+ * history passes unclipped (it is sanitized on its own). Either way every field is finite. GLSL
+ * twin: taa_neighbourhood. */
+taa_box taa_neighbourhood(const float taps[][4], const float cov[], int n, bool per_tap);
+
+/* The 5 bilinear taps of the Catmull-Rom history fetch at position p (ring pixels, sanitized) of a
+ * footprint of size ring pixels: taps[k] = {x, y, weight}, positions clamped to the rendered
+ * texels' centres [0.5, size - 0.5]. The 4x4 kernel's inner 2x2 taps are merged into one bilinear
+ * fetch per row and column, the four corner taps (tiny weights) dropped (Jimenez's approximation):
+ * top, left, centre, right, bottom. GLSL twin: taa_catmull_rom_taps. */
+void taa_catmull_rom_taps(float px, float py, float size_x, float size_y, float taps[5][3]);
+
+/* History from the first n (clamped to [1, 5]) fetched taps with weights w: sum(w * tap) /
+ * sum(w), through taa_sanitize4, so finite and in [0, TAA_MAX_VALUE] for any input (Catmull-Rom
+ * undershoots below 0 at sharp edges). per_tap: each tap through taa_sanitize4 first (a NaN tap
+ * counts as 0); otherwise only the result is sanitized (a NaN in a tap makes that channel of the
+ * fetch 0, which the clip then pulls into the box). GLSL twin: taa_history_sum. */
+void taa_history_sum(const float taps[][4], const float w[], int n, bool per_tap, float out[4]);
 
 /* Exponential blend: history + (current - history) * blend, both colours through
  * taa_sanitize_color first; blend NaN -> TAA_BLEND_DEFAULT, clamped to [0, 1]. history_valid false

@@ -117,6 +117,18 @@ check "CLI --taa-sparse off wins" bash -c "'$BIN' plan '$T/taa.json' --taa-spars
 check "default sparse-coverage slack" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'sparse-coverage slack 0.28'"
 expect_exit "--taa-sparse 0 -> 2" 2 "$BIN" plan --builtin fence --taa-sparse 0
 check "--taa-sparse 0 says what it expects" grep -q "expected off or a number in (0, 1]" "$T/err.txt"
+# the resolve's variants (docs/taa.md, "A leaner resolve"): default, each control, and one-line errors
+check "default TAA resolve: cross, Catmull-Rom, NaN per tap" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'clip box from the 5-tap cross, Catmull-Rom history, NaN checked per tap'"
+check "--taa-neighbourhood 3x3 --taa-history bilinear --taa-nan set" bash -c "'$BIN' plan --builtin fence --frames 4 --taa-neighbourhood 3x3 --taa-history bilinear --taa-nan set | grep -q 'clip box from the 3x3, bilinear history, NaN checked per set of fetches'"
+check "--taa-neighbourhood cross --taa-history catmull --taa-nan tap" bash -c "'$BIN' plan --builtin fence --frames 4 --taa-neighbourhood cross --taa-history catmull --taa-nan tap | grep -q 'clip box from the 5-tap cross, Catmull-Rom history, NaN checked per tap'"
+"$BIN" render fence --frames 2 --width 64 --height 36 --taa-neighbourhood 3x3 --taa-history bilinear --taa-nan set --out "$T/taavariant" --quiet >/dev/null 2>&1
+check "a non-default resolve compiles and renders" test -f "$T/taavariant/frame.0001.exr"
+expect_exit "--taa-neighbourhood 4x4 -> 2" 2 "$BIN" plan --builtin fence --taa-neighbourhood 4x4
+check "--taa-neighbourhood says what it expects" grep -q "taa-neighbourhood: expected 3x3 or cross, got '4x4'" "$T/err.txt"
+expect_exit "--taa-history cubic -> 2" 2 "$BIN" plan --builtin fence --taa-history cubic
+check "--taa-history says what it expects" grep -q "taa-history: expected catmull or bilinear, got 'cubic'" "$T/err.txt"
+expect_exit "--taa-nan never -> 2" 2 "$BIN" plan --builtin fence --taa-nan never
+check "--taa-nan says what it expects" grep -q "taa-nan: expected tap or set, got 'never'" "$T/err.txt"
 check "--taa off" bash -c "! '$BIN' plan '$T/taa.json' --taa off | grep -q '^taa'"
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"enabled": false}}' >"$T/notaa.json"
 check "scene file turns TAA off" bash -c "! '$BIN' plan '$T/notaa.json' --frames 10 | grep -q '^taa'"

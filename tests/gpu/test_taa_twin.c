@@ -3,7 +3,8 @@
  * a buffer of inputs and the results are compared with the C twins (src/passes/taa_math.c,
  * src/scene/sway.c), input by input.
  *
- * Input groups: ordinary (HDR colours in [0, 16], sigma in [0, 1], random cameras moving a little
+ * Input groups: ordinary (HDR colours in [0, 16], sigma in [0, 1], neighbourhoods of 5 or 9 taps
+ * and histories of 5 or 1 taps, NaN per tap or per set, random cameras moving a little
  * between frames with a sub-pixel jitter, NDC inside the frustum) and hard cases (NaN, +-Inf,
  * -0, denormals, 1e30, FLT_MAX anywhere, matrices with NaN / Inf entries or all zero, huge Halton
  * indices and bases).
@@ -24,8 +25,14 @@
  *     is about 2^-11, the absolute error Vulkan allows sin in [-pi, pi], which GL drivers share.
  *   - reprojection validity: identical for the ordinary group (the flag depends only on the
  *     matrix products, which are exact twins); reported for the hard group.
- *   - contract, every group: sanitize, clip, resolve, the weights and the reprojected NDC are
- *     finite on the GPU; resolve (RGB, RGBA, one channel) and sanitize4 are in [0, TAA_MAX_VALUE].
+ *   - the neighbourhood's sigma is the square root of a variance that cancels (sum(Y^2) / n -
+ *     mean^2), so it is compared as that variance: |gpu^2 - cpu^2| <= 1e-5 * (mean^2 + sigma^2),
+ *     a few ULP of the sum of squares it came from. Everything else of the neighbourhood, the
+ *     Catmull-Rom taps and the history sum: 1e-5 as above (on llvmpipe all of it is
+ *     bit-identical).
+ *   - contract, every group: sanitize, clip, resolve, the weights, the reprojected NDC, the
+ *     neighbourhood, the Catmull-Rom taps and the history are finite on the GPU; resolve (RGB,
+ *     RGBA, one channel), sanitize4 and the history sum are in [0, TAA_MAX_VALUE].
  */
 #include <epoxy/gl.h>
 #include <float.h>
@@ -44,10 +51,12 @@ typedef struct twin_in {
     uint32_t u[4], v[4];
     float inv[16], prev[16];
     float e[4], f[4], g[4];
+    float nb[TAA_MAX_TAPS][4], nbcov[12], hw[8], h[4];
+    uint32_t w[4];
 } twin_in;
 
 typedef struct twin_out {
-    float o[13][4];
+    float o[21][4];
 } twin_out;
 
 enum { GROUP = 1 << 15, GROUPS = 2, COUNT = GROUP * GROUPS };
@@ -134,6 +143,29 @@ static void make_input(int i, twin_in *in)
     in->f[3] = maybe_hard(g, rng01() < 0.5 ? rngf(0, 10) : rngf(0, 3600));
     in->e[3] = maybe_hard(g, in->f[3] - 1.0f / 24.0f);
     in->g[3] = maybe_hard(g, rngf(0.1, 20));
+    /* The resolve's neighbourhood (HDR colour, alpha and coverage mostly 0 or 1, 3x3 or cross, NaN
+     * per tap or per set) and history: a Catmull-Rom fetch at a position in or near a footprint,
+     * its taps' weights, and 5 or 1 (bilinear) taps. */
+    in->w[0] = rng01() < 0.5 ? 5u : 9u;
+    in->w[1] = (uint32_t)(rng_u64() % 2);
+    in->w[2] = rng01() < 0.5 ? 5u : 1u;
+    if (g == G_HARD && rng_u64() % 4 == 0)
+        in->w[0] = (uint32_t)(rng_u64() % 12), in->w[2] = (uint32_t)(rng_u64() % 7);
+    for (int k = 0; k < TAA_MAX_TAPS; k++) {
+        for (int c = 0; c < 3; c++)
+            in->nb[k][c] = maybe_hard(g, rngf(0, 16) * (float)rng01());
+        in->nb[k][3] = maybe_hard(g, rng01() < 0.7 ? (float)(rng_u64() % 2) : (float)rng01());
+        in->nbcov[k] = maybe_hard(g, rng01() < 0.7 ? (float)(rng_u64() % 2) : (float)rng01());
+    }
+    float size[2] = {rngf(1, 400), rngf(1, 300)};
+    in->h[0] = maybe_hard(g, rngf(-2, size[0] + 2));
+    in->h[1] = maybe_hard(g, rngf(-2, size[1] + 2));
+    in->h[2] = maybe_hard(g, size[0]);
+    in->h[3] = maybe_hard(g, size[1]);
+    float taps[5][3];
+    taa_catmull_rom_taps(rngf(0, 64), rngf(0, 64), 64, 64, taps);
+    for (int k = 0; k < 5; k++)
+        in->hw[k] = g == G_HARD && rng_u64() % 6 == 0 ? hard_values[rng_u64() % HARD_COUNT] : taps[k][2];
 }
 
 static void set3(float o[4], vec3 v, float w)
@@ -179,6 +211,19 @@ static void run_cpu(const twin_in *p, twin_out *r)
                               .phase = p->f[1]};
     set3(r->o[11], sway_motion(&sw, p->f[2], p->f[3], p->e[3]), sway_wave(p->f[0], p->f[1], p->f[3]));
     set3(r->o[12], sway_displacement(&sw, p->f[2], p->f[3]), sway_weight(p->f[2], p->g[3]));
+    taa_box nbox = taa_neighbourhood(p->nb, p->nbcov, (int)p->w[0], p->w[1] != 0);
+    set3(r->o[13], nbox.mean, nbox.alpha[0]);
+    set3(r->o[14], nbox.sigma, nbox.alpha[1]);
+    r->o[15][0] = nbox.coverage[0];
+    r->o[15][1] = nbox.coverage[1];
+    float ct[5][3];
+    taa_catmull_rom_taps(p->h[0], p->h[1], p->h[2], p->h[3], ct);
+    const float cto[4][4] = {{ct[0][0], ct[0][1], ct[1][0], ct[1][1]},
+                             {ct[2][0], ct[2][1], ct[3][0], ct[3][1]},
+                             {ct[4][0], ct[4][1], ct[0][2], ct[1][2]},
+                             {ct[2][2], ct[3][2], ct[4][2], 0.0f}};
+    memcpy(r->o[16], cto, sizeof cto);
+    taa_history_sum(p->nb, p->hw, (int)p->w[2], p->w[1] != 0, r->o[20]);
 }
 
 /* >>gpu */
@@ -231,7 +276,11 @@ TEST(gpu_results_are_finite)
         const twin_out *g = &gpu[i];
         bool ok = isfinite(g->o[0][3]) && isfinite(g->o[1][3]) && finite4(g->o[3], 3) && finite4(g->o[4], 4) &&
                   finite4(g->o[5], 3) && finite4(g->o[6], 3) && finite4(g->o[7], 4) && finite4(g->o[8], 4) &&
-                  isfinite(g->o[9][0]) && finite4(g->o[10], 3) && finite4(g->o[11], 4) && finite4(g->o[12], 4);
+                  isfinite(g->o[9][0]) && finite4(g->o[10], 3) && finite4(g->o[11], 4) && finite4(g->o[12], 4) &&
+                  finite4(g->o[13], 4) && finite4(g->o[14], 4) && finite4(g->o[15], 2) && finite4(g->o[16], 4) &&
+                  finite4(g->o[17], 4) && finite4(g->o[18], 4) && finite4(g->o[19], 3) && finite4(g->o[20], 4);
+        for (int k = 0; k < 4; k++) /* the history fetch is in [0, TAA_MAX_VALUE] */
+            ok = ok && g->o[20][k] >= 0.0f && g->o[20][k] <= (float)TAA_MAX_VALUE;
         for (int k = 0; k < 4; k++)
             ok = ok && (k == 3 || (g->o[5][k] >= 0.0f && g->o[5][k] <= (float)TAA_MAX_VALUE)) && g->o[7][k] >= 0.0f &&
                  g->o[7][k] <= (float)TAA_MAX_VALUE && g->o[8][k] >= 0.0f && g->o[8][k] <= (float)TAA_MAX_VALUE;
@@ -269,13 +318,39 @@ static double operand_scale(const twin_in *p, int k)
     if (k == 11 || k == 12) /* sway: the offset, when finite (else the twins return 0) */
         for (int c = 0; c < 3; c++)
             s = fmax(s, isfinite(p->g[c]) ? fabs(p->g[c]) : 0.0);
+    if (k >= 13 && k <= 15) /* neighbourhood: its taps and coverages */
+        for (int t = 0; t < TAA_MAX_TAPS; t++) {
+            for (int c = 0; c < 4; c++)
+                s = fmax(s, sanitized_abs(p->nb[t][c]));
+            s = fmax(s, sanitized_abs(p->nbcov[t]));
+        }
+    if (k == 16 || k == 17) /* catmull-rom tap positions: the position and the footprint (slots 18
+                             * and 19, mostly the weights, are at most ~1 and need no scale) */
+        for (int c = 0; c < 4; c++)
+            s = fmax(s, sanitized_abs(p->h[c]));
+    if (k == 20) { /* history: the taps, times sum |w| / |sum w| */
+        double sw = 0, saw = 0, st = 0;
+        for (int t = 0; t < 5; t++) {
+            sw += p->hw[t];
+            saw += fabs(p->hw[t]);
+            for (int c = 0; c < 4; c++)
+                st = fmax(st, sanitized_abs(p->nb[t][c]));
+        }
+        s = fmax(s, isfinite(saw / fabs(sw)) ? fmin(st * saw / fabs(sw), (double)TAA_MAX_VALUE) : (double)TAA_MAX_VALUE);
+    }
     return s;
 }
 
-enum { SLOTS = 13 };
+enum { SLOTS = 21 };
 static const char *slot_name[SLOTS] = {"sanitize",  "rgb_to_ycocg", "ycocg_to_rgb", "clip_to_box", "catmull_rom",
                                        "resolve",   "reproject",    "resolve4",     "sanitize4",   "resolve1+sparse",
-                                       "reproject_moving", "sway_motion+wave", "sway_displacement+weight"};
+                                       "reproject_moving", "sway_motion+wave", "sway_displacement+weight",
+                                       "neighbourhood mean+alpha", "neighbourhood sigma+alpha", "neighbourhood coverage",
+                                       "catmull_rom_taps 0-1", "catmull_rom_taps 2-3", "catmull_rom_taps 4+w",
+                                       "catmull_rom_taps w", "history_sum"};
+/* Elements compared in a slot: [first, last). */
+static const int slot_first[SLOTS] = {3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+static const int slot_last[SLOTS] = {4, 3, 3, 3, 4, 3, 3, 4, 4, 4, 3, 4, 4, 4, 4, 2, 4, 4, 4, 3, 4};
 /* Relative tolerance of a slot: sway goes through GLSL's sin (see the header). */
 static double slot_tolerance(int k)
 {
@@ -297,7 +372,7 @@ TEST(float_functions_agree)
             bool gmv = g->o[10][3] != 0.0f, cmv = c->o[10][3] != 0.0f;
             valid_mismatch += (gv != cv) + (gmv != cmv);
             for (int k = 0; k < SLOTS; k++) {
-                int first = k == 0 ? 3 : 0, last = (k == 0 || k == 4 || k == 7 || k == 8 || k == 9 || k == 11 || k == 12) ? 4 : 3;
+                int first = slot_first[k], last = slot_last[k];
                 if ((k == 6 && gv != cv) || (k == 10 && gmv != cmv))
                     continue; /* different branches: counted above */
                 for (int e = first; e < last; e++) {
@@ -306,6 +381,14 @@ TEST(float_functions_agree)
                     if (isnan(d))
                         d = INFINITY;
                     double scale = fmax(1.0, fmax(fabs(b), operand_scale(&inputs[i], k)));
+                    if (k == 14 && e < 3) {
+                        /* sigma: compared as the variance, relative to sum(Y^2) / n = mean^2 + sigma^2 */
+                        double mu = c->o[13][e];
+                        d = (isnan(a) && isnan(b)) || a == b ? 0.0 : fabs(a * a - b * b);
+                        if (isnan(d))
+                            d = INFINITY;
+                        scale = fmax(1e-12, mu * mu + b * b);
+                    }
                     n[k]++;
                     bad[k] += !(d <= slot_tolerance(k) * scale);
                     worst_rel[k] = fmax(worst_rel[k], d / scale);

@@ -223,10 +223,25 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(!p.taa);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
     CHECK(p.taa && p.camera_motion);
-    CHECK(p.taa_pass.define_count == 2 && has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1") &&
-          has_define(&p.taa_pass, "TAA_RING_COUNT 1"));
+    /* the default resolve (docs/taa.md, "A leaner resolve"): cross, Catmull-Rom, NaN per tap */
+    CHECK(p.taa_pass.define_count == 4 && has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1") &&
+          has_define(&p.taa_pass, "TAA_RING_COUNT 1") && has_define(&p.taa_pass, "TAA_NEIGHBOURS 5") &&
+          has_define(&p.taa_pass, "TAA_HISTORY_CATMULL_ROM 1"));
     CHECK(!p.taa_coarse_history);
     CHECK(p.taa_controls.blend == 0.1f && p.taa_controls.gamma == 1.0f && p.taa_controls.jitter_length == 16);
+    CHECK(p.taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS && p.taa_controls.history == TAA_HISTORY_CATMULL &&
+          p.taa_controls.nan_check == TAA_NAN_TAP);
+    /* the other variants, each to its define */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .taa_controls = {.neighbourhood = TAA_NEIGHBOURHOOD_3X3,
+                                          .history = TAA_HISTORY_BILINEAR, .nan_check = TAA_NAN_SET}}, &p) == FS_OK);
+    CHECK(p.taa_pass.define_count == 4 && has_define(&p.taa_pass, "TAA_NEIGHBOURS 9") &&
+          !has_define(&p.taa_pass, "TAA_HISTORY_CATMULL_ROM 1") && has_define(&p.taa_pass, "TAA_NAN_PER_SET 1"));
+    /* out-of-range values fall back to the defaults */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .taa_controls = {.neighbourhood = (taa_neighbourhood_kind)7,
+                                          .history = (taa_history_kind)-1, .nan_check = (taa_nan_kind)9}}, &p) == FS_OK);
+    CHECK(has_define(&p.taa_pass, "TAA_NEIGHBOURS 5") && has_define(&p.taa_pass, "TAA_HISTORY_CATMULL_ROM 1") &&
+          !has_define(&p.taa_pass, "TAA_NAN_PER_SET 1"));
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
     /* Hashed thresholds get their per-frame offset only with TAA. */
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED}, &p) == FS_OK);
     CHECK(has_define(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED), "TAA_HASH_OFFSET 1"));

@@ -1,5 +1,6 @@
 /* Unit tests of the TAA math (src/passes/taa_math.c, C twin of shaders/common/taa.glsl): Halton
- * jitter, YCoCg, variance clipping, the sparse-coverage margin, Catmull-Rom weights, resolve,
+ * jitter, YCoCg, variance clipping, the sparse-coverage margin, the neighbourhood's statistics (3x3
+ * and cross, NaN per tap or per set), Catmull-Rom weights and taps, the history sum, resolve,
  * sanitize, reprojection, and the hard cases of DESIGN.md (NaN/Inf in the current frame, history
  * or matrices). */
 #include <float.h>
@@ -205,7 +206,8 @@ TEST(clip_margin_widens_the_box)
 /* One pixel's coverage history over many frames, resolved as taa.frag does with the C twin: the
  * 3x3 neighbourhood holds three Bernoulli samples of a wire with coverage p (the pixel itself and
  * the two beside it along the wire) and six samples of nothing. Returns the mean resolved coverage
- * after a settling period. */
+ * after a settling period. The default cross neighbourhood holds the same three wire samples and
+ * two of nothing, so its coverage range, and this simulation, are the same. */
 static double simulate_wire(double p, float slack, uint64_t seed)
 {
     uint64_t s = seed;
@@ -295,6 +297,232 @@ TEST(catmull_rom_weights)
     CHECK(w[0] == 0 && w[1] == 0 && w[2] == 1 && w[3] == 0);
     taa_catmull_rom_weights(0.5f, w);
     CHECK(w[0] == -0.0625f && w[1] == 0.5625f && w[2] == 0.5625f && w[3] == -0.0625f);
+}
+
+/* >>neighbourhood */
+
+/* Nine RGBA taps (centre, cross, corners) and coverages of a plausible neighbourhood. */
+static void sample_neighbourhood(float taps[TAA_MAX_TAPS][4], float cov[TAA_MAX_TAPS])
+{
+    for (int k = 0; k < TAA_MAX_TAPS; k++) {
+        taps[k][0] = 0.1f + 0.05f * (float)k;
+        taps[k][1] = 0.4f - 0.03f * (float)k;
+        taps[k][2] = 0.2f + 0.01f * (float)(k * k);
+        taps[k][3] = k % 3 == 0 ? 1.0f : 0.25f * (float)(k % 4);
+        cov[k] = k % 2 ? 1.0f : 0.0f;
+    }
+}
+
+TEST(neighbourhood_statistics)
+{
+    float taps[TAA_MAX_TAPS][4], cov[TAA_MAX_TAPS];
+    sample_neighbourhood(taps, cov);
+    for (int n = 5; n <= 9; n += 4) {
+        double m1[3] = {0}, m2[3] = {0}, amin = 1e9, amax = -1e9, cmin = 1e9, cmax = -1e9;
+        for (int k = 0; k < n; k++) {
+            vec3 y = taa_rgb_to_ycocg(v3(taps[k][0], taps[k][1], taps[k][2]));
+            const double yv[3] = {y.x, y.y, y.z};
+            for (int c = 0; c < 3; c++) {
+                m1[c] += yv[c];
+                m2[c] += yv[c] * yv[c];
+            }
+            amin = fmin(amin, taps[k][3]);
+            amax = fmax(amax, taps[k][3]);
+            cmin = fmin(cmin, cov[k]);
+            cmax = fmax(cmax, cov[k]);
+        }
+        taa_box b = taa_neighbourhood(taps, cov, n, true);
+        const float mean[3] = {b.mean.x, b.mean.y, b.mean.z}, sigma[3] = {b.sigma.x, b.sigma.y, b.sigma.z};
+        for (int c = 0; c < 3; c++) {
+            double mu = m1[c] / n;
+            CHECK_NEAR(mean[c], mu, 1e-6);
+            CHECK_NEAR(sigma[c], sqrt(fmax(m2[c] / n - mu * mu, 0.0)), 1e-4);
+        }
+        CHECK(b.alpha[0] == amin && b.alpha[1] == amax && b.coverage[0] == cmin && b.coverage[1] == cmax);
+        /* finite, non-negative taps: checking once per set gives the same box, bit for bit */
+        taa_box s = taa_neighbourhood(taps, cov, n, false);
+        CHECK(v3_eq(s.mean, b.mean) && v3_eq(s.sigma, b.sigma));
+        CHECK(s.alpha[0] == b.alpha[0] && s.alpha[1] == b.alpha[1]);
+        CHECK(s.coverage[0] == b.coverage[0] && s.coverage[1] == b.coverage[1]);
+    }
+    /* the cross is the first five taps: the corners do not count */
+    taa_box cross = taa_neighbourhood(taps, cov, 5, true);
+    for (int k = 5; k < TAA_MAX_TAPS; k++)
+        taps[k][0] = taps[k][1] = taps[k][2] = cov[k] = 1000.0f;
+    taa_box cross2 = taa_neighbourhood(taps, cov, 5, true);
+    CHECK(v3_eq(cross.mean, cross2.mean) && v3_eq(cross.sigma, cross2.sigma));
+    /* n is clamped to [1, TAA_MAX_TAPS] */
+    taa_box one = taa_neighbourhood(taps, cov, 0, true);
+    CHECK(one.sigma.x == 0 && one.sigma.y == 0 && one.sigma.z == 0 && one.alpha[0] == taps[0][3]);
+    CHECK(isfinite(taa_neighbourhood(taps, cov, 1000, true).mean.x));
+    /* a constant neighbourhood: sigma exactly 0, mean the colour */
+    for (int k = 0; k < TAA_MAX_TAPS; k++) {
+        taps[k][0] = 0.5f, taps[k][1] = 0.25f, taps[k][2] = 0.75f, taps[k][3] = 1.0f;
+        cov[k] = 1.0f;
+    }
+    taa_box c = taa_neighbourhood(taps, cov, 9, true);
+    CHECK(v3_eq(c.sigma, v3(0, 0, 0)) && v3_eq(c.mean, taa_rgb_to_ycocg(v3(0.5f, 0.25f, 0.75f))));
+}
+
+TEST(neighbourhood_nan_and_inf)
+{
+    float taps[TAA_MAX_TAPS][4], cov[TAA_MAX_TAPS], zero_taps[TAA_MAX_TAPS][4], zero_cov[TAA_MAX_TAPS];
+    const float bad[] = {NAN, -NAN, INFINITY, -INFINITY};
+    for (int n = 5; n <= 9; n += 4)
+        for (int at = 0; at < n; at++)
+            for (int ch = 0; ch < 5; ch++)
+                for (int v = 0; v < 4; v++) {
+                    sample_neighbourhood(taps, cov);
+                    sample_neighbourhood(zero_taps, zero_cov);
+                    if (ch < 4) {
+                        taps[at][ch] = bad[v];
+                        zero_taps[at][ch] = v == 2 ? (float)TAA_MAX_VALUE : 0.0f;
+                    } else {
+                        cov[at] = bad[v]; /* coverage goes through taa_sanitize: -Inf -> -65504 */
+                        zero_cov[at] = v == 2 ? (float)TAA_MAX_VALUE : v == 3 ? -(float)TAA_MAX_VALUE : 0.0f;
+                    }
+                    /* per tap: a NaN tap is a 0 tap, +Inf is 65504, -Inf is 0; the rest still count */
+                    taa_box b = taa_neighbourhood(taps, cov, n, true), z = taa_neighbourhood(zero_taps, zero_cov, n, true);
+                    CHECK(v3_eq(b.mean, z.mean) && v3_eq(b.sigma, z.sigma));
+                    CHECK(b.alpha[0] == z.alpha[0] && b.alpha[1] == z.alpha[1]);
+                    CHECK(b.coverage[0] == z.coverage[0] && b.coverage[1] == z.coverage[1]);
+                    /* per set: the box opens, and stays finite */
+                    taa_box s = taa_neighbourhood(taps, cov, n, false);
+                    const float mx = (float)TAA_MAX_VALUE;
+                    CHECK(v3_eq(s.mean, v3(0, 0, 0)) && v3_eq(s.sigma, v3(mx, mx, mx)));
+                    CHECK(s.alpha[0] == -mx && s.alpha[1] == mx && s.coverage[0] == -mx && s.coverage[1] == mx);
+                }
+    /* a bad value in a tap beyond n changes nothing */
+    sample_neighbourhood(taps, cov);
+    taa_box before = taa_neighbourhood(taps, cov, 5, false);
+    taps[7][1] = NAN;
+    cov[8] = INFINITY;
+    taa_box after = taa_neighbourhood(taps, cov, 5, false);
+    CHECK(v3_eq(before.mean, after.mean) && v3_eq(before.sigma, after.sigma));
+}
+
+/* >>history */
+
+TEST(catmull_rom_taps)
+{
+    float taps[5][3];
+    /* at a texel centre: all the weight on the centre tap, exactly there */
+    taa_catmull_rom_taps(7.5f, 3.5f, 16, 12, taps);
+    CHECK(taps[2][0] == 7.5f && taps[2][1] == 3.5f && taps[2][2] == 1.0f);
+    CHECK(taps[0][2] == 0 && taps[1][2] == 0 && taps[3][2] == 0 && taps[4][2] == 0);
+    /* halfway: symmetric, centre tap at the point itself */
+    taa_catmull_rom_taps(8.0f, 4.0f, 16, 12, taps);
+    CHECK(taps[2][0] == 8.0f && taps[2][1] == 4.0f);
+    CHECK(taps[0][2] == taps[4][2] && taps[1][2] == taps[3][2] && taps[0][2] < 0);
+    /* a linear image, sampled bilinearly at the taps, comes back close to its value at p (the
+     * dropped corners make it approximate away from texel centres and midpoints) */
+    double worst = 0;
+    for (int i = 0; i <= 32; i++)
+        for (int j = 0; j <= 32; j++) {
+            float px = 4.5f + (float)i / 32, py = 5.5f + (float)j / 32;
+            taa_catmull_rom_taps(px, py, 16, 12, taps);
+            float t[5][4], w[5], out[4];
+            for (int k = 0; k < 5; k++) {
+                for (int e = 0; e < 4; e++)
+                    t[k][e] = 0.01f * taps[k][0] + 0.02f * taps[k][1] + 0.1f * (float)e; /* exact under bilinear */
+                w[k] = taps[k][2];
+            }
+            taa_history_sum(t, w, 5, true, out);
+            for (int e = 0; e < 4; e++)
+                worst = fmax(worst, fabs(out[e] - (0.01 * px + 0.02 * py + 0.1 * e)));
+        }
+    printf("  linear image through the 5-tap Catmull-Rom: largest error %.2g (slope 0.01, 0.02)\n", worst);
+    CHECK(worst < 0.002);
+    /* tap positions stay on rendered texels' centres, for positions anywhere and any footprint */
+    const float ps[] = {-100.0f, 0.0f, 0.2f, 0.5f, 3.7f, 15.9f, 16.0f, 1e30f, NAN, INFINITY, -INFINITY};
+    const float sizes[] = {16.0f, 1.0f, 0.0f, -3.0f, NAN};
+    for (size_t a = 0; a < sizeof ps / sizeof ps[0]; a++)
+        for (size_t b = 0; b < sizeof sizes / sizeof sizes[0]; b++) {
+            taa_catmull_rom_taps(ps[a], ps[(a + 3) % (sizeof ps / sizeof ps[0])], sizes[b], 12, taps);
+            float hi = fmaxf(isnan(sizes[b]) ? 0.5f : sizes[b] - 0.5f, 0.5f);
+            for (int k = 0; k < 5; k++) {
+                CHECK(isfinite(taps[k][0]) && isfinite(taps[k][1]) && isfinite(taps[k][2]));
+                CHECK(taps[k][0] >= 0.5f && taps[k][0] <= hi && taps[k][1] >= 0.5f && taps[k][1] <= 11.5f);
+            }
+        }
+}
+
+TEST(history_sum)
+{
+    float t[5][4] = {{1, 2, 3, 1}, {2, 2, 2, 1}, {4, 4, 4, 0}, {0, 0, 0, 0}, {8, 0, 0, 1}};
+    float w[5] = {0.25f, 0.25f, 0.5f, 0.0f, 0.0f}, out[4];
+    taa_history_sum(t, w, 5, true, out);
+    CHECK(out[0] == 2.75f && out[1] == 3.0f && out[2] == 3.25f && out[3] == 0.5f);
+    taa_history_sum(t, w, 5, false, out);
+    CHECK(out[0] == 2.75f && out[1] == 3.0f && out[2] == 3.25f && out[3] == 0.5f);
+    /* one tap (the bilinear history): the tap itself */
+    taa_history_sum(t, w, 1, false, out);
+    CHECK(out[0] == 1 && out[1] == 2 && out[2] == 3 && out[3] == 1);
+    /* negative lobes that undershoot: clamped to 0 */
+    float wn[5] = {-0.5f, 1.0f, 0.0f, 0.0f, 0.0f};
+    float tn[5][4] = {{4, 4, 4, 4}, {1, 1, 1, 1}};
+    taa_history_sum(tn, wn, 2, true, out);
+    CHECK(out[0] == 0 && out[3] == 0);
+    /* a NaN in a tap: per tap it counts as 0 and the other taps still count; per set that channel
+     * of the fetch is 0 */
+    t[1][1] = NAN;
+    taa_history_sum(t, w, 5, true, out);
+    CHECK(out[0] == 2.75f && out[1] == 2.5f && out[2] == 3.25f && out[3] == 0.5f);
+    taa_history_sum(t, w, 5, false, out);
+    CHECK(out[0] == 2.75f && out[1] == 0 && out[2] == 3.25f && out[3] == 0.5f);
+    /* Inf: 65504 per tap; per set, whatever it becomes, in [0, 65504] */
+    t[1][1] = INFINITY;
+    taa_history_sum(t, w, 5, true, out);
+    CHECK(out[1] == 0.25f * 2 + 0.25f * 65504.0f + 0.5f * 4);
+    taa_history_sum(t, w, 5, false, out);
+    for (int e = 0; e < 4; e++)
+        CHECK(isfinite(out[e]) && out[e] >= 0 && out[e] <= 65504.0f);
+    /* zero or NaN weights: finite */
+    float wz[5] = {0, 0, 0, 0, 0}, wnan[5] = {NAN, 1, 0, 0, 0};
+    taa_history_sum(t, wz, 5, true, out);
+    CHECK(isfinite(out[0]) && out[0] >= 0);
+    taa_history_sum(t, wnan, 5, false, out);
+    CHECK(isfinite(out[0]) && out[0] >= 0);
+}
+
+/* One pixel through the whole resolve with the C twin (taa.frag's order: neighbourhood, history
+ * fetch, clip, blend), with NaN and Inf injected into history taps and current taps now and then:
+ * the output never holds NaN or Inf, in every variant, and once the injections stop it converges
+ * back to the clean run's value. */
+TEST(nan_injected_into_history_stays_out_of_the_output)
+{
+    for (int variant = 0; variant < 4; variant++) {
+        bool per_tap = variant & 1;
+        int n_nb = variant & 2 ? 5 : 9;
+        float hist[4] = {0.3f, 0.3f, 0.3f, 1.0f}, clean[4] = {0.3f, 0.3f, 0.3f, 1.0f};
+        int bad_out = 0;
+        for (int f = 0; f < 200; f++)
+            for (int run = 0; run < 2; run++) {
+                bool poison = run == 0 && f < 100 && f % 7 < 3;
+                float *h = run == 0 ? hist : clean;
+                float taps[TAA_MAX_TAPS][4], cov[TAA_MAX_TAPS];
+                sample_neighbourhood(taps, cov);
+                if (poison && f % 7 == 1)
+                    taps[f % n_nb][f % 4] = f % 2 ? NAN : INFINITY;
+                taa_box b = taa_neighbourhood(taps, cov, n_nb, per_tap);
+                float t[5][4], w[5] = {0.1f, 0.1f, 0.6f, 0.1f, 0.1f}, hs[4];
+                for (int k = 0; k < 5; k++)
+                    memcpy(t[k], h, sizeof t[k]);
+                if (poison)
+                    t[f % 5][(f / 5) % 4] = f % 2 ? -INFINITY : NAN;
+                taa_history_sum(t, w, 5, per_tap, hs);
+                vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(v3(hs[0], hs[1], hs[2])), b.mean, b.sigma, 1.0f, 0.0f);
+                vec3 rgb = taa_ycocg_to_rgb(y);
+                float clipped[4] = {rgb.x, rgb.y, rgb.z, fminf(fmaxf(hs[3], b.alpha[0]), b.alpha[1])}, cur[4];
+                taa_sanitize4(taps[0], cur);
+                taa_resolve4(cur, clipped, true, (float)TAA_BLEND_DEFAULT, h);
+                for (int e = 0; e < 4; e++)
+                    bad_out += !(isfinite(h[e]) && h[e] >= 0 && h[e] <= 65504.0f);
+            }
+        CHECK(bad_out == 0);
+        for (int e = 0; e < 4; e++)
+            CHECK_NEAR(hist[e], clean[e], 1e-4);
+    }
 }
 
 TEST(resolve_blends_and_respects_validity)
@@ -560,6 +788,11 @@ int main(void)
     RUN(sparse_coverage_survives_taa);
     RUN(sparse_margin_bounds_ghosts);
     RUN(catmull_rom_weights);
+    RUN(neighbourhood_statistics);
+    RUN(neighbourhood_nan_and_inf);
+    RUN(catmull_rom_taps);
+    RUN(history_sum);
+    RUN(nan_injected_into_history_stays_out_of_the_output);
     RUN(resolve_blends_and_respects_validity);
     RUN(resolve_rgba_and_one_channel);
     RUN(sanitize);
