@@ -40,14 +40,16 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
     if (alpha >= 1.0)
         return true;
     // Where the fade-in has not started (b = 0: magnified or mip-0 texels), alpha_hashed_fade
-    // returns the cutoff whatever the hash: the traditional test, without hashing.
-    if (u_fade_n > 0.0 && lod + log2(aniso) <= 0.0)
+    // returns the cutoff whatever the hash: the traditional test, without hashing. The fade level
+    // is computed once, for this test and for the fade.
+    float level = alpha_hashed_fade_level(lod, aniso);
+    if (u_fade_n > 0.0 && level <= 0.0)
         return alpha >= max(cutoff, float(ALPHA_THRESHOLD_MIN));
     float t = alpha_hashed_threshold(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso);
 #ifdef TAA_HASH_OFFSET
     t = alpha_hashed_frame_offset(t, u_frame);
 #endif
-    return alpha >= alpha_hashed_fade(cutoff, t, lod, aniso, u_fade_n);
+    return alpha >= alpha_hashed_fade_at(cutoff, t, level, u_fade_n);
 #elif ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
     // Seed 002: scale alpha up with the mip level so coarse mips keep their coverage.
     return alpha * (1.0 + max(lod, 0.0) * ALPHA_MIPSCALE_PER_LOD) >= cutoff;
