@@ -262,8 +262,9 @@ float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fad
     precise float q = level / fade_n;
     float qc = alpha_hash_clamp(q, 0.0, 1.0, 1.0);
     precise float b = qc * qc;
+    // c and t are in [tmin, 1] and b in [0, 1], so f is never NaN: a plain clamp (rounding only).
     precise float f = c + (t - c) * b;
-    return alpha_hash_clamp(f, tmin, 1.0, c);
+    return clamp(f, tmin, 1.0);
 }
 
 // C twin: alpha_hashed_fade (seed 000 Eq. 2-3 around the material cutoff).

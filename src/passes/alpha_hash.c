@@ -254,7 +254,9 @@ float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fad
     /* b = clamp(x / n, 0, 1)^2, straight-line: x <= 0 -> 0, x >= n -> 1, NaN -> 1 (full noise). */
     float q = clamp_nan(level / fade_n, 0.0f, 1.0f, 1.0f);
     float b = q * q;
-    return clamp_nan(c + (t - c) * b, tmin, 1.0f, c);
+    /* c and t are in [tmin, 1] and b in [0, 1]: never NaN, a plain clamp (rounding only). */
+    float f = c + (t - c) * b;
+    return f < tmin ? tmin : f > 1.0f ? 1.0f : f;
 }
 
 float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
