@@ -29,6 +29,7 @@ uniform vec4 u_base_color;   // linear factor
 uniform float u_alpha_cutoff;
 uniform bool u_double_sided;
 uniform float u_mip_bias;    // log2 units, added to every lookup
+uniform float u_mip_scale;   // exp2(u_mip_bias)
 uniform vec3 u_eye;
 
 layout(location = 0) out vec4 o_color;
@@ -49,10 +50,17 @@ void main()
     float lod = 0.0, aniso = 1.0;
 #if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C || ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE || defined(A2C_SHARPEN)
     if (u_has_base_tex) {
-        lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
         vec2 size = vec2(textureSize(u_base_tex, 0));
+#if ALPHA_MODE == ALPHA_MODE_ID_HASHED
+        // The hashed test needs only the fade level lod + log2(aniso): computed from the uv
+        // derivatives in one log2 (alpha_texture_fade_level, the GL spec's isotropic lod; the
+        // sampler has no bias or anisotropic filtering of its own), passed as `lod` with aniso 1.
+        lod = alpha_texture_fade_level(dFdx(v_uv), dFdy(v_uv), size, u_mip_scale);
+#else
+        lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
         float lx = length(dFdx(v_uv) * size), ly = length(dFdy(v_uv) * size);
         aniso = clamp(max(lx, ly) / max(min(lx, ly), 1e-20), 1.0, ALPHA_MAX_ANISO);
+#endif
     }
 #endif
 #ifdef A2C_SHARPEN

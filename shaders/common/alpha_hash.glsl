@@ -44,6 +44,13 @@ float alpha_hash_unit(float h)
     return alpha_hash_clamp(h, 0.0, uintBitsToFloat(0x3f7fffffu), 0.0);
 }
 
+// C twin: pow2i. 2^e for |e| <= 126 from the exponent bits: exactly ldexp(1.0, e), in two integer
+// operations (llvmpipe lowers ldexp to about ten: clamps and two multiplies for denormal results).
+float alpha_hash_pow2(int e)
+{
+    return uintBitsToFloat(uint(e + 127) << 23);
+}
+
 // C twin: fractf.
 float alpha_hash_fract(float x)
 {
@@ -51,11 +58,17 @@ float alpha_hash_fract(float x)
     return f;
 }
 
-// C twin: length3 (sqrt of the dot product, summed left to right, no fused multiply-add).
-float alpha_hash_length(vec3 v)
+// C twin: dot3 (the squared length, summed left to right, no fused multiply-add).
+float alpha_hash_dot(vec3 v)
 {
     precise float d = v.x * v.x + v.y * v.y + v.z * v.z;
-    return sqrt(d);
+    return d;
+}
+
+// C twin: max_deriv2 (maxDeriv^2 of Listing 1 with 3D lengths; a NaN vector counts as zero length).
+float alpha_hash_max_deriv2(vec3 dx, vec3 dy)
+{
+    return max(alpha_hash_nan_to_zero(alpha_hash_dot(dx)), alpha_hash_nan_to_zero(alpha_hash_dot(dy)));
 }
 
 // >>hashes
@@ -107,14 +120,16 @@ float alpha_hash_pcg(vec3 p)
 }
 
 // C twin: alpha_hash_kind.
-// pcg of lattice cells that are already finite integers (alpha_hash_cell's output): the same
+// pcg of lattice cells that are already finite integers (the floored cells of alpha_hashed_threshold): the same
 // value as alpha_hash_pcg(c), without re-checking for NaN, Inf, denormals and re-flooring, which
 // alpha_hash_key does for arbitrary inputs (cost on llvmpipe: ~6 % of the hashed forest's frame).
 float alpha_hash_pcg_cell(vec3 c)
 {
     vec3 q = clamp(c, vec3(-2147483648.0), vec3(2147483520.0));
     uvec3 h = alpha_hash_pcg3d(uvec3(ivec3(q)));
-    return float((h.x ^ h.y ^ h.z) >> 8u) * (1.0 / 16777216.0);
+    // < 2^24, so float(int) gives the same exact value as float(uint), in one instruction where
+    // the CPU has no unsigned conversion (AVX2: llvmpipe spends about six).
+    return float(int((h.x ^ h.y ^ h.z) >> 8u)) * (1.0 / 16777216.0);
 }
 
 float alpha_hash_kind(vec3 p, int hash_kind)
@@ -137,34 +152,41 @@ float alpha_hash_kind(vec3 p, int hash_kind)
 
 // >>threshold
 
-// C twin: alpha_hash_cdf (seed 000 Eq. 1; only the needed branch, denominators >= FLT_MIN).
-float alpha_hash_cdf(float x, float lerp_factor)
+// C twin: cdf_core (seed 000 Eq. 1, denominators >= FLT_MIN). Eq. 1 is symmetric,
+// cdf(1 - x) = 1 - cdf(x): the lower half is evaluated at z = min(x, 1 - x) (exact for x in [0, 1])
+// and mirrored, straight-line (two cases and two selects instead of three branches). For x and
+// lerp_factor in [0, 1], which is all alpha_hashed_threshold passes, the result is in [0, 1]
+// without a guard: z < a gives z^2 / (2a(1 - a)) <= a / (2(1 - a)) <= 0.5, otherwise
+// (z - a/2) / (1 - a) is in [0, 0.5].
+float alpha_hash_cdf_core(float x, float lerp_factor)
 {
     precise float a = min(lerp_factor, 1.0 - lerp_factor);
-    precise float t;
-    if (x < a) {
-        t = x * x / max(2.0 * a * (1.0 - a), uintBitsToFloat(0x00800000u));
-    } else if (x < 1.0 - a) {
-        t = (x - 0.5 * a) / (1.0 - a);
-    } else {
-        precise float y = 1.0 - x;
-        t = 1.0 - y * y / max(2.0 * a * (1.0 - a), uintBitsToFloat(0x00800000u));
-    }
-    return alpha_hash_clamp(t, 0.0, 1.0, 0.5);
+    precise float z = min(x, 1.0 - x);
+    precise float lo = z * z / max(2.0 * a * (1.0 - a), uintBitsToFloat(0x00800000u));
+    precise float mid = (z - 0.5 * a) / (1.0 - a);
+    precise float f = z < a ? lo : mid;
+    precise float t = x < 0.5 ? f : 1.0 - f;
+    return t;
+}
+
+// C twin: alpha_hash_cdf (Eq. 1 for any input: clamped to [0, 1], NaN -> 0.5).
+float alpha_hash_cdf(float x, float lerp_factor)
+{
+    return alpha_hash_clamp(alpha_hash_cdf_core(x, lerp_factor), 0.0, 1.0, 0.5);
 }
 
 // C twin: alpha_hash_log2_scale (Listing 1's log2(pixScale), clamped; ends decided without log2).
+// log2(1 / (hs * maxDeriv)) = -0.5 * log2(hs^2 * maxDeriv^2): one log2 of the squared lengths, no
+// square root and no division. hs * (hs * m2) cannot be NaN (hs is finite and > 0, m2 >= 0 or inf).
 float alpha_hash_log2_scale(vec3 dx, vec3 dy, float hash_scale)
 {
     float hs = (alpha_hash_is_finite(hash_scale) && hash_scale > 0.0) ? hash_scale : float(ALPHA_HASH_SCALE_DEFAULT);
-    float max_deriv = max(alpha_hash_nan_to_zero(alpha_hash_length(dx)), alpha_hash_nan_to_zero(alpha_hash_length(dy)));
-    precise float pix_scale = 1.0 / (hs * max_deriv);
+    precise float y2 = hs * (hs * alpha_hash_max_deriv2(dx, dy));
     const float lim = float(ALPHA_HASH_LOG2_CLAMP);
-    if (pix_scale >= ldexp(1.0, 60))
-        return lim;
-    if (pix_scale <= ldexp(1.0, -60))
-        return -lim;
-    return alpha_hash_clamp(log2(pix_scale), -lim, lim, 0.0);
+    precise float l = -0.5 * log2(y2);
+    // pixScale >= 2^60 <=> y2 <= 2^-120, pixScale <= 2^-60 <=> y2 >= 2^120: log2's result is not
+    // used there (GLSL leaves log2 of 0 and inf undefined).
+    return y2 <= ldexp(1.0, -120) ? lim : (y2 >= ldexp(1.0, 120) ? -lim : clamp(l, -lim, lim));
 }
 
 // C twin: aniso_level (per-axis refinement, exact power-of-two comparisons).
@@ -176,13 +198,13 @@ int alpha_hash_aniso_level(float deriv_axis, float max_deriv)
     return e;
 }
 
-// C twin: cell (floor(2^level * o), non-finite or denormal -> 0).
-float alpha_hash_cell(float o, int level)
+// C twin: hash_coord. An object coordinate as the cells see it: |o| in [2^-62, 2^63) unchanged,
+// anything else (0, tinier, larger, NaN, inf) 0, by one unsigned test of the exponent bits. Every
+// cell 2^level * o (level in [-60, 64]) is then finite and exact, and either 0 or normal (>= 2^-122,
+// so a GPU that flushes denormals floors it like C does), without a guard per cell.
+float alpha_hash_coord(float o)
 {
-    float v = ldexp(1.0, level) * o;
-    if (!alpha_hash_is_finite(v) || abs(v) < uintBitsToFloat(0x00800000u))
-        v = 0.0;
-    return floor(v);
+    return (floatBitsToUint(o) & 0x7f800000u) - (65u << 23) < (125u << 23) ? o : 0.0;
 }
 
 // C twin: alpha_hashed_threshold (seed 000 Listing 1).
@@ -200,46 +222,55 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
 #else
     if (anisotropic) {
 #endif
-        float m = max(alpha_hash_nan_to_zero(alpha_hash_length(dx)), alpha_hash_nan_to_zero(alpha_hash_length(dy)));
+        float m = sqrt(alpha_hash_max_deriv2(dx, dy)); // max of the lengths (sqrt is monotonic)
         vec3 adx = abs(dx), ady = abs(dy);
         e.x = alpha_hash_aniso_level(max(alpha_hash_nan_to_zero(adx.x), alpha_hash_nan_to_zero(ady.x)), m);
         e.y = alpha_hash_aniso_level(max(alpha_hash_nan_to_zero(adx.y), alpha_hash_nan_to_zero(ady.y)), m);
         e.z = alpha_hash_aniso_level(max(alpha_hash_nan_to_zero(adx.z), alpha_hash_nan_to_zero(ady.z)), m);
     }
-    vec3 c_lo = vec3(alpha_hash_cell(obj.x, ilo + e.x), alpha_hash_cell(obj.y, ilo + e.y), alpha_hash_cell(obj.z, ilo + e.z));
-    vec3 c_hi = vec3(alpha_hash_cell(obj.x, ihi + e.x), alpha_hash_cell(obj.y, ihi + e.y), alpha_hash_cell(obj.z, ihi + e.z));
+    vec3 o = vec3(alpha_hash_coord(obj.x), alpha_hash_coord(obj.y), alpha_hash_coord(obj.z));
+    vec3 c_lo = floor(vec3(alpha_hash_pow2(ilo + e.x), alpha_hash_pow2(ilo + e.y), alpha_hash_pow2(ilo + e.z)) * o);
+    vec3 c_hi = floor(vec3(alpha_hash_pow2(ihi + e.x), alpha_hash_pow2(ihi + e.y), alpha_hash_pow2(ihi + e.z)) * o);
     float h_lo = alpha_hash_kind(c_lo, hash_kind);
     float h_hi = alpha_hash_kind(c_hi, hash_kind);
     precise float x = (1.0 - lerp_factor) * h_lo + lerp_factor * h_hi;
-    float t = alpha_hash_cdf(x, lerp_factor);
-    return alpha_hash_clamp(t, float(ALPHA_THRESHOLD_MIN), 1.0, 1.0);
+    // x and lerp_factor are in [0, 1] (hashes in [0, 1), l clamped and never NaN), so the CDF needs
+    // no NaN guard here: the hard-case tests check the result for every input.
+    float t = alpha_hash_cdf_core(x, lerp_factor);
+    return clamp(t, float(ALPHA_THRESHOLD_MIN), 1.0);
 }
 
 // >>fade
 
-// C twin: alpha_hashed_fade (seed 000 Eq. 2-3 around the material cutoff).
-float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
+// C twin: alpha_hashed_fade_level (the x of seed 000 Eq. 3 with the anisotropy term).
+float alpha_hashed_fade_level(float lod, float aniso_ratio)
+{
+    float r = alpha_hash_clamp(aniso_ratio, 1.0, float(ALPHA_MAX_ANISO), 1.0);
+    precise float x = lod + log2(r);
+    return x;
+}
+
+// C twin: alpha_hashed_fade_at (seed 000 Eq. 2-3 around the material cutoff, at level x;
+// straight-line: b = clamp(x / n, 0, 1)^2, NaN -> 1).
+float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fade_n)
 {
     const float tmin = float(ALPHA_THRESHOLD_MIN);
     float c = alpha_hash_clamp(cutoff, tmin, 1.0, 0.5);
     float t = alpha_hash_clamp(threshold, tmin, 1.0, c);
     if (alpha_hash_is_nan(fade_n) || fade_n <= 0.0)
         return t;
-    float r = alpha_hash_clamp(aniso_ratio, 1.0, float(ALPHA_MAX_ANISO), 1.0);
-    precise float x = lod + log2(r);
-    float b;
-    if (alpha_hash_is_nan(x)) {
-        b = 1.0;
-    } else if (x <= 0.0) {
-        b = 0.0;
-    } else if (x >= fade_n) {
-        b = 1.0;
-    } else {
-        precise float q = x / fade_n;
-        b = q * q;
-    }
+    precise float q = level / fade_n;
+    float qc = alpha_hash_clamp(q, 0.0, 1.0, 1.0);
+    precise float b = qc * qc;
+    // c and t are in [tmin, 1] and b in [0, 1], so f is never NaN: a plain clamp (rounding only).
     precise float f = c + (t - c) * b;
-    return alpha_hash_clamp(f, tmin, 1.0, c);
+    return clamp(f, tmin, 1.0);
+}
+
+// C twin: alpha_hashed_fade (seed 000 Eq. 2-3 around the material cutoff).
+float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
+{
+    return alpha_hashed_fade_at(cutoff, threshold, alpha_hashed_fade_level(lod, aniso_ratio), fade_n);
 }
 
 // C twin: alpha_texture_lod (the GL spec's isotropic LOD; the forward shader uses textureQueryLod).
@@ -259,6 +290,26 @@ float alpha_texture_lod(vec2 duv_dx, vec2 duv_dy, vec2 tex_size, out float aniso
     }
     aniso_ratio = ratio;
     return lod;
+}
+
+// C twin: alpha_texture_fade_level. The fade level of alpha_hashed_fade_level, lod + log2(ratio),
+// for the GL spec's isotropic lod of a lookup with bias b, lod = max(log2(pmax) + b, 0), and
+// ratio = clamp(pmax / pmin, 1, ALPHA_MAX_ANISO), with one log2 of squared lengths and no
+// textureQueryLod: max(log2(pmax) + b, 0) + log2(ratio) = 0.5 log2(ratio^2 max(pmax^2 4^b, 1)).
+// mip_scale = 2^b. NaN squared lengths count as 0; v is kept <= 2^120, so the level is in [0, 60].
+float alpha_texture_fade_level(vec2 duv_dx, vec2 duv_dy, vec2 tex_size, float mip_scale)
+{
+    precise vec2 tx = duv_dx * tex_size, ty = duv_dy * tex_size;
+    precise float px2 = tx.x * tx.x + tx.y * tx.y, py2 = ty.x * ty.x + ty.y * ty.y;
+    const float big = uintBitsToFloat(0x7b800000u); // 2^120
+    float a = min(alpha_hash_nan_to_zero(px2), big), b = min(alpha_hash_nan_to_zero(py2), big);
+    float p2max = max(a, b), p2min = min(a, b);
+    precise float q = p2max / max(p2min, uintBitsToFloat(0x00800000u));
+    float r2 = clamp(q, 1.0, float(ALPHA_MAX_ANISO) * float(ALPHA_MAX_ANISO));
+    precise float s2 = mip_scale * mip_scale;
+    precise float v = r2 * max(p2max * s2, 1.0);
+    precise float level = 0.5 * log2(min(v, big));
+    return level;
 }
 
 // >>stochastic

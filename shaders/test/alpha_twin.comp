@@ -13,7 +13,7 @@ struct twin_in {
     vec4 p1;   // lod: duv_dx.xy, duv_dy.xy
     vec4 p2;   // lod: tex_size.xy; a2c: xi1, xi2
     vec4 p3;   // a2c: alpha, chi; cdf: x, lerp_factor
-    vec4 p4;   // fade: threshold
+    vec4 p4;   // fade: threshold; texture fade level: mip scale
     uvec4 u0;  // hash_kind, anisotropic, pixel_x, pixel_y
     uvec4 u1;  // frame, salt, a2c n, a2c sample index
 };
@@ -23,7 +23,8 @@ struct twin_out {
     vec4 r1;   // alpha_hashed_fade, alpha_texture_lod, its aniso_ratio, alpha_hash_cdf
     vec4 r2;   // alpha_hash_log2_scale, alpha_hashed_a2c_threshold, alpha_hash_sine2(obj.xy), sin(obj.x)
     uvec4 r3;  // alpha_hashed_a2c_mask, alpha_hash_pcg3d(u0.zw, u1.x)
-    vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), unused x 3
+    vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), alpha_hashed_fade_level, alpha_hashed_fade_at,
+               // alpha_texture_fade_level(p1.xy, p1.zw, p2.xy, p4.y)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -53,6 +54,8 @@ void main()
                 alpha_hash_sine2(a.obj.xy), sin(a.obj.x));
     r.r3 = uvec4(alpha_hashed_a2c_mask(a.p3.x, int(a.u1.z), a.p2.z, a.p2.w, a.p3.y),
                  alpha_hash_pcg3d(uvec3(a.u0.z, a.u0.w, a.u1.x)));
-    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), 0.0, 0.0, 0.0);
+    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), alpha_hashed_fade_level(a.p0.y, a.p0.z),
+                alpha_hashed_fade_at(a.p0.x, a.p4.x, a.p0.y, a.p0.w),
+                alpha_texture_fade_level(a.p1.xy, a.p1.zw, a.p2.xy, a.p4.y));
     tout[i] = r;
 }

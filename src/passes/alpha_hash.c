@@ -69,8 +69,8 @@ static float unit_interval(float h)
     return clamp_nan(h, 0.0f, ONE_MINUS_ULP, 0.0f);
 }
 
-/* 2^e for |e| <= 126, built from the exponent bits: exactly ldexp(1, e), which the GLSL calls
- * (ldexpf is an out-of-line libm call, a third of the cost of a threshold). */
+/* 2^e for |e| <= 126, built from the exponent bits: exactly ldexp(1, e) (ldexpf is an out-of-line
+ * libm call, a third of the cost of a threshold). GLSL twin: alpha_hash_pow2. */
 static float pow2i(int e)
 {
     uint32_t u = (uint32_t)(e + 127) << 23;
@@ -85,10 +85,17 @@ static float fractf(float x)
     return x - floorf(x);
 }
 
-/* GLSL twin: alpha_hash_length (length(): sqrt of the dot product, summed left to right). */
-static float length3(vec3 v)
+/* GLSL twin: alpha_hash_dot (the squared length, summed left to right). */
+static float dot3(vec3 v)
 {
-    return sqrtf(v.x * v.x + v.y * v.y + v.z * v.z);
+    return v.x * v.x + v.y * v.y + v.z * v.z;
+}
+
+/* maxDeriv^2 of Listing 1 with 3D lengths; a NaN vector counts as zero length.
+ * GLSL twin: alpha_hash_max_deriv2. */
+static float max_deriv2(vec3 dx, vec3 dy)
+{
+    return maxf(nan_to_zero(dot3(dx)), nan_to_zero(dot3(dy)));
 }
 
 /* >>hashes */
@@ -150,33 +157,39 @@ float alpha_hash_kind(vec3 p, int hash_kind)
 
 /* >>threshold */
 
-float alpha_hash_cdf(float x, float lerp_factor)
+/* Eq. 1 without the guard, for x and lerp_factor in [0, 1] (result in [0, 1]); straight-line.
+ * Eq. 1 is symmetric, cdf(1 - x) = 1 - cdf(x): the lower half at z = min(x, 1 - x) (exact for
+ * x in [0, 1]), mirrored. GLSL twin: alpha_hash_cdf_core. */
+static float cdf_core(float x, float lerp_factor)
 {
     float a = minf(lerp_factor, 1.0f - lerp_factor);
-    float t;
-    if (x < a) {
-        t = x * x / maxf(2.0f * a * (1.0f - a), FLT_MIN);
-    } else if (x < 1.0f - a) {
-        t = (x - 0.5f * a) / (1.0f - a);
-    } else {
-        float y = 1.0f - x;
-        t = 1.0f - y * y / maxf(2.0f * a * (1.0f - a), FLT_MIN);
-    }
-    return clamp_nan(t, 0.0f, 1.0f, 0.5f);
+    float z = minf(x, 1.0f - x);
+    float lo = z * z / maxf(2.0f * a * (1.0f - a), FLT_MIN);
+    float mid = (z - 0.5f * a) / (1.0f - a);
+    float f = z < a ? lo : mid;
+    return x < 0.5f ? f : 1.0f - f;
+}
+
+float alpha_hash_cdf(float x, float lerp_factor)
+{
+    return clamp_nan(cdf_core(x, lerp_factor), 0.0f, 1.0f, 0.5f);
 }
 
 float alpha_hash_log2_scale(vec3 dx, vec3 dy, float hash_scale)
 {
     float hs = is_finite_bits(hash_scale) && hash_scale > 0.0f ? hash_scale : (float)ALPHA_HASH_SCALE_DEFAULT;
-    float max_deriv = maxf(nan_to_zero(length3(dx)), nan_to_zero(length3(dy)));
-    float pix_scale = 1.0f / (hs * max_deriv); /* in [0, inf]: never NaN */
+    /* log2(1 / (hs * maxDeriv)) = -0.5 * log2(hs^2 * maxDeriv^2): no square root, no division.
+     * hs * (hs * m2) is never NaN: hs is finite and > 0, m2 >= 0 or inf. */
+    float y2 = hs * (hs * max_deriv2(dx, dy));
     const float lim = (float)ALPHA_HASH_LOG2_CLAMP;
-    /* 2^60 and 2^-60 decide the ends without log2 of 0 or inf, which GLSL leaves undefined. */
-    if (pix_scale >= 0x1p60f)
+    /* 2^-120 and 2^120 (pixScale 2^60 and 2^-60) decide the ends without log2 of 0 or inf, which
+     * GLSL leaves undefined. */
+    if (y2 <= 0x1p-120f)
         return lim;
-    if (pix_scale <= 0x1p-60f)
+    if (y2 >= 0x1p120f)
         return -lim;
-    return clamp_nan(log2f(pix_scale), -lim, lim, 0.0f);
+    float l = -0.5f * log2f(y2);
+    return l < -lim ? -lim : l > lim ? lim : l;
 }
 
 /* Anisotropic option: 2^e per object axis, e = floor(log2(max_deriv / deriv_axis)) limited to
@@ -190,14 +203,13 @@ static int aniso_level(float deriv_axis, float max_deriv)
     return e;
 }
 
-/* Cell of obj at per-axis scale 2^(level + e): floor(scale * obj), non-finite -> 0.
- * GLSL twin: alpha_hash_cell. */
-static float cell(float o, int level)
+/* An object coordinate as the cells see it: |o| in [2^-62, 2^63) unchanged, anything else (0,
+ * tinier, larger, NaN, inf) 0, by one unsigned test of the exponent bits. The cells 2^level * o
+ * (level in [-60, 64]) are then finite and exact, and either 0 or normal (>= 2^-122: a GPU that
+ * flushes denormals floors them the same way). GLSL twin: alpha_hash_coord. */
+static float hash_coord(float o)
 {
-    float v = pow2i(level) * o;
-    if (!is_finite_bits(v) || fabsf(v) < FLT_MIN)
-        v = 0.0f;
-    return floorf(v);
+    return (float_bits(o) & 0x7f800000u) - (65u << 23) < (125u << 23) ? o : 0.0f;
 }
 
 float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic)
@@ -208,43 +220,48 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
     int ilo = (int)lo, ihi = (int)hi;
     int ex = 0, ey = 0, ez = 0;
     if (anisotropic) {
-        float m = maxf(nan_to_zero(length3(dx)), nan_to_zero(length3(dy)));
+        float m = sqrtf(max_deriv2(dx, dy)); /* max of the lengths (sqrt is monotonic) */
         ex = aniso_level(maxf(nan_to_zero(fabsf(dx.x)), nan_to_zero(fabsf(dy.x))), m);
         ey = aniso_level(maxf(nan_to_zero(fabsf(dx.y)), nan_to_zero(fabsf(dy.y))), m);
         ez = aniso_level(maxf(nan_to_zero(fabsf(dx.z)), nan_to_zero(fabsf(dy.z))), m);
     }
-    vec3 c_lo = {cell(obj.x, ilo + ex), cell(obj.y, ilo + ey), cell(obj.z, ilo + ez)};
-    vec3 c_hi = {cell(obj.x, ihi + ex), cell(obj.y, ihi + ey), cell(obj.z, ihi + ez)};
+    vec3 o = {hash_coord(obj.x), hash_coord(obj.y), hash_coord(obj.z)};
+    vec3 c_lo = {floorf(pow2i(ilo + ex) * o.x), floorf(pow2i(ilo + ey) * o.y), floorf(pow2i(ilo + ez) * o.z)};
+    vec3 c_hi = {floorf(pow2i(ihi + ex) * o.x), floorf(pow2i(ihi + ey) * o.y), floorf(pow2i(ihi + ez) * o.z)};
     float h_lo = alpha_hash_kind(c_lo, hash_kind);
     float h_hi = alpha_hash_kind(c_hi, hash_kind);
     float x = (1.0f - lerp_factor) * h_lo + lerp_factor * h_hi;
-    float t = alpha_hash_cdf(x, lerp_factor);
-    return clamp_nan(t, (float)ALPHA_THRESHOLD_MIN, 1.0f, 1.0f);
+    /* x and lerp_factor are in [0, 1], so no NaN guard (the hard-case tests check every input). */
+    float t = cdf_core(x, lerp_factor);
+    return t < (float)ALPHA_THRESHOLD_MIN ? (float)ALPHA_THRESHOLD_MIN : t > 1.0f ? 1.0f : t;
 }
 
 /* >>fade */
 
-float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
+float alpha_hashed_fade_level(float lod, float aniso_ratio)
+{
+    float r = clamp_nan(aniso_ratio, 1.0f, (float)ALPHA_MAX_ANISO, 1.0f);
+    return lod + log2f(r);
+}
+
+float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fade_n)
 {
     const float tmin = (float)ALPHA_THRESHOLD_MIN;
     float c = clamp_nan(cutoff, tmin, 1.0f, 0.5f);
     float t = clamp_nan(threshold, tmin, 1.0f, c);
     if (is_nan_bits(fade_n) || fade_n <= 0.0f)
         return t;
-    float r = clamp_nan(aniso_ratio, 1.0f, (float)ALPHA_MAX_ANISO, 1.0f);
-    float x = lod + log2f(r);
-    float b;
-    if (is_nan_bits(x)) {
-        b = 1.0f;
-    } else if (x <= 0.0f) {
-        b = 0.0f;
-    } else if (x >= fade_n) {
-        b = 1.0f;
-    } else {
-        float q = x / fade_n;
-        b = q * q;
-    }
-    return clamp_nan(c + (t - c) * b, tmin, 1.0f, c);
+    /* b = clamp(x / n, 0, 1)^2, straight-line: x <= 0 -> 0, x >= n -> 1, NaN -> 1 (full noise). */
+    float q = clamp_nan(level / fade_n, 0.0f, 1.0f, 1.0f);
+    float b = q * q;
+    /* c and t are in [tmin, 1] and b in [0, 1]: never NaN, a plain clamp (rounding only). */
+    float f = c + (t - c) * b;
+    return f < tmin ? tmin : f > 1.0f ? 1.0f : f;
+}
+
+float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
+{
+    return alpha_hashed_fade_at(cutoff, threshold, alpha_hashed_fade_level(lod, aniso_ratio), fade_n);
 }
 
 float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float *aniso_ratio)
@@ -264,6 +281,23 @@ float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const floa
     if (aniso_ratio)
         *aniso_ratio = ratio;
     return lod;
+}
+
+float alpha_texture_fade_level(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float mip_scale)
+{
+    float tx0 = duv_dx[0] * tex_size[0], tx1 = duv_dx[1] * tex_size[1];
+    float ty0 = duv_dy[0] * tex_size[0], ty1 = duv_dy[1] * tex_size[1];
+    float px2 = tx0 * tx0 + tx1 * tx1, py2 = ty0 * ty0 + ty1 * ty1;
+    const float big = 0x1p120f;
+    float a = minf(nan_to_zero(px2), big), b = minf(nan_to_zero(py2), big);
+    float p2max = maxf(a, b), p2min = minf(a, b);
+    /* max(log2(pmax) + bias, 0) + log2(ratio) = 0.5 log2(ratio^2 max(pmax^2 4^bias, 1)) */
+    float q = p2max / maxf(p2min, FLT_MIN);
+    const float r2max = (float)ALPHA_MAX_ANISO * (float)ALPHA_MAX_ANISO;
+    float r2 = q < 1.0f ? 1.0f : q > r2max ? r2max : q;
+    float s2 = mip_scale * mip_scale;
+    float v = r2 * maxf(p2max * s2, 1.0f);
+    return 0.5f * log2f(minf(v, big));
 }
 
 /* >>stochastic */

@@ -86,6 +86,15 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
  * NaN threshold -> the cutoff; cutoff clamped to [ALPHA_THRESHOLD_MIN, 1] (NaN -> 0.5).
  * Result in [ALPHA_THRESHOLD_MIN, 1]. GLSL twin: alpha_hashed_fade. */
 float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n);
+
+/* The two halves of alpha_hashed_fade, which is alpha_hashed_fade_at(cutoff, threshold,
+ * alpha_hashed_fade_level(lod, aniso_ratio), fade_n). The forward shader computes the level once,
+ * for its b = 0 early-out and for the fade. level = lod + log2(clamp(aniso_ratio, 1,
+ * ALPHA_MAX_ANISO)) (NaN ratio -> 1); alpha_hashed_fade_at takes the x of Eq. 3 directly.
+ * GLSL twins: alpha_hashed_fade_level, alpha_hashed_fade_at. */
+float alpha_hashed_fade_level(float lod, float aniso_ratio);
+float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fade_n);
+
 /* Threshold t in (0, 1] shifted by frame * ALPHA_FRAME_OFFSET_STEP modulo 1, kept in (0, 1]: the
  * per-frame variation TAA averages (used only when TAA is on). A uniform t stays uniform.
  * GLSL twin: alpha_hashed_frame_offset in alpha_hash.glsl. */
@@ -97,6 +106,15 @@ float alpha_hashed_frame_offset(float t, uint32_t frame);
  * derivatives -> lod 0, ratio 1. aniso_ratio may be NULL. GLSL twin: alpha_texture_lod (the forward
  * shader itself uses textureQueryLod). */
 float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float *aniso_ratio);
+
+/* The fade level lod + log2(ratio) of alpha_hashed_fade_level for a lookup with mip bias b, with the
+ * lod and ratio of alpha_texture_lod (lod = max(log2(pmax) + b, 0), ratio = clamp(pmax / pmin, 1,
+ * ALPHA_MAX_ANISO)), as one log2: 0.5 log2(ratio^2 max(pmax^2 4^b, 1)); mip_scale = 2^b. What the
+ * forward shader's hashed test uses instead of textureQueryLod (docs/hashed-alpha.md "Cost").
+ * NaN squared lengths count as 0 and squared lengths are kept <= 2^120: for a finite mip_scale the
+ * result is in [0, 60] (zero derivatives give 0, as lod 0 and ratio 1 do).
+ * GLSL twin: alpha_texture_fade_level. */
+float alpha_texture_fade_level(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float mip_scale);
 
 /* Seed 000 §4: ((pcg3d(x, y, frame ^ salt) reduced to 24 bits) + 1) * 2^-24, uniform in (0, 1]
  * (0 impossible, 1 possible). GLSL twin: alpha_stochastic_threshold. */

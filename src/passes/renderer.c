@@ -42,7 +42,7 @@ enum { OUT_COLOR, OUT_COVERAGE, OUT_DEBUG, OUT_COUNT };
 /* >>types */
 typedef struct gpu_program {
     GLuint id;
-    GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_eye,
+    GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
         u_prev_time;
 } gpu_program;
@@ -174,6 +174,7 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_alpha_cutoff = glGetUniformLocation(p, "u_alpha_cutoff");
     out->u_double_sided = glGetUniformLocation(p, "u_double_sided");
     out->u_mip_bias = glGetUniformLocation(p, "u_mip_bias");
+    out->u_mip_scale = glGetUniformLocation(p, "u_mip_scale");
     out->u_eye = glGetUniformLocation(p, "u_eye");
     out->u_light_dir = glGetUniformLocation(p, "u_light_dir");
     out->u_light_color = glGetUniformLocation(p, "u_light_color");
@@ -703,6 +704,7 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     glProgramUniform3f(pg->id, pg->u_light_color, L->color.x, L->color.y, L->color.z);
     glProgramUniform3f(pg->id, pg->u_ambient, L->ambient.x, L->ambient.y, L->ambient.z);
     glProgramUniform1f(pg->id, pg->u_mip_bias, r->pl.layout.rings[ring].mip_bias);
+    glProgramUniform1f(pg->id, pg->u_mip_scale, exp2f(r->pl.layout.rings[ring].mip_bias));
     const alpha_params *ap = &r->pl.alpha;
     glProgramUniform1f(pg->id, pg->u_hash_scale, ap->hash_scale);
     glProgramUniform1i(pg->id, pg->u_hash_kind, ap->hash_kind);

@@ -11,11 +11,13 @@
  *     thresholds and masks): bit-identical, every input. They are integer operations, float
  *     conversions of values below 2^24 and divisions by powers of two: all exact.
  *   - every GPU threshold of every group is finite and in [ALPHA_THRESHOLD_MIN, 1]: the contract.
- *   - alpha_hashed_threshold with the pcg hash: >= 99.9 % of inputs within 1e-5. GLSL's log2, sqrt
- *     and division are not correctly rounded; the cells are exact (ldexp, floor of exact products),
+ *   - alpha_hashed_threshold with the pcg hash: >= 99.9 % of inputs within 1e-5. GLSL's log2 and
+ *     division are not correctly rounded; the cells are exact (power-of-two scales built from the
+ *     exponent bits, coordinates sanitised so that every product is exact; floor),
  *     so a difference beyond float noise needs floor(log2(pixScale)) or a per-axis level on the
  *     other side of an integer: rare, and reported.
- *   - cdf, fade, lod, log2 scale: >= 99.9 % within 1e-5 (relative for the log2 scale), same reason.
+ *   - cdf, fade (and its halves, fade level and fade at a level), lod, log2 scale: >= 99.9 % within
+ *     1e-5 (relative for the log2 scale and the fade level), same reason.
  *   - the sine hash: 1e4 sin(...) turns sin's last-bit error into ~1e-3, and the nested hash
  *     multiplies the inner hash's difference by another ~2e5 (17 * 1e4 * 1.1), so the 3D hash only
  *     agrees input by input where both sides round the inner hash identically. Asserted, for
@@ -119,6 +121,9 @@ static void make_input(int i, twin_in *in)
     const float fade_ns[] = {6.0f, 0.0f, 3.0f, 6.0f};
     in->p0[3] = h ? hard() : fade_ns[rng_u64() % 4];
     in->p4[0] = h ? hard() : 1.0f - rngf(0, 1);
+    const float mip_scales[] = {1.0f, 0.0f, 0.5f, 2.0f, 1e-30f, 1e19f};
+    /* 2^mip bias, from the index (no extra draws: the other inputs stay as they were) */
+    in->p4[1] = h ? mip_scales[i % 6] : (float)exp2((i % 17) / 4.0 - 2.0);
     for (int k = 0; k < 4; k++)
         in->p1[k] = h ? hard() : rngf(-0.05, 0.05);
     in->p2[0] = h ? hard() : (float)(1 << (rng_u64() % 12));
@@ -164,6 +169,9 @@ static void run_cpu(const twin_in *a, twin_out *r)
     r->r3[2] = h.y;
     r->r3[3] = h.z;
     r->r4[0] = alpha_hashed_frame_offset(a->p4[0], a->u1[0]);
+    r->r4[1] = alpha_hashed_fade_level(a->p0[1], a->p0[2]);
+    r->r4[2] = alpha_hashed_fade_at(a->p0[0], a->p4[0], a->p0[1], a->p0[3]);
+    r->r4[3] = alpha_texture_fade_level(&a->p1[0], &a->p1[2], &a->p2[0], a->p4[1]);
 }
 
 /* >>gpu */
@@ -221,7 +229,8 @@ TEST(gpu_thresholds_are_always_in_range)
         bool ok = in_range(g->r0[0]) && in_range(g->r1[0]) && g->r0[3] > 0.0f && g->r0[3] <= 1.0f &&
                   g->r0[1] >= 0.0f && g->r0[1] < 1.0f && g->r0[2] >= 0.0f && g->r0[2] < 1.0f && isfinite(g->r1[1]) &&
                   g->r1[2] >= 1.0f && g->r1[2] <= (float)ALPHA_MAX_ANISO && g->r1[3] >= 0.0f && g->r1[3] <= 1.0f &&
-                  isfinite(g->r2[0]) && g->r2[1] > 0.0f && g->r2[1] <= 1.0f;
+                  isfinite(g->r2[0]) && g->r2[1] > 0.0f && g->r2[1] <= 1.0f && in_range(g->r4[2]) &&
+                  g->r4[3] >= 0.0f && g->r4[3] <= 60.0f;
         if (!ok && bad < 5)
             fprintf(stderr, "  out of range at %d (%s): threshold %g fade %g stochastic %g pcg %g sine %g lod %g ratio %g "
                             "cdf %g log2 %g a2c %g\n", i, group_name[i / GROUP], g->r0[0], g->r1[0], g->r0[3], g->r0[1],
@@ -237,6 +246,9 @@ static float f_threshold(const twin_out *o) { return o->r0[0]; }
 static float f_sine(const twin_out *o) { return o->r0[2]; }
 static float f_frame_offset(const twin_out *o) { return o->r4[0]; }
 static float f_fade(const twin_out *o) { return o->r1[0]; }
+static float f_fade_level(const twin_out *o) { return o->r4[1]; }
+static float f_fade_at(const twin_out *o) { return o->r4[2]; }
+static float f_tex_fade_level(const twin_out *o) { return o->r4[3]; }
 static float f_lod(const twin_out *o) { return o->r1[1]; }
 static float f_ratio(const twin_out *o) { return o->r1[2]; }
 static float f_cdf(const twin_out *o) { return o->r1[3]; }
@@ -289,6 +301,8 @@ TEST(cdf_fade_lod_agree)
         double tol;
         bool rel;
     } fields[] = {{"cdf", f_cdf, 1e-5, false},   {"fade", f_fade, 1e-5, false},
+                  {"fade level", f_fade_level, 1e-5, true}, {"fade at", f_fade_at, 1e-5, false},
+                  {"tex level", f_tex_fade_level, 1e-5, true},
                   {"lod", f_lod, 1e-5, true},    {"aniso ratio", f_ratio, 1e-5, true},
                   {"log2 scale", f_log2, 1e-5, true}, {"frame offset", f_frame_offset, 1e-6, false}};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++)

@@ -229,6 +229,35 @@ TEST(thresholds_are_in_range_for_every_hard_case)
           alpha_hashed_threshold(v3(0, 0, 0), d, e, 1, ALPHA_HASH_SINE, false));
 }
 
+/* The per-cell guards were replaced by one test per coordinate (docs/hashed-alpha.md, "Cost"):
+ * coordinates outside [2^-62, 2^63) in magnitude (0, tiny, huge, NaN, inf) hash as 0, at every
+ * level from the finest (+60, anisotropic +64) to the coarsest (-60), so every cell is finite and
+ * exact and no product is denormal; the ends of the kept range are hashed as they are. */
+TEST(coordinates_outside_the_hashed_range_hash_as_zero)
+{
+    const float outside[] = {NAN, INFINITY, -INFINITY, 1e30f, -3e38f, 0x1p63f, -0x1p63f, 1e-40f, -1e-40f, -1e-30f,
+                             0x1p-63f, -0x1.fffffep-63f, -0.0f};
+    const float d[] = {0.0f, 1e-30f, 0x1p-10f, 0.37f, 1e30f, INFINITY};
+    int bad = 0, n = 0;
+    for (int kind = 0; kind <= 1; kind++)
+        for (int aniso = 0; aniso <= 1; aniso++)
+            for (size_t di = 0; di < sizeof d / sizeof d[0]; di++)
+                for (size_t i = 0; i < sizeof outside / sizeof outside[0]; i++) {
+                    vec3 dx = v3(d[di], 0.0f, 0.0f), dy = v3(0.0f, 0.5f * d[di], 0.0f);
+                    float o = outside[i];
+                    float ref = alpha_hashed_threshold(v3(0.0f, 0.25f, 0.0f), dx, dy, 1.0f, kind, aniso);
+                    float t = alpha_hashed_threshold(v3(o, 0.25f, o), dx, dy, 1.0f, kind, aniso);
+                    n++;
+                    bad += t != ref || !in_unit(t);
+                }
+    CHECK(n > 0);
+    CHECK(bad == 0);
+    /* Inside the range, at the finest level: 2^-62 * 2^60 = 0.25 -> cell 0, -2^-62 -> cell -1. */
+    float zero = alpha_hashed_threshold(v3(0, 0, 0), v3(0, 0, 0), v3(0, 0, 0), 1.0f, ALPHA_HASH_PCG, false);
+    float neg = alpha_hashed_threshold(v3(-0x1p-62f, 0, 0), v3(0, 0, 0), v3(0, 0, 0), 1.0f, ALPHA_HASH_PCG, false);
+    CHECK(neg != zero);
+}
+
 /* Listing 1 written out literally (exp2, all three CDF cases) agrees with the implementation on
  * ordinary inputs, where the hard-case guards do nothing. */
 TEST(matches_listing_1_on_ordinary_inputs)
@@ -753,6 +782,42 @@ TEST(texture_lod_and_anisotropy)
     CHECK(isfinite(lod));
 }
 
+/* The forward shader's hashed test takes the fade level from the uv derivatives in one log2
+ * (alpha_texture_fade_level): the same as alpha_texture_lod's lod, biased and clamped at 0 as the
+ * sampler does, plus log2 of its ratio (alpha_hashed_fade_level); finite and in [0, 60] always. */
+TEST(texture_fade_level_is_lod_plus_log2_ratio)
+{
+    const float size[2] = {256, 128};
+    double worst = 0;
+    for (int i = 0; i < 100000; i++) {
+        float dx[2] = {rngf(-0.05, 0.05), rngf(-0.05, 0.05)}, dy[2] = {rngf(-0.05, 0.05), rngf(-0.05, 0.05)};
+        if (i % 7 == 0) /* a line footprint: ratio clamped to 16 */
+            dy[0] = dy[1] = 0.0f;
+        float bias = (float)(i % 5) * 0.5f - 1.0f;
+        float r;
+        float lod = alpha_texture_lod(dx, dy, size, &r);
+        float ref = alpha_hashed_fade_level(fmaxf(lod + bias, 0.0f), r);
+        float got = alpha_texture_fade_level(dx, dy, size, exp2f(bias));
+        worst = fmax(worst, fabs((double)got - ref));
+    }
+    fprintf(stderr, "  texture fade level vs lod + log2(ratio): largest difference %.3g\n", worst);
+    CHECK(worst < 1e-5);
+    const float v[] = {0.0f, -0.0f, 1e-40f, 1e-20f, 0.01f, 1.0f, 1e20f, 3e38f, NAN, INFINITY, -INFINITY};
+    const float scales[] = {1.0f, 0.0f, 0.5f, 2.0f, 1e-30f, 1e19f};
+    int bad = 0;
+    for (size_t a = 0; a < 11; a++)
+        for (size_t b = 0; b < 11; b++)
+            for (size_t c = 0; c < 11; c++)
+                for (size_t k = 0; k < 6; k++) {
+                    float x = alpha_texture_fade_level((float[2]){v[a], v[b]}, (float[2]){v[c], v[(a + c) % 11]},
+                                                       (float[2]){v[(b + k) % 11], 256.0f}, scales[k]);
+                    bad += !(x >= 0.0f && x <= 60.0f);
+                }
+    CHECK(bad == 0);
+    float zero[2] = {0, 0};
+    CHECK(alpha_texture_fade_level(zero, zero, size, 1.0f) == 0.0f);
+}
+
 /* >>cost */
 
 static double seconds_now(void)
@@ -837,6 +902,7 @@ int main(void)
 {
     RUN(cdf_hard_cases_are_finite_and_monotonic);
     RUN(thresholds_are_in_range_for_every_hard_case);
+    RUN(coordinates_outside_the_hashed_range_hash_as_zero);
     RUN(matches_listing_1_on_ordinary_inputs);
     RUN(alpha_zero_never_passes_alpha_one_always_does);
     RUN(hashed_thresholds_are_uniform);
@@ -848,6 +914,7 @@ int main(void)
     RUN(hashed_a2c_thresholds_and_masks);
     RUN(fade_ramp_is_quadratic_in_lod);
     RUN(texture_lod_and_anisotropy);
+    RUN(texture_fade_level_is_lod_plus_log2_ratio);
     RUN(report_cpu_cost_per_threshold);
     RUN(frame_offset_keeps_thresholds_in_range_and_uniform);
     return test_summary();
