@@ -167,6 +167,16 @@ void cli_print_help(command cmd)
            "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 130 interrupted\n");
 }
 
+/* An option with two values: *which = 0 for `a`, 1 for `b`; anything else is a one-line error. */
+static bool parse_choice(const char *opt, const char *v, const char *a, const char *b, int *which)
+{
+    *which = !strcmp(v, b);
+    if (!strcmp(v, a) || *which)
+        return true;
+    log_error("%s: expected %s or %s, got '%s'", opt, a, b, v);
+    return false;
+}
+
 static bool parse_int(const char *opt, const char *v, int lo, int hi, int *out)
 {
     char *end;
@@ -365,40 +375,34 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 log_error("--taa-sparse: expected off or a number in (0, 1], got '%s'", val);
         }
         else if (!strcmp(opt, "--taa-neighbourhood")) {
-            d->taa_neighbourhood = !strcmp(val, "3x3") ? TAA_NEIGHBOURHOOD_3X3 : !strcmp(val, "cross") ? TAA_NEIGHBOURHOOD_CROSS : 0;
-            ok = d->taa_neighbourhood != 0;
-            if (!ok)
-                log_error("--taa-neighbourhood: expected 3x3 or cross, got '%s'", val);
+            int k = 0;
+            ok = parse_choice(opt, val, "3x3", "cross", &k);
+            d->taa_neighbourhood = k ? TAA_NEIGHBOURHOOD_CROSS : TAA_NEIGHBOURHOOD_3X3;
         } else if (!strcmp(opt, "--taa-history")) {
-            d->taa_history = !strcmp(val, "catmull") ? TAA_HISTORY_CATMULL : !strcmp(val, "bilinear") ? TAA_HISTORY_BILINEAR : 0;
-            ok = d->taa_history != 0;
-            if (!ok)
-                log_error("--taa-history: expected catmull or bilinear, got '%s'", val);
+            int k = 0;
+            ok = parse_choice(opt, val, "catmull", "bilinear", &k);
+            d->taa_history = k ? TAA_HISTORY_BILINEAR : TAA_HISTORY_CATMULL;
         } else if (!strcmp(opt, "--taa-nan")) {
-            d->taa_nan = !strcmp(val, "tap") ? TAA_NAN_TAP : !strcmp(val, "set") ? TAA_NAN_SET : 0;
-            ok = d->taa_nan != 0;
-            if (!ok)
-                log_error("--taa-nan: expected tap or set, got '%s'", val);
+            int k = 0;
+            ok = parse_choice(opt, val, "tap", "set", &k);
+            d->taa_nan = k ? TAA_NAN_SET : TAA_NAN_TAP;
         }
         else if (!strcmp(opt, "--jitter-length"))
             ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
         else if (!strcmp(opt, "--ring-cull")) {
-            ok = !strcmp(val, "on") || !strcmp(val, "off");
-            d->no_ring_cull = !strcmp(val, "off");
-            if (!ok)
-                log_error("--ring-cull: expected on or off, got '%s'", val);
+            int k = 0;
+            ok = parse_choice(opt, val, "on", "off", &k);
+            d->no_ring_cull = k;
         }
         else if (!strcmp(opt, "--composite")) {
-            ok = !strcmp(val, "tiled") || !strcmp(val, "per-pixel");
-            d->composite_per_pixel = !strcmp(val, "per-pixel");
-            if (!ok)
-                log_error("--composite: expected tiled or per-pixel, got '%s'", val);
+            int k = 0;
+            ok = parse_choice(opt, val, "tiled", "per-pixel", &k);
+            d->composite_per_pixel = k;
         }
         else if (!strcmp(opt, "--object-motion")) {
-            ok = !strcmp(val, "on") || !strcmp(val, "off");
-            d->no_object_motion = !strcmp(val, "off");
-            if (!ok)
-                log_error("--object-motion: expected on or off, got '%s'", val);
+            int k = 0;
+            ok = parse_choice(opt, val, "on", "off", &k);
+            d->no_object_motion = k;
         }
         else if (!strcmp(opt, "--modes")) {
             d->bench_mode_count = 0;

@@ -76,6 +76,16 @@ static void still_camera(scene *sc, float t)
     sc->duration = 0;
 }
 
+/* The built-in forest as its camera sees it at time t, held still, and a ring layout for w x h. */
+static void still_forest(scene *sc, float t, const char *rings, int w, int h, display_desc *d, fov_layout *l)
+{
+    CHECK(scene_load_builtin("forest", sc) == FS_OK);
+    still_camera(sc, t);
+    *d = (display_desc){w, h, sc->display.hfov_deg};
+    char err[128];
+    CHECK(fov_layout_parse(rings, d, l, err, sizeof err) == FS_OK);
+}
+
 TEST(static_view_converges_towards_the_supersampled_image)
 {
     enum { W = 160, H = 90, K = 4 };
@@ -296,12 +306,9 @@ TEST(saccade_into_a_culled_region_takes_a_fresh_history)
 {
     enum { W = 320, H = 180 };
     scene sc;
-    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    still_camera(&sc, 3.0f);
-    display_desc d = {W, H, sc.display.hfov_deg};
+    display_desc d;
     fov_layout l;
-    char err[128];
-    CHECK(fov_layout_parse("24:1:0,*:1/2:0", &d, &l, err, sizeof err) == FS_OK);
+    still_forest(&sc, 3.0f, "24:1:0,*:1/2:0", W, H, &d, &l);
     /* The hole less the two ring-1 pixels the composite's bilinear tap may reach across. */
     float hole = fov_ring_hole_deg(&l, 1) - 2.0f * 2.0f / fov_focal_px(&d) * (float)(180.0 / FS_PI);
     static const alpha_mode modes[] = {ALPHA_MODE_TRADITIONAL, ALPHA_MODE_HASHED};
@@ -506,12 +513,9 @@ TEST(jitter_does_not_leak_into_the_image)
      * the unshifted one matches best. */
     enum { W = 192, H = 108, N = 40 };
     scene sc;
-    CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    still_camera(&sc, 1.0f);
-    display_desc d = {W, H, sc.display.hfov_deg};
+    display_desc d;
     fov_layout l;
-    char err[128];
-    CHECK(fov_layout_parse("10:1:0,*:1/2:0", &d, &l, err, sizeof err) == FS_OK);
+    still_forest(&sc, 1.0f, "10:1:0,*:1/2:0", W, H, &d, &l);
     seq q;
     CHECK(seq_begin(&q, &sc, ALPHA_MODE_TRADITIONAL, W, H, &l, true, (alpha_params){0}));
     exr_image a = {0}, b = {0};
