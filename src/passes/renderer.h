@@ -9,7 +9,10 @@
  * With foveation the forward passes run once per ring into the ring's own target (cropped frustum,
  * ring mip bias), and a composite pass upsamples and blends the rings at display resolution.
  * A2C modes draw each ring through a shared 4x MSAA target and resolve it into the ring's layer.
- * What it does NOT do (yet): TAA, per-object motion.
+ * Each ring draws only the instances its frustum sees, less those wholly inside its hole (where the
+ * finer ring is shown alone; plan.ring_cull); the composite draws the display in tiles, those of
+ * one ring without the per-pixel ring search (plan.composite_tiles). TAA resolves each ring after
+ * its passes (plan.taa) and follows swaying instances' own motion (plan.velocity).
  */
 #ifndef FOVSIM_RENDERER_H
 #define FOVSIM_RENDERER_H
