@@ -113,7 +113,7 @@ struct renderer {
     int tile_max;
     ring_targets rt;
     GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
-    GLuint empty_vao;                      /* the full-screen triangle needs a bound VAO */
+    GLuint empty_vao;                      /* TAA's full-screen triangle needs a bound VAO */
     GLuint ring_sampler;                   /* bilinear, clamp to edge */
     int width, height;
     bool timers;
@@ -508,8 +508,7 @@ static fs_status create_targets(renderer *r)
                     return st;
             }
         }
-        if (!r->empty_vao)
-            glCreateVertexArrays(1, &r->empty_vao);
+        glCreateVertexArrays(1, &r->empty_vao);
         glCreateSamplers(1, &r->taa_sampler);
         glSamplerParameteri(r->taa_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glSamplerParameteri(r->taa_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -541,8 +540,6 @@ static fs_status create_targets(renderer *r)
     glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(r->tile_vao, 0, 0);
     glEnableVertexArrayAttrib(r->tile_vao, 0);
-    if (!r->empty_vao)
-        glCreateVertexArrays(1, &r->empty_vao);
     glCreateSamplers(1, &r->ring_sampler);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
