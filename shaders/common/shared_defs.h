@@ -75,4 +75,17 @@
 #define TAA_SPARSE_COLOR 0.25        /* colour box widening per unit of that coverage (docs/taa.md) */
 #define TAA_MAX_TAPS 9               /* neighbourhood taps at most (3x3; the cross uses the first 5) */
 
+/* The exact reference's per-pixel fragment lists (A-buffer; docs/reference.md). GLSL:
+ * common/abuffer.glsl, C twin (the resolve): src/reference/abuffer.c. A node is two RGBA32UI texels
+ * of a buffer texture: (next, depth bits, draw order, primitive) and (premultiplied r, g, b, alpha
+ * bits). The head image holds each pixel's first node; ABUFFER_END ends a list; a pointer with
+ * ABUFFER_OVERFLOW_BIT set means the pixel lost a fragment because the store was full. */
+#define ABUFFER_NODE_TEXELS 2
+#define ABUFFER_END 0x7FFFFFFFu
+#define ABUFFER_OVERFLOW_BIT 0x80000000u
+#define ABUFFER_SOLID_NONE 0xFFFFFFFFu /* the solid-depth image's clear value: no alpha-1 fragment yet */
+#define ABUFFER_IMAGE_HEAD 0            /* image units of the list pass */
+#define ABUFFER_IMAGE_SOLID 1
+#define ABUFFER_IMAGE_NODES 2
+
 #endif
