@@ -1,17 +1,28 @@
-// forward.frag: shading of one primitive in one of three passes, chosen by the plan:
+// forward.frag: shading of one primitive in one of four passes, chosen by the plan:
 //   PASS_OPAQUE  opaque materials: no alpha lookup matters, no test;
 //   PASS_MASK    alpha-tested materials (ALPHA_MODE picks the test);
-//   PASS_BLEND   alpha-blended materials, premultiplied output, no depth writes.
+//   PASS_BLEND   alpha-blended materials, premultiplied output, no depth writes;
+//   PASS_LIST    the exact reference: MASK and BLEND fragments appended to per-pixel lists
+//                (common/abuffer.glsl), nothing written to the targets.
 // Outputs: colour (linear, premultiplied, A = opacity) and coverage (DESIGN.md: opacity contributed
 // by alpha-mapped surfaces; 0 for opaque geometry and background).
 #include "common/shared_defs.h"
 #include "common/lighting.glsl"
 
-#if !defined(PASS_OPAQUE) && !defined(PASS_MASK) && !defined(PASS_BLEND)
-#error "forward.frag needs one of PASS_OPAQUE, PASS_MASK, PASS_BLEND"
+#if !defined(PASS_OPAQUE) && !defined(PASS_MASK) && !defined(PASS_BLEND) && !defined(PASS_LIST)
+#error "forward.frag needs one of PASS_OPAQUE, PASS_MASK, PASS_BLEND, PASS_LIST"
+#endif
+#include "common/draw_order.glsl"
+#ifdef FORWARD_DRAW_ORDER
+flat in uint v_instance;
+uniform uint u_draw_order;       // the draw's first instance in the API order of this pass's draws
 #endif
 #ifdef PASS_MASK
 #include "common/alpha_test.glsl"
+#endif
+#ifdef PASS_LIST
+layout(early_fragment_tests) in; // only fragments in front of the opaque surfaces are stored
+#include "common/abuffer.glsl"
 #endif
 
 in vec3 v_world_pos;
@@ -82,7 +93,15 @@ void main()
     o_motion = vec4(v_motion, 0.0); // the blend pass leaves it unwritten (colour mask)
 #endif
 
-#if defined(PASS_BLEND)
+#if defined(PASS_LIST)
+    // What a stochastic test keeps with probability alpha (MASK) or blends by alpha (BLEND): the
+    // expectation of both is the front-to-back composite of these fragments.
+    float a = min(alpha, 1.0);
+    if (a > 0.0)
+        abuffer_append(rgb * a, a, gl_FragCoord.z, u_draw_order + v_instance, uint(gl_PrimitiveID));
+    o_color = vec4(0.0); // colour writes are masked off in this pass
+    o_coverage = vec4(0.0);
+#elif defined(PASS_BLEND)
     o_color = vec4(rgb * alpha, alpha);
     o_coverage = vec4(alpha, 0.0, 0.0, alpha);
 #elif defined(PASS_MASK) && ALPHA_MODE == ALPHA_MODE_ID_A2C

@@ -29,6 +29,10 @@ out vec3 v_world_normal;
 out vec3 v_object_pos;
 out vec2 v_uv;
 out vec4 v_color;
+#include "common/draw_order.glsl"
+#ifdef FORWARD_DRAW_ORDER
+flat out uint v_instance;   // the instance within its draw (common/draw_order.glsl)
+#endif
 
 void main()
 {
@@ -52,5 +56,8 @@ void main()
     v_object_pos = a_position;
     v_uv = a_uv;
     v_color = a_color;
+#ifdef FORWARD_DRAW_ORDER
+    v_instance = uint(gl_InstanceID);
+#endif
     gl_Position = u_view_proj * world;
 }

@@ -21,7 +21,7 @@ static const struct {
     {"plan", CMD_PLAN, "print the passes and shader variants a scene needs"},
     {"demo", CMD_DEMO, "render the built-in forest to ./out/demo/ (no arguments needed)"},
     {"bench", CMD_BENCH, "time a scene: median and spread of frame and pass times"},
-    {"reference", CMD_REFERENCE, "render the converged ground truth (supersampled, stochastic alpha; cached)"},
+    {"reference", CMD_REFERENCE, "render the ground truth (supersampled, exact alpha compositing; cached)"},
     {"compare", CMD_COMPARE, "render alpha modes side by side against the reference, with metrics"},
     {"view", CMD_VIEW, "interactive window: the mouse is the gaze (GLFW, OpenGL 4.5)"},
 };
@@ -54,11 +54,14 @@ void cli_print_help(command cmd)
                "Defaults: N = 30, W = 5, the scene's display size. See docs/benchmarks.md.\n\n");
         break;
     case CMD_REFERENCE:
-        printf("usage: fovsim reference [SCENE | --scene FILE | --builtin NAME] [--supersample S] [--samples K]\n\n"
+        printf("usage: fovsim reference [SCENE | --scene FILE | --builtin NAME] [--reference exact|stochastic]\n"
+               "                        [--supersample S] [--samples K]\n\n"
                "Renders the ground truth of every frame: full resolution, S x S sub-samples per pixel, each\n"
-               "with K stochastic alpha tests (expectation: order-correct alpha compositing). Frames are\n"
-               "cached by a key of the scene, camera, size, S and K (compare reuses them) and written to\n"
-               "DIR/reference.<frame:04d>.exr; the estimated error of each frame (K/2 vs K) is printed.\n\n");
+               "the expectation of stochastic alpha testing (order-correct alpha compositing): exact from\n"
+               "per-pixel fragment lists (default), or the mean of K stochastic tests. Frames are cached by\n"
+               "a key of the scene, camera, size, kind, S and K (compare reuses them) and written to\n"
+               "DIR/reference.<frame:04d>.exr; each frame's estimated error is printed (exact: S x S vs\n"
+               "S/2 x S/2 sub-samples; stochastic: K/2 vs K tests).\n\n");
         break;
     case CMD_COMPARE:
         printf("usage: fovsim compare [SCENE | --scene FILE | --builtin NAME] --modes M,M,... [--gaze FILE] [options]\n\n"
@@ -151,8 +154,14 @@ void cli_print_help(command cmd)
                "                      accuracy-fragments.png (RMSE vs fragment-shader invocations per\n"
                "                      pixel; not drawn without GL_ARB_pipeline_statistics_query), gnuplot\n");
     if (cmd == CMD_REFERENCE || cmd == CMD_COMPARE || cmd == CMD_DEMO || cmd == CMD_BENCH)
-        printf("  --supersample S     reference: S x S sub-samples per pixel (default 4)\n"
-               "  --samples K         reference: stochastic alpha tests per sub-sample, even (default 64)\n"
+        printf("  --reference KIND    exact (default): each sub-sample is the expectation of stochastic\n"
+               "                      alpha testing, from per-pixel fragment lists composited front to\n"
+               "                      back; stochastic: the mean of K stochastic tests (a cross-check)\n"
+               "  --supersample S     reference: S x S sub-samples per pixel (default 4)\n"
+               "  --samples K         reference: stochastic alpha tests per sub-sample, even (default 64;\n"
+               "                      exact: only for pixels whose fragment lists overflow)\n"
+               "  --ref-memory MB     exact reference: budget of the fragment lists (default 2048; the\n"
+               "                      GL's buffer-texture limit caps it)\n"
                "  --cache DIR         reference frame cache (default $XDG_CACHE_HOME/fovsim/reference)\n"
                "  --no-cache          draw reference frames without reading or writing the cache\n");
     if (cmd == CMD_COMPARE || cmd == CMD_DEMO)
@@ -291,7 +300,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
-                                                 "--cache", "--script", "--record", "--split"};
+                                                 "--reference", "--ref-memory", "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -317,6 +326,11 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->cache_dir = val;
         else if (!strcmp(opt, "--supersample"))
             ok = parse_int(opt, val, 1, 16, &d->supersample);
+        else if (!strcmp(opt, "--reference")) {
+            ok = parse_choice(opt, val, "exact", "stochastic", &d->reference_kind);
+            d->reference_set = true;
+        } else if (!strcmp(opt, "--ref-memory"))
+            ok = parse_int(opt, val, 1, 1 << 20, &d->ref_memory_mb);
         else if (!strcmp(opt, "--samples")) {
             ok = parse_int(opt, val, 2, 4096, &d->samples);
             if (ok && d->samples % 2) {
@@ -498,9 +512,10 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     bool uses_reference = d->cmd == CMD_REFERENCE || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO ||
                           (d->cmd == CMD_BENCH && d->accuracy);
-    if ((d->supersample || d->samples || d->cache_dir || d->no_cache) && !uses_reference) {
-        log_error("--supersample, --samples, --cache and --no-cache shape the reference: options of fovsim "
-                  "reference, compare, demo and bench --accuracy");
+    if ((d->supersample || d->samples || d->reference_set || d->ref_memory_mb || d->cache_dir || d->no_cache) &&
+        !uses_reference) {
+        log_error("--reference, --supersample, --samples, --ref-memory, --cache and --no-cache shape the reference: "
+                  "options of fovsim reference, compare, demo and bench --accuracy");
         return FS_ERR_USAGE;
     }
     if (d->cache_dir && d->no_cache) {

@@ -68,6 +68,9 @@ typedef struct run_desc {
     int bench_mode_count;
     int supersample;         /* reference: --supersample S (S x S per pixel), 0 = default 4 */
     int samples;             /* reference: --samples K per sub-sample (even), 0 = default 64 */
+    int reference_kind;      /* reference: --reference exact (0, default) or stochastic (1) */
+    bool reference_set;      /* --reference was given */
+    int ref_memory_mb;       /* reference: --ref-memory MB, the exact kind's list budget, 0 = default */
     const char *cache_dir;   /* --cache DIR for reference frames, NULL = the default */
     bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
     bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */

@@ -172,8 +172,7 @@ static void frame_attrs(exr_image *img, const session *s, const frame_record *fr
         o += snprintf(buf + o, sizeof buf - (size_t)o, "%s%s", m ? "," : "", alpha_mode_name(runs[m].mode));
     exr_image_set_string(img, "fovsim:modes", buf);
     exr_image_set_string(img, "fovsim:alpha_mode", buf);
-    snprintf(buf, sizeof buf, "%dx%d sub-samples x %d stochastic alpha tests; estimated error %.5f; key %016llx",
-             reference_supersample(rf), reference_supersample(rf), reference_samples(rf), ri->error,
+    snprintf(buf, sizeof buf, "%s; estimated error %.5f; key %016llx", reference_describe(rf), ri->error,
              (unsigned long long)ri->key);
     exr_image_set_string(img, "fovsim:reference", buf);
     exr_image_set_string(img, "fovsim:layers",
@@ -254,9 +253,8 @@ static fs_status report(const report_desc *r)
     fov_layout_format(r->layout, mrings, sizeof mrings);
     printf("\ncompared %d modes over %d frames (%dx%d, rings %s, TAA %s) in %.1f s; frames in %s/\n", nm, r->frames,
            s->pl.width, s->pl.height, rings, s->pl.taa ? "on" : "off", r->seconds, r->out);
-    printf("reference: %dx%d sub-samples x %d stochastic alpha tests, %d of %d frames from the cache, estimated "
-           "error median %.5f\n", reference_supersample(r->ref), reference_supersample(r->ref),
-           reference_samples(r->ref), r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
+    printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
+           r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
     printf("measured in rings %s (eccentricity from each frame's gaze); means over frames\n\n", mrings);
     printf("%-12s %-18s %10s %10s %8s %9s\n", "mode", "ring", "coverage", "RMSE", "PSNR", "flicker");
     printf("%-12s %-18s %10s %10s %8s %9s\n", "", "", "/ reference", "(linear)", "(dB)", "/ ref");
@@ -284,9 +282,10 @@ static fs_status report(const report_desc *r)
             s->pl.width, s->pl.height, r->frames);
     fprintf(f, "  \"rings\": \"%s\",\n  \"measurement_rings\": \"%s\",\n  \"taa\": %s,\n  \"gaze\": \"%s\",\n", rings,
             mrings, s->pl.taa ? "true" : "false", s->gaze.count ? s->gaze.path : "centre");
-    fprintf(f, "  \"renderer\": \"%s\",\n  \"reference\": {\"supersample\": %d, \"samples\": %d, "
+    fprintf(f, "  \"renderer\": \"%s\",\n  \"reference\": {\"kind\": \"%s\", \"supersample\": %d, \"samples\": %d, "
             "\"error_median\": %.6f, \"error_max\": %.6f, \"frames_from_cache\": %d},\n  \"modes\": [\n",
-            gl_device_renderer(), reference_supersample(r->ref), reference_samples(r->ref),
+            gl_device_renderer(), reference_kind_name(reference_get_kind(r->ref)), reference_supersample(r->ref),
+            reference_samples(r->ref),
             stats_quantile(r->ref_err, r->frames, 0.5), r->ref_err[r->frames - 1], r->ref_cached);
     for (int m = 0; m < nm; m++) {
         const mode_run *mr = &r->runs[m];
@@ -820,8 +819,7 @@ fs_status run_bench_accuracy(const run_desc *d)
         MD("- %d frames measured after %d warm-up frames (consecutive, %g fps); gaze: %s\n", n, warm, d->fps,
            s.gaze.count ? s.gaze.path : "fixation at the centre");
         MD("- rings: default %s; aggressive %s; measured in the default rings\n", rings, aggr);
-        MD("- reference: %dx%d sub-samples x %d stochastic alpha tests\n", reference_supersample(rf),
-           reference_supersample(rf), reference_samples(rf));
+        MD("- reference: %s\n", reference_describe(rf));
         MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
            "Pareto front of (time, RMSE)\n");
         MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "

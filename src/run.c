@@ -23,6 +23,7 @@
 #include "gaze/gaze.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
+#include "passes/abuffer.h"
 #include "reference/reference.h"
 #include "scene/frame.h"
 #include "compare.h"
@@ -107,6 +108,8 @@ static fs_status run_reference(const run_desc *d)
     if (st == FS_OK && !errors)
         st = FS_ERR_NOMEM;
     int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0;
+    long overflow = 0;
+    uint64_t nodes = 0;
     session_catch_sigint();
     rp.pr = progress_begin("reference pass", frames * passes, d->quiet);
     double t0 = time_now();
@@ -124,13 +127,17 @@ static fs_status run_reference(const run_desc *d)
         if (st != FS_OK)
             break;
         errors[i] = info.error;
+        overflow += info.overflow_pixels;
+        nodes = info.list_nodes > nodes ? info.list_nodes : nodes;
         cached += info.cached;
         rebuilt += info.rebuilt;
         drawn += !info.cached;
         log_info("REFERENCE: frame %d %s, estimated error %.5f (%s)", i, info.cached ? "from the cache" : "drawn",
                  info.error, info.path[0] ? info.path : "no cache");
         session_frame_attrs(&img, &s, &fr);
-        exr_image_set_string(&img, "fovsim:alpha_mode", "reference (stochastic)");
+        char mode[64];
+        snprintf(mode, sizeof mode, "reference (%s)", reference_kind_name(reference_get_kind(rf)));
+        exr_image_set_string(&img, "fovsim:alpha_mode", mode);
         exr_image_set_string(&img, "fovsim:rings", "off (full resolution)");
         exr_image_set_string(&img, "fovsim:gaze_trace", "none (the reference does not depend on the gaze)");
         exr_image_set_string(&img, "fovsim:taa", "off");
@@ -147,15 +154,25 @@ static fs_status run_reference(const run_desc *d)
         qsort(errors, (size_t)frames, sizeof *errors, stats_cmp_double);
         char buf[1024];
         const char *cache = session_cache_dir(d, buf, sizeof buf);
-        printf("wrote %d reference frames (%dx%d, %dx%d sub-samples x %d stochastic alpha tests) to %s/%s.####.exr "
-               "in %.1f s\n", frames, s.pl.width, s.pl.height, reference_supersample(rf), reference_supersample(rf),
-               reference_samples(rf), out, d->name, el);
+        printf("wrote %d reference frames (%dx%d, %s) to %s/%s.####.exr in %.1f s\n", frames, s.pl.width,
+               s.pl.height, reference_describe(rf), out, d->name, el);
         printf("  %d drawn, %d from the cache%s%s%s", drawn, cached, cache ? " (" : " (no cache)", cache ? cache : "",
                cache ? ")" : "");
         if (rebuilt)
             printf(", %d cache entries were truncated or stale and were redrawn", rebuilt);
-        printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
-               stats_quantile(errors, frames, 0.5), errors[frames - 1]);
+        if (reference_get_kind(rf) == REFERENCE_EXACT) {
+            int c = reference_compare_grid(rf);
+            printf("\n  convergence, RMS difference of the %dx%d and %dx%d sub-sample frames (linear RGB): median %.5f, "
+                   "max %.5f\n", reference_supersample(rf), reference_supersample(rf), c, c,
+                   stats_quantile(errors, frames, 0.5), errors[frames - 1]);
+            if (drawn > 0)
+                printf("  fragment lists: at most %llu nodes in one pass (%.0f MB); %ld overflowed sub-sample pixels "
+                       "took %d stochastic tests instead\n", (unsigned long long)nodes,
+                       (double)nodes * (double)sizeof(abuffer_node) / 1048576.0, overflow, reference_samples(rf));
+        } else {
+            printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
+                   stats_quantile(errors, frames, 0.5), errors[frames - 1]);
+        }
     } else if (st == FS_ERR_INTERRUPTED) {
         log_error("interrupted after %d complete frames in %s (no partial frame was left)", done, out);
     }

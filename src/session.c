@@ -238,7 +238,9 @@ reference *session_reference(const run_desc *d, const session *s, ref_progress *
 {
     char buf[1024];
     reference_desc rd = {.width = s->pl.width, .height = s->pl.height, .supersample = d->supersample,
-                         .samples = d->samples, .cache_dir = session_cache_dir(d, buf, sizeof buf),
+                         .kind = d->reference_kind ? REFERENCE_STOCHASTIC : REFERENCE_EXACT,
+                         .samples = d->samples, .list_mb = d->ref_memory_mb,
+                         .cache_dir = session_cache_dir(d, buf, sizeof buf),
                          .on_pass = on_ref_pass, .user = rp};
     return reference_create(&s->sc, &rd, st);
 }

@@ -27,9 +27,11 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
     if (alpha <= 0.0 || alpha >= 1.0)
         return alpha >= 1.0; /* as any threshold in (0, 1] would decide */
     // Independent per fragment, not just per pixel: overlapping layers at one pixel must not share
-    // a threshold (that would correlate them like a fixed dither). The salt mixes the primitive and
-    // the fragment's depth bits.
-    uint salt = uint(gl_PrimitiveID) * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z);
+    // a threshold (that would correlate them like a fixed dither). The salt mixes the primitive, the
+    // fragment's depth bits and its draw order (common/draw_order.glsl): coplanar cards of other
+    // draws or instances share the first two, and would otherwise pass and fail together.
+    uint salt = uint(gl_PrimitiveID) * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z) ^
+                (u_draw_order + v_instance) * 0x85EBCA6Bu;
     return alpha >= alpha_stochastic_threshold(uint(gl_FragCoord.x), uint(gl_FragCoord.y), u_frame, salt);
 #elif ALPHA_MODE == ALPHA_MODE_ID_HASHED
     // Derivatives first (uniform control flow), then skip the hash where no threshold can change

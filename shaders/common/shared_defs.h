@@ -76,7 +76,7 @@
 #define TAA_MAX_TAPS 9               /* neighbourhood taps at most (3x3; the cross uses the first 5) */
 
 /* The exact reference's per-pixel fragment lists (A-buffer; docs/reference.md). GLSL:
- * common/abuffer.glsl, C twin (the resolve): src/reference/abuffer.c. A node is two RGBA32UI texels
+ * common/abuffer.glsl, C twin (the resolve): src/passes/abuffer.c. A node is two RGBA32UI texels
  * of a buffer texture: (next, depth bits, draw order, primitive) and (premultiplied r, g, b, alpha
  * bits). The head image holds each pixel's first node; ABUFFER_END ends a list; a pointer with
  * ABUFFER_OVERFLOW_BIT set means the pixel lost a fragment because the store was full. */

@@ -98,6 +98,10 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
         snprintf(ps->name, sizeof ps->name, "forward.blend");
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_BLEND 1");
         break;
+    case PLAN_PASS_FORWARD_LIST:
+        snprintf(ps->name, sizeof ps->name, "forward.list");
+        snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_LIST 1");
+        break;
     }
     qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
     return ps;
@@ -148,15 +152,18 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                                                               : ALPHA_MODE_TRADITIONAL;
     if (o.reference) {
         out->reference = true;
+        out->reference_lists = o.reference_lists;
         out->global_mode = ALPHA_MODE_STOCHASTIC;
     }
     out->coverage = true;
     out->alpha = alpha_params_defaults(&o.alpha);
     out->msaa = o.force_msaa;
 
-    /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front). */
-    static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND};
-    for (int k = 0; k < 3; k++) {
+    /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front); the
+     * exact reference: opaque, then the list pass. */
+    static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND,
+                                           PLAN_PASS_FORWARD_LIST};
+    for (int k = 0; k < 4; k++) {
         for (int a = 0; a < sc->asset_count; a++) {
             const asset *as = &sc->assets[a];
             long long inst = 0;
@@ -170,6 +177,8 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                 plan_pass_kind kind = m->alpha_kind == ALPHA_KIND_MASK    ? PLAN_PASS_FORWARD_MASK
                                       : m->alpha_kind == ALPHA_KIND_BLEND ? PLAN_PASS_FORWARD_BLEND
                                                                           : PLAN_PASS_FORWARD_OPAQUE;
+                if (out->reference_lists && kind != PLAN_PASS_FORWARD_OPAQUE)
+                    kind = PLAN_PASS_FORWARD_LIST;
                 if (kind != order[k])
                     continue;
                 alpha_mode mode = kind == PLAN_PASS_FORWARD_MASK ? plan_material_mode(out, m) : ALPHA_MODE_DEFAULT;

@@ -27,11 +27,12 @@ typedef enum plan_pass_kind {
     PLAN_PASS_FORWARD_OPAQUE = 0,
     PLAN_PASS_FORWARD_MASK,
     PLAN_PASS_FORWARD_BLEND,
+    PLAN_PASS_FORWARD_LIST, /* the exact reference: MASK and BLEND fragments into per-pixel lists */
 } plan_pass_kind;
 
 typedef struct plan_pass {
     plan_pass_kind kind;
-    char name[48];          /* "forward.opaque", "forward.mask[traditional]", "forward.blend" */
+    char name[48];          /* "forward.opaque", "forward.mask[traditional]", "forward.blend", "forward.list" */
     alpha_mode mode;        /* MASK passes: the strategy; others: DEFAULT */
     const char *vs, *fs;    /* embedded shader paths */
     char defines[PLAN_MAX_DEFINES][48]; /* sorted "NAME VALUE" strings */
@@ -87,6 +88,8 @@ typedef struct plan_options {
     taa_controls taa_controls;
     bool reference;        /* the ground truth's passes (reference.h): every MASK material is drawn
                               stochastic, whatever the scene's or material's mode */
+    bool reference_lists;  /* with reference: the exact reference's passes instead, opaque then one
+                              list pass that stores every MASK and BLEND fragment (abuffer.h) */
     bool no_ring_cull;     /* rings draw every instance in their frustum, also those only their hole
                               (where the finer ring is shown alone) would see: to measure culling */
     bool composite_per_pixel; /* every composite pixel searches its ring (no tile classification):
@@ -98,6 +101,7 @@ typedef struct plan {
     float hfov_deg;
     alpha_mode global_mode;     /* effective mode for MASK materials without an override */
     bool reference;             /* plan_options.reference: overrides ignored, global_mode stochastic */
+    bool reference_lists;       /* plan_options.reference_lists: MASK and BLEND go to the list pass */
     plan_pass passes[PLAN_MAX_PASSES];
     int pass_count;
     int texture_count;          /* images uploaded (with premultiplied mips) */

@@ -44,7 +44,7 @@ typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
-        u_prev_time;
+        u_prev_time, u_draw_order, u_list_capacity;
 } gpu_program;
 
 typedef struct composite_program {
@@ -145,6 +145,17 @@ struct renderer {
     long long shaded_pixels;               /* ring target pixels drawn by the last frame */
     int ring_instances[MAX_FOV_RINGS];     /* instances each ring drew in the last frame */
     float *read_buf, *read_row;            /* renderer_read's scratch, made on first use */
+    /* >>lists: the exact reference's list pass (plan.reference_lists; abuffer.h) */
+    GLuint list_head, list_solid;          /* R32UI, display-sized: first node, nearest alpha-1 depth */
+    GLuint list_nodes, list_nodes_tex;     /* the node store and its RGBA32UI buffer texture */
+    GLuint list_counter;                   /* atomic counter: nodes asked for */
+    uint64_t list_capacity;                /* nodes the store holds */
+    uint32_t list_draw_order;              /* instances drawn so far in this pass (draw_order.glsl) */
+    int list_phase;                        /* the list pass draws MASK (0), then BLEND (1) materials */
+    uint64_t list_initial;                 /* renderer_desc.list_nodes, or 4 per pixel */
+    uint32_t *list_head_buf;               /* renderer_read_lists' scratch */
+    void *list_node_buf;
+    uint64_t list_node_buf_cap;
 };
 
 /* >>programs */
@@ -186,6 +197,8 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_frame = glGetUniformLocation(p, "u_frame");
     out->u_time = glGetUniformLocation(p, "u_time");
     out->u_prev_time = glGetUniformLocation(p, "u_prev_time");
+    out->u_draw_order = glGetUniformLocation(p, "u_draw_order");
+    out->u_list_capacity = glGetUniformLocation(p, "u_list_capacity");
     return FS_OK;
 }
 
@@ -515,6 +528,19 @@ static fs_status create_targets(renderer *r)
         glSamplerParameteri(r->taa_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glSamplerParameteri(r->taa_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     }
+    if (plan_find(&r->pl, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT)) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_head);
+        glTextureStorage2D(r->list_head, 1, GL_R32UI, r->width, r->height);
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_solid);
+        glTextureStorage2D(r->list_solid, 1, GL_R32UI, r->width, r->height);
+        glCreateBuffers(1, &r->list_counter);
+        glNamedBufferStorage(r->list_counter, sizeof(GLuint), NULL, GL_DYNAMIC_STORAGE_BIT);
+        if (renderer_reserve_list_nodes(r, r->list_initial) != FS_OK) {
+            log_error("GL: no room for %llu fragment-list nodes (%.0f MB)", (unsigned long long)r->list_initial,
+                      (double)(r->list_initial * sizeof(abuffer_node)) / 1048576.0);
+            return FS_ERR_NOMEM;
+        }
+    }
     if (!r->pl.composite)
         return FS_OK;
     int outs = r->pl.debug_channels ? OUT_COUNT : OUT_DEBUG; /* the debug target only when asked */
@@ -581,6 +607,7 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
     r->width = r->pl.width;
     r->height = r->pl.height;
     r->timers = desc->timers;
+    r->list_initial = desc->list_nodes ? desc->list_nodes : 4 * (uint64_t)r->width * (uint64_t)r->height;
     name_stages(r);
     fs_status st = FS_OK;
     for (int i = 0; i < r->pl.pass_count && st == FS_OK; i++)
@@ -654,6 +681,13 @@ void renderer_destroy(renderer *r)
     free(r->tile_verts);
     free(r->read_buf);
     free(r->read_row);
+    glDeleteTextures(1, &r->list_head);
+    glDeleteTextures(1, &r->list_solid);
+    glDeleteTextures(1, &r->list_nodes_tex);
+    glDeleteBuffers(1, &r->list_nodes);
+    glDeleteBuffers(1, &r->list_counter);
+    free(r->list_head_buf);
+    free(r->list_node_buf);
     glDeleteFramebuffers(MAX_FOV_RINGS, r->rt.fbo);
     glDeleteTextures(1, &r->rt.color);
     glDeleteTextures(1, &r->rt.coverage);
@@ -739,13 +773,15 @@ static bool prim_in_pass(const renderer *r, const material *m, const plan_pass *
     case PLAN_PASS_FORWARD_OPAQUE: return m->alpha_kind == ALPHA_KIND_OPAQUE;
     case PLAN_PASS_FORWARD_MASK: return m->alpha_kind == ALPHA_KIND_MASK && plan_material_mode(&r->pl, m) == ps->mode;
     case PLAN_PASS_FORWARD_BLEND: return m->alpha_kind == ALPHA_KIND_BLEND;
+    /* MASK first, then BLEND: equal depths then order as the stochastic passes' depth test would. */
+    case PLAN_PASS_FORWARD_LIST: return m->alpha_kind == (r->list_phase == 0 ? ALPHA_KIND_MASK : ALPHA_KIND_BLEND);
     }
     return false;
 }
 
 /* Draws the primitives of asset `a` that belong to pass `ps`, for `count` instances starting at
  * instance slot `first`. */
-static void draw_asset(const renderer *r, const gpu_program *pg, const plan_pass *ps, int a, int first, int count)
+static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, int a, int first, int count)
 {
     const gpu_asset *ga = &r->assets[a];
     const asset *as = &r->sc->assets[a];
@@ -754,6 +790,10 @@ static void draw_asset(const renderer *r, const gpu_program *pg, const plan_pass
         if (!prim_in_pass(r, m, ps))
             continue;
         set_material(pg, ga, as, as->prims[p].material);
+        if (pg->u_draw_order >= 0) { /* each draw's instances take the next orders (draw_order.glsl) */
+            glProgramUniform1ui(pg->id, pg->u_draw_order, r->list_draw_order);
+            r->list_draw_order += (uint32_t)count;
+        }
         glBindVertexArray(ga->prims[p].vao);
         glDrawElementsInstancedBaseInstance(GL_TRIANGLES, ga->prims[p].index_count, GL_UNSIGNED_INT, NULL, count,
                                             (GLuint)first);
@@ -790,7 +830,7 @@ static int cull_instances(renderer *r, const frame_record *fr, int ring)
 }
 
 /* Every asset, instanced, in runs of consecutive visible instance slots. */
-static void draw_instanced(const renderer *r, const gpu_program *pg, const plan_pass *ps)
+static void draw_instanced(renderer *r, const gpu_program *pg, const plan_pass *ps)
 {
     for (int a = 0; a < r->sc->asset_count; a++) {
         const gpu_asset *ga = &r->assets[a];
@@ -814,7 +854,7 @@ static int cmp_far_first(const void *a, const void *b)
 }
 
 /* BLEND: every instance separately, farthest first (sorted per instance by its bounds centre). */
-static void draw_blend_sorted(const renderer *r, const gpu_program *pg, const plan_pass *ps, const frame_record *fr)
+static void draw_blend_sorted(renderer *r, const gpu_program *pg, const plan_pass *ps, const frame_record *fr)
 {
     sort_item *items = r->blend_order;
     int n = 0;
@@ -944,6 +984,29 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glEnable(GL_DEPTH_TEST);
 }
 
+/* The exact reference's list pass: empty lists, then every MASK and then every BLEND fragment in
+ * front of the opaque depth appended (early depth test, no depth or colour writes). */
+static void draw_lists(renderer *r, const gpu_program *pg, const plan_pass *ps)
+{
+    const GLuint end = ABUFFER_END, none = ABUFFER_SOLID_NONE, zero = 0;
+    glClearTexImage(r->list_head, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
+    glClearTexImage(r->list_solid, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+    glClearNamedBufferData(r->list_counter, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindImageTexture(ABUFFER_IMAGE_HEAD, r->list_head, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(ABUFFER_IMAGE_SOLID, r->list_solid, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(ABUFFER_IMAGE_NODES, r->list_nodes_tex, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
+    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, r->list_counter);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+    glProgramUniform1ui(pg->id, pg->u_list_capacity, (GLuint)r->list_capacity);
+    glDepthMask(GL_FALSE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    r->list_draw_order = 0;
+    for (r->list_phase = 0; r->list_phase < 2; r->list_phase++)
+        draw_instanced(r, pg, ps);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+}
+
 /* The forward passes of one ring into its target. `stage` >= 0: time each pass as a stage from
  * there (rings off); < 0: the caller times the ring as a whole. */
 static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, double *t_prev)
@@ -985,6 +1048,7 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             stage_begin(r, stage + i);
         glUseProgram(pg->id);
         set_frame_uniforms(r, pg, fr, ring);
+        r->list_draw_order = 0;
         if (ps->kind == PLAN_PASS_FORWARD_BLEND) {
             glEnable(GL_BLEND);
             glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
@@ -1003,6 +1067,8 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             draw_instanced(r, pg, ps);
             glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
             glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+        } else if (ps->kind == PLAN_PASS_FORWARD_LIST) {
+            draw_lists(r, pg, ps);
         } else {
             draw_instanced(r, pg, ps);
         }
@@ -1212,15 +1278,15 @@ renderer_stats renderer_last_stats(renderer *r)
 }
 
 /* >>readback */
-/* Reverses the row order of p (h rows of w * comps floats) through `row` (w * comps floats). */
-static void flip_rows(float *p, float *row, int w, int h, int comps)
+/* Reverses the row order of p (h rows of w * comps 4-byte values) through `row` (one row). */
+static void flip_rows(void *p, void *row, int w, int h, int comps)
 {
-    size_t n = (size_t)w * (size_t)comps;
+    size_t n = (size_t)w * (size_t)comps * 4;
     for (int y = 0; y < h / 2; y++) {
-        float *a = p + (size_t)y * n, *b = p + (size_t)(h - 1 - y) * n;
-        memcpy(row, a, sizeof(float) * n);
-        memcpy(a, b, sizeof(float) * n);
-        memcpy(b, row, sizeof(float) * n);
+        char *a = (char *)p + (size_t)y * n, *b = (char *)p + (size_t)(h - 1 - y) * n;
+        memcpy(row, a, n);
+        memcpy(a, b, n);
+        memcpy(b, row, n);
     }
 }
 
@@ -1269,6 +1335,81 @@ fs_status renderer_read(renderer *r, exr_image *img)
             planes[6][i] = rgba[2 * i + 1];
         }
     }
+    return FS_OK;
+}
+
+void renderer_set_mip_bias(renderer *r, int ring, float bias)
+{
+    FS_ASSERT(ring >= 0 && ring < r->pl.layout.count);
+    r->pl.layout.rings[ring].mip_bias = bias;
+}
+
+/* >>lists */
+uint64_t renderer_list_nodes_max(void)
+{
+    GLint64 texels = 0;
+    glGetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    uint64_t n = (uint64_t)(texels > 0 ? texels : 0) / ABUFFER_NODE_TEXELS;
+    return n < ABUFFER_END ? n : ABUFFER_END; /* indices must stay below the end marker */
+}
+
+fs_status renderer_reserve_list_nodes(renderer *r, uint64_t nodes)
+{
+    FS_ASSERT(r->list_head);
+    uint64_t max = renderer_list_nodes_max();
+    nodes = nodes < max ? nodes : max;
+    if (nodes <= r->list_capacity)
+        return FS_OK;
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    /* The new store first: when the GL has no room for it, the old one stays. */
+    GLuint buf, tex;
+    glCreateBuffers(1, &buf);
+    glNamedBufferStorage(buf, (GLsizeiptr)(nodes * sizeof(abuffer_node)), NULL, 0);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &tex);
+    glTextureBuffer(tex, GL_RGBA32UI, buf);
+    if (glGetError() != GL_NO_ERROR) {
+        glDeleteTextures(1, &tex);
+        glDeleteBuffers(1, &buf);
+        return FS_ERR_NOMEM;
+    }
+    glDeleteTextures(1, &r->list_nodes_tex);
+    glDeleteBuffers(1, &r->list_nodes);
+    r->list_nodes = buf;
+    r->list_nodes_tex = tex;
+    r->list_capacity = nodes;
+    free(r->list_node_buf); /* the read-back scratch follows the store's size on next use */
+    r->list_node_buf = NULL;
+    r->list_node_buf_cap = 0;
+    return FS_OK;
+}
+
+fs_status renderer_read_lists(renderer *r, abuffer_lists *out)
+{
+    FS_ASSERT(r->list_head);
+    size_t npix = (size_t)r->width * (size_t)r->height;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+    GLuint count = 0;
+    glGetNamedBufferSubData(r->list_counter, 0, sizeof count, &count);
+    uint64_t stored = count < r->list_capacity ? count : r->list_capacity;
+    if (!r->list_head_buf && !(r->list_head_buf = malloc(sizeof(uint32_t) * npix)))
+        return FS_ERR_NOMEM;
+    if (!r->read_row && !(r->read_row = malloc(sizeof(float) * 4 * (size_t)r->width)))
+        return FS_ERR_NOMEM;
+    if (stored > r->list_node_buf_cap) {
+        free(r->list_node_buf);
+        r->list_node_buf_cap = 0;
+        if (!(r->list_node_buf = malloc((size_t)stored * sizeof(abuffer_node))))
+            return FS_ERR_NOMEM;
+        r->list_node_buf_cap = stored;
+    }
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTextureImage(r->list_head, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, (GLsizei)(sizeof(uint32_t) * npix),
+                      r->list_head_buf);
+    flip_rows(r->list_head_buf, r->read_row, r->width, r->height, 1); /* rows top first, as the images */
+    if (stored > 0)
+        glGetNamedBufferSubData(r->list_nodes, 0, (GLsizeiptr)(stored * sizeof(abuffer_node)), r->list_node_buf);
+    *out = (abuffer_lists){r->width, r->height, r->list_head_buf, r->list_node_buf, count, r->list_capacity};
     return FS_OK;
 }
 

@@ -19,6 +19,7 @@
 
 #include "core/status.h"
 #include "output/exr_write.h"
+#include "passes/abuffer.h"
 #include "passes/plan.h"
 #include "scene/frame.h"
 #include "scene/scene.h"
@@ -30,6 +31,8 @@ typedef struct renderer_desc {
     const plan *plan;   /* copied */
     bool timers;        /* GL timer queries around each stage (for bench), and pipeline statistics
                          * queries where GL_ARB_pipeline_statistics_query is supported */
+    uint64_t list_nodes; /* plan.reference_lists: nodes the list store starts with (0 = 4 per pixel;
+                          * at most renderer_list_nodes_max) */
 } renderer_desc;
 
 #define RENDERER_STATS_MAX (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
@@ -69,6 +72,19 @@ fs_status renderer_read(renderer *r, exr_image *img);
 void renderer_set_pass_sync(renderer *r, bool on);
 /* Blocks until the GPU has finished all submitted work (glFinish), for wall-clock timing. */
 void renderer_finish(renderer *r);
+/* The exact reference's fragment lists (plan.reference_lists, abuffer.h). The store holds a fixed
+ * number of nodes; a frame that asks for more loses fragments and says so (abuffer_lists.count >
+ * capacity, and the pixels' overflow marks). */
+/* The most nodes one store can hold here (the GL buffer-texture limit). */
+uint64_t renderer_list_nodes_max(void);
+/* Grows the store to at least `nodes` (at most renderer_list_nodes_max); the next frame uses it. */
+fs_status renderer_reserve_list_nodes(renderer *r, uint64_t nodes);
+/* The last frame's lists (borrowed: valid until the next call or renderer_destroy); rows top first. */
+fs_status renderer_read_lists(renderer *r, abuffer_lists *out);
+
+/* Sets a ring's mip bias for later frames (the reference draws grids of several sizes). */
+void renderer_set_mip_bias(renderer *r, int ring, float bias);
+
 /* Pass timings of the last frame (valid after renderer_draw with timers; waits for results). */
 renderer_stats renderer_last_stats(renderer *r);
 /* The GL framebuffer whose colour attachment 0 (its read buffer) holds the last frame's

@@ -11,27 +11,47 @@
 #include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "passes/abuffer.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
 
 /* Bump when the method changes what a reference frame holds: old cache files then miss. */
-#define REFERENCE_FORMAT_VERSION 1
+#define REFERENCE_FORMAT_VERSION 2
 
 enum { REF_CHANNELS = 5 }; /* R, G, B, A, coverage */
 static const char *const k_channels[REF_CHANNELS] = {"R", "G", "B", "A", "coverage"};
 
 struct reference {
     const scene *sc;
+    reference_kind kind;
     int width, height, ss, k;
+    int grid_c;        /* exact: the comparison grid C of the error estimate */
     char cache_dir[900];
+    char describe[128];
     plan pl;
     renderer *r;
-    uint64_t base_key; /* scene content, shaders, size, S, K */
+    uint64_t base_key; /* scene content, shaders, size, kind, S, K, budget */
     bool animated;     /* instances sway: the frame's time decides the image too */
-    float *half[2];    /* sums of the two halves, REF_CHANNELS planes of width * height each */
+    /* Sums, REF_CHANNELS planes of width * height each: stochastic the two halves, exact the S grid
+     * and the C grid. */
+    float *half[2];
+    /* exact */
+    bool lists;              /* the scene has MASK or BLEND materials: a list pass runs */
+    uint64_t budget_nodes;   /* the list store may grow to this many nodes */
+    float *sample;           /* one resolved sub-sample, REF_CHANNELS planes */
+    unsigned char *lost;     /* its pixels whose lists overflowed */
+    abuffer_scratch scratch;
+    plan fallback_pl;        /* the stochastic passes for overflowed pixels, made on first use */
+    renderer *fallback;
+    float *fallback_sum;
     void (*on_pass)(void *user, int done, int total);
     void *user;
 };
+
+const char *reference_kind_name(reference_kind k)
+{
+    return k == REFERENCE_STOCHASTIC ? "stochastic" : "exact";
+}
 
 void reference_default_cache_dir(char *buf, int size)
 {
@@ -65,6 +85,7 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
         return NULL;
     }
     rf->sc = sc;
+    rf->kind = desc->kind;
     rf->width = desc->width;
     rf->height = desc->height;
     rf->ss = desc->supersample > 0 ? desc->supersample : REFERENCE_SUPERSAMPLE_DEFAULT;
@@ -81,24 +102,47 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     layout.kind = FOV_LAYOUT_EXPLICIT;
     layout.rings[0].mip_bias = -log2f((float)rf->ss);
     plan_options po = {.width = rf->width, .height = rf->height, .frames = 1, .layout = layout, .reference = true};
+    bool exact = rf->kind == REFERENCE_EXACT;
+    po.reference_lists = exact;
     *status = plan_build(sc, &po, &rf->pl);
-    size_t n = (size_t)rf->width * (size_t)rf->height * REF_CHANNELS;
+    rf->lists = exact && plan_find(&rf->pl, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT) != NULL;
+    rf->grid_c = rf->ss >= 2 ? rf->ss / 2 : 2;
+    size_t npix = (size_t)rf->width * (size_t)rf->height, n = npix * REF_CHANNELS;
     for (int h = 0; h < 2 && *status == FS_OK; h++)
         if (!(rf->half[h] = malloc(sizeof(float) * n)))
             *status = FS_ERR_NOMEM;
-    if (*status == FS_OK)
-        rf->r = renderer_create(&(renderer_desc){.scene = sc, .plan = &rf->pl}, status);
+    if (*status == FS_OK && exact && (!(rf->sample = malloc(sizeof(float) * n)) || !(rf->lost = malloc(npix))))
+        *status = FS_ERR_NOMEM;
+    if (*status == FS_OK) {
+        /* The budget in nodes: what the caller asked for, capped by what one GL store can hold. */
+        uint64_t mb = desc->list_mb > 0 ? (uint64_t)desc->list_mb : REFERENCE_LIST_MB_DEFAULT;
+        uint64_t budget = desc->list_nodes ? desc->list_nodes : (mb << 20) / sizeof(abuffer_node);
+        uint64_t max = renderer_list_nodes_max();
+        rf->budget_nodes = budget < max ? budget : max;
+        /* Start with 4 nodes per pixel (within the budget); passes that need more grow it. */
+        uint64_t start = 4 * (uint64_t)npix;
+        rf->r = renderer_create(&(renderer_desc){.scene = sc, .plan = &rf->pl,
+                                                 .list_nodes = start < rf->budget_nodes ? start : rf->budget_nodes},
+                                status);
+    }
     if (*status != FS_OK) {
         reference_destroy(rf);
         return NULL;
     }
     uint64_t h = hash_u64(hash_str(HASH_FNV_INIT, "fovsim reference"), REFERENCE_FORMAT_VERSION);
+    h = hash_str(h, reference_kind_name(rf->kind)); /* exact and stochastic frames never collide */
     h = hash_u64(h, scene_content_hash(sc));
     h = hash_shaders(h);
-    uint64_t dims[4] = {(uint64_t)rf->width, (uint64_t)rf->height, (uint64_t)rf->ss, (uint64_t)rf->k};
-    for (int i = 0; i < 4; i++)
+    uint64_t dims[5] = {(uint64_t)rf->width, (uint64_t)rf->height, (uint64_t)rf->ss, (uint64_t)rf->k,
+                        exact ? rf->budget_nodes : 0};
+    for (int i = 0; i < 5; i++)
         h = hash_u64(h, dims[i]);
     rf->base_key = h;
+    if (exact)
+        snprintf(rf->describe, sizeof rf->describe, "exact (per-pixel fragment lists), %dx%d sub-samples", rf->ss, rf->ss);
+    else
+        snprintf(rf->describe, sizeof rf->describe, "stochastic, %dx%d sub-samples x %d alpha tests", rf->ss, rf->ss,
+                 rf->k);
     rf->animated = scene_sway_count(sc) > 0;
     return rf;
 }
@@ -108,9 +152,24 @@ void reference_destroy(reference *rf)
     if (!rf)
         return;
     renderer_destroy(rf->r);
+    renderer_destroy(rf->fallback);
     free(rf->half[0]);
     free(rf->half[1]);
+    free(rf->sample);
+    free(rf->lost);
+    free(rf->fallback_sum);
+    abuffer_scratch_free(&rf->scratch);
     free(rf);
+}
+
+reference_kind reference_get_kind(const reference *rf)
+{
+    return rf->kind;
+}
+
+const char *reference_describe(const reference *rf)
+{
+    return rf->describe;
 }
 
 int reference_supersample(const reference *rf)
@@ -123,9 +182,14 @@ int reference_samples(const reference *rf)
     return rf->k;
 }
 
+int reference_compare_grid(const reference *rf)
+{
+    return rf->grid_c;
+}
+
 int reference_pass_count(const reference *rf)
 {
-    return rf->ss * rf->ss * rf->k;
+    return rf->kind == REFERENCE_EXACT ? rf->ss * rf->ss + rf->grid_c * rf->grid_c : rf->ss * rf->ss * rf->k;
 }
 
 uint64_t reference_key(const reference *rf, const frame_record *fr)
@@ -169,46 +233,60 @@ static bool cache_load(const reference *rf, const char *path, const char *hex, e
 
 /* >>drawing */
 
-/* Adds the renderer's current frame into one half's sums. */
-static fs_status accumulate(reference *rf, float *sum)
+/* Adds REF_CHANNELS planes into a sum; a broken sample must not poison the truth. */
+static void add_planes(float *sum, const float *const planes[REF_CHANNELS], size_t n)
 {
-    exr_image img;
-    fs_status st = renderer_read(rf->r, &img);
-    if (st != FS_OK)
-        return st;
-    size_t n = (size_t)rf->width * (size_t)rf->height;
     for (int c = 0; c < REF_CHANNELS; c++) {
-        const float *p = exr_image_channel(&img, k_channels[c]);
+        const float *p = planes[c];
         float *s = sum + (size_t)c * n;
         for (size_t i = 0; i < n; i++)
-            s[i] += isfinite(p[i]) ? p[i] : 0.0f; /* a broken sample must not poison the truth */
+            s[i] += isfinite(p[i]) ? p[i] : 0.0f;
     }
+}
+
+/* Adds the renderer's current frame into a sum. */
+static fs_status accumulate(reference *rf, renderer *r, float *sum)
+{
+    exr_image img;
+    fs_status st = renderer_read(r, &img);
+    if (st != FS_OK)
+        return st;
+    const float *planes[REF_CHANNELS];
+    for (int c = 0; c < REF_CHANNELS; c++)
+        planes[c] = exr_image_channel(&img, k_channels[c]);
+    add_planes(sum, planes, (size_t)rf->width * (size_t)rf->height);
     exr_image_free(&img);
     return FS_OK;
 }
 
-static fs_status draw(reference *rf, const frame_record *fr0, exr_image *img, reference_info *info)
+/* Sub-sample (sx, sy) of a grid x grid pattern in the pixel: the frame moved by its offset, with
+ * the pass number `pass` in its index (the stochastic thresholds hash it: a new one every pass). */
+static frame_record sub_sample(const reference *rf, const frame_record *fr0, int grid, int sx, int sy, int pass)
+{
+    display_desc d = {rf->width, rf->height, fr0->hfov_deg};
+    frame_record fr = *fr0;
+    fov_layout off = rf->pl.layout;
+    frame_record_set_gaze(&fr, &off, &d, 0.5f, 0.5f);
+    frame_record_shift(&fr, &d, ((float)sx + 0.5f) / (float)grid - 0.5f, ((float)sy + 0.5f) / (float)grid - 0.5f);
+    fr.index = (int)(((uint32_t)fr0->index * (uint32_t)reference_pass_count(rf) + (uint32_t)pass) & 0x7fffffffu);
+    return fr;
+}
+
+static fs_status draw_stochastic(reference *rf, const frame_record *fr0, exr_image *img, reference_info *info)
 {
     size_t n = (size_t)rf->width * (size_t)rf->height;
     memset(rf->half[0], 0, sizeof(float) * n * REF_CHANNELS);
     memset(rf->half[1], 0, sizeof(float) * n * REF_CHANNELS);
-    display_desc d = {rf->width, rf->height, fr0->hfov_deg};
     int total = reference_pass_count(rf), done = 0;
     fs_status st = FS_OK;
     /* Sample k of every sub-sample before sample k + 1, so half A holds the first K/2 tests. */
     for (int k = 0; k < rf->k && st == FS_OK; k++)
         for (int sy = 0; sy < rf->ss && st == FS_OK; sy++)
             for (int sx = 0; sx < rf->ss && st == FS_OK; sx++) {
-                frame_record fr = *fr0;
-                fov_layout off = rf->pl.layout;
-                frame_record_set_gaze(&fr, &off, &d, 0.5f, 0.5f);
-                frame_record_shift(&fr, &d, ((float)sx + 0.5f) / (float)rf->ss - 0.5f,
-                                   ((float)sy + 0.5f) / (float)rf->ss - 0.5f);
-                /* The stochastic thresholds hash the frame index: a new one for every pass. */
-                fr.index = (int)(((uint32_t)fr0->index * (uint32_t)total + (uint32_t)done) & 0x7fffffffu);
+                frame_record fr = sub_sample(rf, fr0, rf->ss, sx, sy, done);
                 st = renderer_draw(rf->r, &fr);
                 if (st == FS_OK)
-                    st = accumulate(rf, rf->half[k < rf->k / 2 ? 0 : 1]);
+                    st = accumulate(rf, rf->r, rf->half[k < rf->k / 2 ? 0 : 1]);
                 done++;
                 if (rf->on_pass)
                     rf->on_pass(rf->user, done, total);
@@ -238,6 +316,140 @@ static fs_status draw(reference *rf, const frame_record *fr0, exr_image *img, re
     return FS_OK;
 }
 
+/* The overflowed pixels of one exact sub-sample from K stochastic tests of it (the stochastic
+ * reference's passes, drawn whole: the lost pixels can lie anywhere). */
+static fs_status exact_fallback(reference *rf, const frame_record *fr, float bias)
+{
+    size_t n = (size_t)rf->width * (size_t)rf->height;
+    fs_status st = FS_OK;
+    if (!rf->fallback) {
+        plan_options po = {.width = rf->width, .height = rf->height, .frames = 1, .layout = rf->pl.layout,
+                           .reference = true};
+        st = plan_build(rf->sc, &po, &rf->fallback_pl);
+        if (st == FS_OK && !(rf->fallback_sum = malloc(sizeof(float) * n * REF_CHANNELS)))
+            st = FS_ERR_NOMEM;
+        if (st == FS_OK)
+            rf->fallback = renderer_create(&(renderer_desc){.scene = rf->sc, .plan = &rf->fallback_pl}, &st);
+        if (st != FS_OK)
+            return st;
+    }
+    renderer_set_mip_bias(rf->fallback, 0, bias);
+    memset(rf->fallback_sum, 0, sizeof(float) * n * REF_CHANNELS);
+    for (int k = 0; k < rf->k && st == FS_OK; k++) {
+        frame_record f = *fr;
+        f.index = (int)(((uint32_t)fr->index * (uint32_t)rf->k + (uint32_t)k) & 0x7fffffffu);
+        st = renderer_draw(rf->fallback, &f);
+        if (st == FS_OK)
+            st = accumulate(rf, rf->fallback, rf->fallback_sum);
+    }
+    for (int c = 0; c < REF_CHANNELS && st == FS_OK; c++)
+        for (size_t i = 0; i < n; i++)
+            if (rf->lost[i])
+                rf->sample[(size_t)c * n + i] = rf->fallback_sum[(size_t)c * n + i] / (float)rf->k;
+    return st;
+}
+
+/* One exact sub-sample into rf->sample: the opaque pass's image with every pixel's fragment list
+ * composited over it front to back (abuffer_resolve). A pass whose lists outgrow the store is drawn
+ * again with a store grown to what it asked for, up to the budget; pixels that still lose fragments
+ * take the stochastic estimate (exact_fallback). */
+static fs_status exact_sample(reference *rf, const frame_record *fr, float bias, reference_info *info)
+{
+    size_t n = (size_t)rf->width * (size_t)rf->height;
+    renderer_set_mip_bias(rf->r, 0, bias);
+    fs_status st = renderer_draw(rf->r, fr);
+    abuffer_lists l = {0};
+    for (int attempt = 0; st == FS_OK && rf->lists; attempt++) {
+        st = renderer_read_lists(rf->r, &l);
+        if (st != FS_OK || l.count <= l.capacity || l.capacity >= rf->budget_nodes || attempt == 2)
+            break;
+        uint64_t want = l.count + l.count / 8;
+        if (renderer_reserve_list_nodes(rf->r, want < rf->budget_nodes ? want : rf->budget_nodes) != FS_OK) {
+            /* The GL could not give us the budget: keep what we have, and the fallback. */
+            log_warn("REFERENCE: the GL has no room for %llu fragment-list nodes; overflowed pixels use %d "
+                     "stochastic tests", (unsigned long long)want, rf->k);
+            rf->budget_nodes = l.capacity;
+            break;
+        }
+        st = renderer_draw(rf->r, fr);
+    }
+    exr_image base;
+    if (st == FS_OK)
+        st = renderer_read(rf->r, &base);
+    if (st != FS_OK)
+        return st;
+    const float *bp[REF_CHANNELS];
+    float *op[REF_CHANNELS];
+    for (int c = 0; c < REF_CHANNELS; c++) {
+        bp[c] = exr_image_channel(&base, k_channels[c]);
+        op[c] = rf->sample + (size_t)c * n;
+    }
+    long lost = 0;
+    if (rf->lists) {
+        info->list_nodes = l.count > info->list_nodes ? l.count : info->list_nodes;
+        lost = abuffer_resolve(&l, bp, op, rf->lost, &rf->scratch);
+    } else {
+        for (int c = 0; c < REF_CHANNELS; c++)
+            memcpy(op[c], bp[c], sizeof(float) * n);
+    }
+    exr_image_free(&base);
+    if (lost < 0)
+        return FS_ERR_NOMEM;
+    if (lost > 0) {
+        info->overflow_pixels += lost;
+        st = exact_fallback(rf, fr, bias);
+    }
+    return st;
+}
+
+/* The exact kind: the S x S grid, and the C x C grid it is compared with for the error estimate. */
+static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *img, reference_info *info)
+{
+    size_t n = (size_t)rf->width * (size_t)rf->height;
+    int grids[2] = {rf->ss, rf->grid_c}, total = reference_pass_count(rf), done = 0;
+    fs_status st = FS_OK;
+    for (int g = 0; g < 2 && st == FS_OK; g++) {
+        memset(rf->half[g], 0, sizeof(float) * n * REF_CHANNELS);
+        float bias = -log2f((float)grids[g]);
+        for (int sy = 0; sy < grids[g] && st == FS_OK; sy++)
+            for (int sx = 0; sx < grids[g] && st == FS_OK; sx++) {
+                frame_record fr = sub_sample(rf, fr0, grids[g], sx, sy, done);
+                st = exact_sample(rf, &fr, bias, info);
+                if (st == FS_OK) {
+                    const float *planes[REF_CHANNELS];
+                    for (int c = 0; c < REF_CHANNELS; c++)
+                        planes[c] = rf->sample + (size_t)c * n;
+                    add_planes(rf->half[g], planes, n);
+                }
+                done++;
+                if (rf->on_pass)
+                    rf->on_pass(rf->user, done, total);
+            }
+    }
+    if (st != FS_OK)
+        return st;
+    if (!exr_image_init(img, rf->width, rf->height))
+        return FS_ERR_NOMEM;
+    double inv_s = 1.0 / (double)(rf->ss * rf->ss), inv_c = 1.0 / (double)(rf->grid_c * rf->grid_c), err2 = 0.0;
+    for (int c = 0; c < REF_CHANNELS; c++) {
+        float *p = exr_image_add_channel(img, k_channels[c]);
+        if (!p) {
+            exr_image_free(img);
+            return FS_ERR_NOMEM;
+        }
+        const float *a = rf->half[0] + (size_t)c * n, *b = rf->half[1] + (size_t)c * n;
+        for (size_t i = 0; i < n; i++) {
+            double ms = a[i] * inv_s, mc = b[i] * inv_c;
+            p[i] = exr_half_round((float)ms); /* rounded as the cache stores it */
+            if (c < 3)
+                err2 += (ms - mc) * (ms - mc);
+        }
+    }
+    info->error = sqrt(err2 / (3.0 * (double)n));
+    info->passes = total;
+    return FS_OK;
+}
+
 fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img, reference_info *info)
 {
     memset(info, 0, sizeof *info);
@@ -258,15 +470,24 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
             log_info("REFERENCE: %s is truncated or stale; drawing it again", info->path);
         }
     }
-    fs_status st = draw(rf, fr, img, info);
+    bool exact = rf->kind == REFERENCE_EXACT;
+    fs_status st = exact ? draw_exact(rf, fr, img, info) : draw_stochastic(rf, fr, img, info);
     if (st != FS_OK)
         return st;
     exr_image_set_string(img, "fovsim:ref_key", hex);
+    exr_image_set_string(img, "fovsim:ref_kind", reference_kind_name(rf->kind));
     exr_image_set_float(img, "fovsim:ref_error", (float)info->error);
-    char what[160];
-    snprintf(what, sizeof what, "%dx%d sub-samples x %d stochastic alpha tests, box filter, LOD bias %.2f", rf->ss,
-             rf->ss, rf->k, (double)-log2f((float)rf->ss));
+    char what[200];
+    if (exact)
+        snprintf(what, sizeof what, "RMS over linear RGB of this frame minus the same at %dx%d sub-samples", rf->grid_c,
+                 rf->grid_c);
+    else
+        snprintf(what, sizeof what, "RMS over linear RGB of half the difference of the two halves of the %d tests", rf->k);
+    exr_image_set_string(img, "fovsim:ref_error_method", what);
+    snprintf(what, sizeof what, "%s, box filter, LOD bias %.2f", rf->describe, (double)-log2f((float)rf->ss));
     exr_image_set_string(img, "fovsim:ref_samples", what);
+    if (exact)
+        exr_image_set_int(img, "fovsim:ref_overflow_pixels", (int)(info->overflow_pixels < INT32_MAX ? info->overflow_pixels : INT32_MAX));
     exr_image_set_float(img, "fovsim:time", fr->time);
     if (rf->cache_dir[0]) {
         st = file_make_dirs(rf->cache_dir);

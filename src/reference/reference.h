@@ -2,22 +2,30 @@
  * truth and metrics", docs/reference.md).
  *
  * A reference frame is the display at full resolution with S x S sub-samples per pixel (box
- * filter) and K stochastic alpha tests per sub-sample, each with its own threshold. A stochastic
- * test keeps a surface with probability alpha, so with the depth test the expected colour of a
- * sample is order-correct alpha compositing: the estimate converges to the sorted-blend ground
- * truth with error proportional to 1/sqrt(K). It is drawn as S*S*K full-resolution passes, each
- * moved by its sub-sample's offset (frame_record_shift), with texture LOD biased by -log2(S) so each
- * pass samples the mip level an S x S supersampled pixel would; the passes are summed in two
- * halves A (the first K/2 tests of every sub-sample) and B (the rest). The frame is (A + B) / 2, and
- * its convergence is RMS((A - B) / 2) over linear RGB: the RMS difference between the K/2 and the K
- * estimate, which is also an unbiased estimate of the K estimate's own RMS error. Memory is two
- * display-sized float accumulators whatever S and K are, so 1920x1080 at 4x4 x 64 fits easily.
+ * filter), each sub-sample the expectation of a stochastic alpha test: a stochastic test keeps a
+ * surface with probability alpha, so with the depth test the expected colour of a sample is
+ * order-correct alpha compositing. Each sub-sample is one full-resolution pass moved by its offset
+ * (frame_record_shift), with texture LOD biased by -log2(S) so it samples the mip level an S x S
+ * supersampled pixel would. Two kinds:
  *
- * The reference depends on the scene, the frame's camera (and time, when instances sway), the display
- * size, S, K and the shaders,
- * not on the gaze or the alpha mode: frames are cached as EXR files named by a 64-bit key of those
- * (reference_key); a cached file is reused when it reads back completely with the same key and
- * size, else it is rebuilt (truncated, stale, or written by another version).
+ *   exact (default): the expectation itself. Each pass draws the opaque surfaces, then appends every
+ *     MASK and BLEND fragment in front of them to its pixel's list (an A-buffer, abuffer.h), which
+ *     is sorted and composited front to back. S*S passes. Convergence is spatial only: the frame's
+ *     estimated error is RMS(ref_S - ref_C) over linear RGB, C = S/2 (C = 2 when S = 1), which
+ *     costs C*C more passes. The list store has a memory budget; a pass that needs more grows it up
+ *     to the budget, and the pixels that still lose fragments fall back to a K-test stochastic
+ *     estimate of that sub-sample (reference_info.overflow_pixels counts them).
+ *   stochastic: K stochastic alpha tests per sub-sample, S*S*K passes, each with its own threshold;
+ *     error proportional to 1/sqrt(K). The passes are summed in two halves A (the first K/2 tests of
+ *     every sub-sample) and B (the rest); the frame is (A + B) / 2 and its estimated error
+ *     RMS((A - B) / 2), an unbiased estimate of the K estimate's own RMS error. An independent
+ *     cross-check of the exact kind.
+ *
+ * The reference depends on the scene, the frame's camera (and time, when instances sway), the
+ * display size, the kind, S, K (exact: the fallback's tests), the exact kind's budget and the
+ * shaders, not on the gaze or the alpha mode: frames are cached as EXR files named by a 64-bit key
+ * of those (reference_key); a cached file is reused when it reads back completely with the same key
+ * and size, else it is rebuilt (truncated, stale, or written by another version).
  *
  * Usage (a GL context must be current):
  *   reference *rf = reference_create(&sc, &(reference_desc){.width = w, .height = h,
@@ -39,11 +47,17 @@
 #define REFERENCE_SAMPLES_DEFAULT 64    /* K: stochastic alpha tests per sub-sample */
 #define REFERENCE_SUPERSAMPLE_MAX 16
 #define REFERENCE_SAMPLES_MAX 4096
+#define REFERENCE_LIST_MB_DEFAULT 2048  /* exact: the fragment-list store's budget */
+
+typedef enum reference_kind { REFERENCE_EXACT = 0, REFERENCE_STOCHASTIC } reference_kind;
 
 typedef struct reference_desc {
     int width, height;     /* display */
+    reference_kind kind;   /* exact (default) or stochastic */
     int supersample;       /* S, 0 = default */
-    int samples;           /* K (even), 0 = default */
+    int samples;           /* K (even), 0 = default; exact: the overflow fallback's tests */
+    int list_mb;           /* exact: fragment-list budget in MB, 0 = default; the GL limit caps it */
+    uint64_t list_nodes;   /* exact, for tests: the budget in nodes (overrides list_mb) */
     const char *cache_dir; /* where frames are cached; NULL = no cache */
     /* Called after every pass of a frame that is drawn (not for cached frames); may be NULL. */
     void (*on_pass)(void *user, int done, int total);
@@ -53,8 +67,12 @@ typedef struct reference_desc {
 typedef struct reference_info {
     bool cached;       /* read from the cache, not drawn */
     bool rebuilt;      /* a cache file existed but was unusable (truncated / stale) and was redrawn */
-    double error;      /* convergence: RMS((A - B) / 2) over linear RGB (see above) */
+    double error;      /* convergence: exact RMS(ref_S - ref_C), stochastic RMS((A - B) / 2), over
+                        * linear RGB (see above) */
     int passes;        /* passes drawn (0 when cached) */
+    long overflow_pixels; /* exact: sub-sample pixels whose lists overflowed and fell back (summed
+                           * over the sub-samples of the frame; 0 when cached) */
+    uint64_t list_nodes;  /* exact: the most list nodes one pass asked for (0 when cached) */
     char path[1024];   /* the cache file ("" without a cache) */
     uint64_t key;
 } reference_info;
@@ -69,11 +87,19 @@ uint64_t reference_key(const reference *rf, const frame_record *fr);
 /* The reference for frame `fr`: channels R, G, B, A, coverage (img initialised here), from the
  * cache when possible, else drawn (and stored in the cache when there is one). */
 fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img, reference_info *info);
-/* S and K in effect. */
+/* Kind, S and K in effect. */
+reference_kind reference_get_kind(const reference *rf);
 int reference_supersample(const reference *rf);
 int reference_samples(const reference *rf);
-/* Passes a drawn frame takes: S * S * K. */
+/* Exact: the comparison grid C of the error estimate (S / 2, or 2 when S = 1). */
+int reference_compare_grid(const reference *rf);
+/* Passes a drawn frame takes: exact S * S + C * C (without fallbacks), stochastic S * S * K. */
 int reference_pass_count(const reference *rf);
+/* One line for people: "exact (A-buffer), 4x4 sub-samples" or "stochastic, 4x4 sub-samples x 64
+ * alpha tests". */
+const char *reference_describe(const reference *rf);
+/* "exact" or "stochastic". */
+const char *reference_kind_name(reference_kind k);
 
 /* The default cache directory: $FOVSIM_CACHE, else $XDG_CACHE_HOME/fovsim/reference, else
  * $HOME/.cache/fovsim/reference, else .fovsim-cache/reference. Written into buf. */

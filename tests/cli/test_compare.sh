@@ -87,7 +87,17 @@ check "second compare takes all 12 reference frames from the cache" grep -q "12 
 check "metrics equal with a cached reference" bash -c "diff <(cut -d, -f1-13 '$T/forest/metrics.csv') <(cut -d, -f1-13 '$T/forest2/metrics.csv') >/dev/null"
 "$BIN" reference forest --width 320 --height 180 --frames 2 "${REF[@]}" --out "$T/ref" >"$T/ref.txt" 2>&1
 check "fovsim reference reuses compare's frames" grep -q "0 drawn, 2 from the cache" "$T/ref.txt"
-check "fovsim reference reports convergence" grep -q "K/2 and K estimates" "$T/ref.txt"
+check "fovsim reference reports the exact kind's convergence (S vs S/2)" grep -q "2x2 and 1x1 sub-sample frames" "$T/ref.txt"
+# The stochastic kind: its own cache entries (the exact ones are not reused), its own convergence.
+"$BIN" reference forest --width 320 --height 180 --frames 2 --reference stochastic "${REF[@]}" --out "$T/refs" \
+  >"$T/refs.txt" 2>&1
+check "reference --reference stochastic draws its own frames" grep -q "2 drawn, 0 from the cache" "$T/refs.txt"
+check "reference --reference stochastic reports K/2 vs K" grep -q "K/2 and K estimates" "$T/refs.txt"
+check "the EXR header says which reference" bash -c "exrheader '$T/refs/reference.0000.exr' | grep -A1 'fovsim:ref_kind' | grep -q stochastic && exrheader '$T/ref/reference.0000.exr' | grep -A1 'fovsim:ref_kind' | grep -q exact"
+# A budget too small for the lists: the overflowed pixels are counted and fall back.
+"$BIN" reference forest --width 320 --height 180 --frames 1 --ref-memory 1 --supersample 1 --samples 2 --no-cache \
+  --out "$T/refo" >"$T/refo.txt" 2>&1; rc=$?
+check "reference --ref-memory 1 exits 0 and reports the overflowed pixels" bash -c "[ $rc -eq 0 ] && grep -Eq '[1-9][0-9]* overflowed sub-sample pixels' '$T/refo.txt'"
 
 # ---- bench --accuracy (tiny): the matrix's files, one CSV row per configuration, a PNG plot
 "$BIN" bench fence --accuracy --modes traditional,hashed --width 96 --height 54 --frames 3 --warmup 1 "${REF[@]}" \
@@ -117,7 +127,8 @@ assert all(off[k] < on[k] for k in off), (off, on)  # TAA adds a full-screen res
 "
 
 # ---- bad input: one line, exit 2, nothing created
-for args in "--modes traditional,bogus" "--samples 3" "--supersample 0" "--alpha hashed" "--cache $T/c --no-cache"; do
+for args in "--modes traditional,bogus" "--samples 3" "--supersample 0" "--alpha hashed" "--cache $T/c --no-cache" \
+            "--reference exactly" "--ref-memory 0"; do
   # shellcheck disable=SC2086
   "$BIN" compare forest $args --out "$T/bad" >/dev/null 2>"$T/bad.err"; rc=$?
   check "compare $args: exit 2, one line, no output" bash -c "[ $rc -eq 2 ] && [ \$(wc -l <'$T/bad.err') -eq 1 ] && [ ! -e '$T/bad' ]"

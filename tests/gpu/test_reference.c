@@ -48,18 +48,280 @@ static double column_mean(const exr_image *img, const char *ch, int x0, int x1)
     return s / ((double)(x1 - x0) * (img->height / 2));
 }
 
-static fs_status ref_frame(const scene *sc, int w, int h, int ss, int k, const char *cache, exr_image *img,
-                           reference_info *info)
+static fs_status ref_frame_desc(const scene *sc, reference_desc rd, exr_image *img, reference_info *info)
 {
     fs_status st;
-    reference *rf = reference_create(sc, &(reference_desc){.width = w, .height = h, .supersample = ss,
-                                                           .samples = k, .cache_dir = cache}, &st);
+    reference *rf = reference_create(sc, &rd, &st);
     if (!rf)
         return st;
-    frame_record fr = frame_record_at(sc, 0, 0.0f, -1.0f, w, h);
+    frame_record fr = frame_record_at(sc, 0, 0.0f, -1.0f, rd.width, rd.height);
     st = reference_frame(rf, &fr, img, info);
     reference_destroy(rf);
     return st;
+}
+
+/* The stochastic reference (K tests per sub-sample). */
+static fs_status ref_frame(const scene *sc, int w, int h, int ss, int k, const char *cache, exr_image *img,
+                           reference_info *info)
+{
+    return ref_frame_desc(sc, (reference_desc){.width = w, .height = h, .kind = REFERENCE_STOCHASTIC, .supersample = ss,
+                                               .samples = k, .cache_dir = cache},
+                          img, info);
+}
+
+/* The exact reference (K = 4 tests for overflowed pixels, which these tests do not have unless
+ * they ask for it). */
+static fs_status exact_frame(const scene *sc, int w, int h, int ss, const char *cache, exr_image *img,
+                             reference_info *info)
+{
+    return ref_frame_desc(sc, (reference_desc){.width = w, .height = h, .supersample = ss, .samples = 4,
+                                               .cache_dir = cache},
+                          img, info);
+}
+
+/* >>stacked cards: uniform-alpha cards filling the view, one behind the other, lit so that the
+ * shaded colour is the albedo (ambient 1, no direct light). */
+typedef struct card {
+    float z, alpha, rgb[3];
+    alpha_kind kind;
+} card;
+
+static void stacked_cards_scene(scene *sc, const card *cards, int n)
+{
+    scene_init_defaults(sc);
+    sc->light.color = v3(0, 0, 0);
+    sc->light.ambient = v3(1, 1, 1);
+    for (int k = 0; k < n; k++) {
+        uint8_t *px = malloc(4 * 4 * 4);
+        uint8_t a8 = (uint8_t)(cards[k].alpha * 255.0f + 0.5f);
+        for (int i = 0; i < 16; i++) { /* premultiplied white: rgb = alpha */
+            px[4 * i] = px[4 * i + 1] = px[4 * i + 2] = 255;
+            px[4 * i + 3] = a8;
+        }
+        image_rgba8 img = {.width = 4, .height = 4, .rgba = px};
+        material m = {.base_color = {cards[k].rgb[0], cards[k].rgb[1], cards[k].rgb[2], 1}, .base_color_image = 0,
+                      .alpha_kind = cards[k].kind, .alpha_cutoff = 0.5f, .double_sided = true};
+        float z = cards[k].z, e = 60.0f; /* wider than the view at every depth used */
+        float pos[12] = {-e, -e, z, e, -e, z, e, e, z, -e, e, z}, uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+        char name[16];
+        snprintf(name, sizeof name, "card%d", k);
+        asset as = quad_asset(name, pos, uv, m, &img);
+        scene_add_asset(sc, &as);
+        scene_add_instance(sc, k, m4_identity());
+    }
+    sc->camera.count = 1;
+    sc->camera.keys[0] = (camera_key){.time = 0, .position = v3(0, 0, 10), .target = v3(0, 0, 0)};
+}
+
+/* Front-to-back "over" of the cards, in the order given (front first), over the sky: R, G, B, A,
+ * coverage. Alphas as the texture stores them (8 bits). */
+static void cards_closed_form(const card *front_first, int n, vec3 sky, double out[5])
+{
+    double t = 1.0, c[3] = {0, 0, 0}, a = 0.0;
+    for (int i = 0; i < n; i++) {
+        double al = (double)(uint8_t)(front_first[i].alpha * 255.0f + 0.5f) / 255.0;
+        for (int k = 0; k < 3; k++)
+            c[k] += t * al * front_first[i].rgb[k];
+        a += t * al;
+        t *= 1.0 - al;
+    }
+    out[0] = c[0] + t * sky.x;
+    out[1] = c[1] + t * sky.y;
+    out[2] = c[2] + t * sky.z;
+    out[3] = a;
+    out[4] = a;
+}
+
+static double image_max_dev(const exr_image *img, const char *ch, double want)
+{
+    const float *p = exr_image_channel(img, ch);
+    double m = 0;
+    size_t n = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < n; i++)
+        m = fmax(m, fabs(p[i] - want));
+    return m;
+}
+
+/* Front first (scene order differs): alpha 0.3 red; alpha 0 white (must hide nothing); a BLEND
+ * card of alpha 0.5 between MASK cards; two cards at one depth (the first placed is in front, as a
+ * depth test with GL_LESS keeps the first drawn); an alpha-1 card that hides the last one. */
+static const card k_cards[] = {
+    {-5.0f, 0.7f, {1.0f, 1.0f, 1.0f}, ALPHA_KIND_MASK},  /* hidden behind the alpha-1 card */
+    {0.0f, 0.3f, {1.0f, 0.1f, 0.1f}, ALPHA_KIND_MASK},
+    {-3.0f, 0.5f, {0.2f, 0.9f, 0.9f}, ALPHA_KIND_MASK},  /* equal depth: placed first, in front */
+    {-1.0f, 0.5f, {0.1f, 0.1f, 1.0f}, ALPHA_KIND_BLEND},
+    {-0.5f, 0.0f, {1.0f, 1.0f, 1.0f}, ALPHA_KIND_MASK},
+    {-4.0f, 1.0f, {0.9f, 0.8f, 0.1f}, ALPHA_KIND_MASK},
+    {-2.0f, 0.6f, {0.1f, 1.0f, 0.1f}, ALPHA_KIND_MASK},
+    {-3.0f, 0.25f, {0.8f, 0.2f, 0.8f}, ALPHA_KIND_MASK}, /* equal depth: placed second, behind */
+};
+enum { CARD_COUNT = sizeof k_cards / sizeof k_cards[0] };
+
+TEST(exact_stacked_cards_match_the_closed_form)
+{
+    /* Coverage and colour of every pixel within 1e-3 of the formula (the frame is stored as half
+     * floats: about 2.5e-4 of rounding). Back-to-front compositing, or the two equal-depth cards
+     * the other way round, would each miss by more than 1e-2: the test can tell. */
+    enum { W = 48, H = 32 };
+    scene sc;
+    stacked_cards_scene(&sc, k_cards, CARD_COUNT);
+    card ftb[CARD_COUNT], btf[CARD_COUNT], swapped[CARD_COUNT];
+    static const int order[CARD_COUNT] = {1, 4, 3, 6, 2, 7, 5, 0};
+    for (int i = 0; i < CARD_COUNT; i++) {
+        ftb[i] = k_cards[order[i]];
+        btf[CARD_COUNT - 1 - i] = ftb[i];
+        swapped[i] = ftb[i];
+    }
+    swapped[4] = ftb[5];
+    swapped[5] = ftb[4];
+    double want[5], wrong[5], wrong_tie[5];
+    cards_closed_form(ftb, CARD_COUNT, sc.light.sky, want);
+    cards_closed_form(btf, CARD_COUNT, sc.light.sky, wrong);
+    cards_closed_form(swapped, CARD_COUNT, sc.light.sky, wrong_tie);
+    exr_image img;
+    reference_info info;
+    CHECK(exact_frame(&sc, W, H, 1, NULL, &img, &info) == FS_OK);
+    CHECK(all_finite(&img));
+    static const char *const ch[5] = {"R", "G", "B", "A", "coverage"};
+    double worst_wrong = 0, worst_tie = 0;
+    for (int c = 0; c < 5; c++) {
+        double dev = image_max_dev(&img, ch[c], want[c]);
+        if (dev > 1e-3)
+            fprintf(stderr, "%s: want %.5f, worst deviation %.5f\n", ch[c], want[c], dev);
+        CHECK(dev <= 1e-3);
+        worst_wrong = fmax(worst_wrong, fabs(wrong[c] - want[c]));
+        worst_tie = fmax(worst_tie, fabs(wrong_tie[c] - want[c]));
+    }
+    CHECK(worst_wrong > 1e-2 && worst_tie > 1e-2);
+    CHECK(info.overflow_pixels == 0 && info.list_nodes >= (uint64_t)W * H * 5);
+    /* The alpha-1 card's fragments stop compositing: coverage reaches exactly 1. */
+    CHECK_NEAR(want[4], 1.0, 1e-12);
+    exr_image_free(&img);
+    scene_free(&sc);
+}
+
+TEST(exact_overflow_falls_back_to_stochastic_for_the_lost_pixels)
+{
+    /* 48 x 32 pixels with 7 stored fragments each (the alpha-0 card stores none) need 10752 nodes;
+     * a budget of 9752 loses the last-drawn card's fragments at about 1000 pixels per pass. They
+     * are counted, and take the stochastic estimate (K = 256 tests): each within 6 sigma of the
+     * closed form (sigma <= 0.5 / sqrt(K) for a mean of samples in [0, 1]), their mean within
+     * 5 sigma / sqrt(their count); every other pixel is exact (1e-3). */
+    enum { W = 48, H = 32, K = 256, NEEDED = W * H * 7 };
+    scene sc;
+    stacked_cards_scene(&sc, k_cards, CARD_COUNT);
+    static const int order[CARD_COUNT] = {1, 4, 3, 6, 2, 7, 5, 0};
+    card ftb[CARD_COUNT];
+    for (int i = 0; i < CARD_COUNT; i++)
+        ftb[i] = k_cards[order[i]];
+    double want[5];
+    cards_closed_form(ftb, CARD_COUNT, sc.light.sky, want);
+    exr_image img;
+    reference_info info;
+    CHECK(ref_frame_desc(&sc, (reference_desc){.width = W, .height = H, .supersample = 1, .samples = K,
+                                               .list_nodes = NEEDED - 1000},
+                         &img, &info) == FS_OK);
+    /* Summed over the frame's passes: the 1 x 1 grid and the 2 x 2 one of the error estimate. */
+    fprintf(stderr, "overflowed pixels: %ld in 5 passes of %d, nodes asked for %llu\n", info.overflow_pixels, W * H,
+            (unsigned long long)info.list_nodes);
+    CHECK(info.list_nodes == NEEDED);
+    CHECK(info.overflow_pixels >= 5 * 900 && info.overflow_pixels <= 5 * 1000);
+    CHECK(all_finite(&img));
+    static const char *const ch[5] = {"R", "G", "B", "A", "coverage"};
+    size_t n = (size_t)W * H;
+    double sigma = 0.5 / sqrt((double)K);
+    for (int c = 0; c < 5; c++) {
+        const float *p = exr_image_channel(&img, ch[c]);
+        size_t inexact = 0, far = 0;
+        double sum = 0;
+        for (size_t i = 0; i < n; i++) {
+            double d = p[i] - want[c];
+            if (fabs(d) > 1e-3) {
+                inexact++;
+                sum += d;
+            }
+            far += fabs(d) > 6.0 * sigma;
+        }
+        fprintf(stderr, "%s: %zu pixels not exact, their mean difference %+.5f\n", ch[c], inexact,
+                inexact ? sum / (double)inexact : 0.0);
+        CHECK(far == 0);
+        CHECK(inexact <= 1000);
+        if (inexact > 0)
+            CHECK(fabs(sum / (double)inexact) <= 5.0 * sigma / sqrt((double)inexact) + 1e-3);
+    }
+    exr_image_free(&img);
+    scene_free(&sc);
+}
+
+/* Per-pixel agreement of the exact reference with a K-test stochastic one at S = 1 and the same
+ * LOD: every channel of every pixel within 5 sigma + 2e-3, sigma = sqrt((M - mu) mu / K) the
+ * largest standard deviation a mean of K samples in [0, M] with mean mu can have (Bhatia-Davis;
+ * binomial for coverage, whose samples are 0 or 1). mu is the exact value; M = 1 for A and
+ * coverage, and for colour the larger of 1 and the channel's largest value in either image (a
+ * sample is one fragment's shaded colour, which these scenes keep below 1). And the frame's mean
+ * within 1e-3. */
+static void exact_matches_stochastic(const char *builtin, int w, int h, int k)
+{
+    scene sc;
+    CHECK(scene_load_builtin(builtin, &sc) == FS_OK);
+    exr_image ex, st;
+    reference_info ie, is;
+    CHECK(exact_frame(&sc, w, h, 1, NULL, &ex, &ie) == FS_OK);
+    CHECK(ref_frame(&sc, w, h, 1, k, NULL, &st, &is) == FS_OK);
+    CHECK(ie.overflow_pixels == 0);
+    static const char *const ch[5] = {"R", "G", "B", "A", "coverage"};
+    size_t n = (size_t)w * (size_t)h, partial = 0;
+    for (int c = 0; c < 5; c++) {
+        const float *a = exr_image_channel(&ex, ch[c]), *b = exr_image_channel(&st, ch[c]);
+        double m = 1.0, worst = 0, mean = 0;
+        for (size_t i = 0; c < 3 && i < n; i++)
+            m = fmax(m, fmax(a[i], b[i]));
+        size_t bad = 0;
+        for (size_t i = 0; i < n; i++) {
+            double mu = a[i], sigma = sqrt(fmax((m - mu) * mu, 0.0) / k), d = fabs((double)b[i] - mu);
+            bad += d > 5.0 * sigma + 2e-3;
+            if (d > 5.0 * sigma + 2e-3 && bad < 6)
+                fprintf(stderr, "  pixel (%zu, %zu): %s exact %.4f, stochastic %.4f\n", i % (size_t)w, i / (size_t)w,
+                        ch[c], a[i], b[i]);
+            worst = fmax(worst, d / (sigma + 1e-9));
+            mean += (double)b[i] - mu;
+            partial += c == 4 && mu > 0.01 && mu < 0.99;
+        }
+        mean /= (double)n;
+        fprintf(stderr, "%s %s: mean difference %+.5f, worst %.2f sigma, %zu pixels out of bound\n", builtin, ch[c],
+                mean, worst, bad);
+        CHECK(bad == 0);
+        CHECK(fabs(mean) < 1e-3);
+    }
+    CHECK(partial > n / 20); /* the scene has partial coverage for the bound to test */
+    exr_image_free(&ex);
+    exr_image_free(&st);
+    scene_free(&sc);
+}
+
+TEST(exact_matches_stochastic_k1024_on_the_fence_and_the_forest)
+{
+    exact_matches_stochastic("fence", 64, 40, 1024);
+    exact_matches_stochastic("forest", 64, 36, 1024);
+}
+
+TEST(exact_error_shrinks_with_s)
+{
+    /* The exact kind's error estimate is RMS(ref_S - ref_S/2): spatial only. On the fence it
+     * shrinks from S = 2 to S = 4 (edges converge as 1/S), and it is not zero. */
+    enum { W = 64, H = 40 };
+    scene sc;
+    CHECK(scene_load_builtin("fence", &sc) == FS_OK);
+    exr_image a, b;
+    reference_info i2, i4;
+    CHECK(exact_frame(&sc, W, H, 2, NULL, &a, &i2) == FS_OK);
+    CHECK(exact_frame(&sc, W, H, 4, NULL, &b, &i4) == FS_OK);
+    fprintf(stderr, "exact error: S=2 %.5f (vs 1x1), S=4 %.5f (vs 2x2)\n", i2.error, i4.error);
+    CHECK(i2.passes == 4 + 1 && i4.passes == 16 + 4);
+    CHECK(i4.error > 0.0 && i4.error < 0.8 * i2.error);
+    exr_image_free(&a);
+    exr_image_free(&b);
+    scene_free(&sc);
 }
 
 TEST(expectation_is_order_correct_compositing)
@@ -201,6 +463,27 @@ TEST(cache_reused_keyed_and_repaired)
     CHECK(ref_frame(&sc, W, H, 2, 4, dir, &again, &i2) == FS_OK);
     CHECK(!i2.cached && i2.rebuilt);
     exr_image_free(&again);
+    /* Exact and stochastic frames of the same scene, size, S and K never collide: the exact one
+     * gets its own key and file, and each kind then reads back its own. */
+    exr_image ex, ex2, st2;
+    reference_info ie, ie2, is2;
+    CHECK(ref_frame_desc(&sc, (reference_desc){.width = W, .height = H, .supersample = 2, .samples = 4,
+                                               .cache_dir = dir},
+                         &ex, &ie) == FS_OK);
+    CHECK(!ie.cached && ie.key != i1.key && strcmp(ie.path, i1.path));
+    const exr_attr *kind = exr_image_attr(&ex, "fovsim:ref_kind");
+    CHECK(kind && kind->type == FS_EXR_ATTR_STRING && !strcmp(kind->s, "exact"));
+    CHECK(ref_frame_desc(&sc, (reference_desc){.width = W, .height = H, .supersample = 2, .samples = 4,
+                                               .cache_dir = dir},
+                         &ex2, &ie2) == FS_OK);
+    CHECK(ie2.cached && ie2.key == ie.key && files_equal(&ex, &ex2));
+    CHECK(ref_frame(&sc, W, H, 2, 4, dir, &st2, &is2) == FS_OK);
+    CHECK(is2.cached && is2.key == i1.key);
+    kind = exr_image_attr(&st2, "fovsim:ref_kind");
+    CHECK(kind && kind->type == FS_EXR_ATTR_STRING && !strcmp(kind->s, "stochastic"));
+    exr_image_free(&ex);
+    exr_image_free(&ex2);
+    exr_image_free(&st2);
     exr_image_free(&first);
     scene_free(&sc);
 }
@@ -225,6 +508,39 @@ TEST(reference_ignores_mode_overrides)
     scene_free(&sc);
 }
 
+TEST(stochastic_coplanar_cards_are_tested_independently)
+{
+    /* The stochastic reference (K = 512) of the stacked cards: each channel's mean over the frame
+     * within 5 standard errors of the closed form (per pixel sigma <= 0.5 / sqrt(K), 1536 pixels).
+     * The two coplanar cards share their primitive index and depth: before their thresholds were
+     * salted with the draw order, they passed and failed together, and the magenta card behind
+     * never showed (green +0.010, blue -0.013). */
+    enum { W = 48, H = 32, K = 512 };
+    scene sc;
+    stacked_cards_scene(&sc, k_cards, CARD_COUNT);
+    static const int order[CARD_COUNT] = {1, 4, 3, 6, 2, 7, 5, 0};
+    card ftb[CARD_COUNT];
+    for (int i = 0; i < CARD_COUNT; i++)
+        ftb[i] = k_cards[order[i]];
+    double want[5];
+    cards_closed_form(ftb, CARD_COUNT, sc.light.sky, want);
+    exr_image img;
+    reference_info info;
+    CHECK(ref_frame(&sc, W, H, 1, K, NULL, &img, &info) == FS_OK);
+    static const char *const ch[5] = {"R", "G", "B", "A", "coverage"};
+    for (int c = 0; c < 5; c++) {
+        const float *p = exr_image_channel(&img, ch[c]);
+        double m = 0;
+        for (int i = 0; i < W * H; i++)
+            m += p[i];
+        m /= W * H;
+        fprintf(stderr, "stochastic %s: mean %.5f, closed form %.5f\n", ch[c], m, want[c]);
+        CHECK_NEAR(m, want[c], 5.0 * 0.5 / sqrt((double)K * W * H) + 1e-3);
+    }
+    exr_image_free(&img);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     gpu_begin();
@@ -232,5 +548,10 @@ int main(void)
     RUN(error_shrinks_as_one_over_sqrt_k);
     RUN(cache_reused_keyed_and_repaired);
     RUN(reference_ignores_mode_overrides);
+    RUN(exact_stacked_cards_match_the_closed_form);
+    RUN(exact_overflow_falls_back_to_stochastic_for_the_lost_pixels);
+    RUN(exact_matches_stochastic_k1024_on_the_fence_and_the_forest);
+    RUN(exact_error_shrinks_with_s);
+    RUN(stochastic_coplanar_cards_are_tested_independently);
     return test_summary();
 }

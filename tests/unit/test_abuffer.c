@@ -1,8 +1,8 @@
-/* test_abuffer.c: the exact reference's resolve (src/reference/abuffer.c) against the closed form of
+/* test_abuffer.c: the exact reference's resolve (src/passes/abuffer.c) against the closed form of
  * front-to-back "over" compositing, on lists built by hand in the order a GPU might append them:
  * back-to-front input must not change the answer, equal depths follow draw order, alpha 0 and 1 do
  * what the stochastic test would, overflow marks the pixel, a corrupt list stops. */
-#include "reference/abuffer.h"
+#include "passes/abuffer.h"
 #include "test.h"
 
 // >>helpers

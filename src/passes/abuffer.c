@@ -1,8 +1,10 @@
 /* abuffer.c: the exact reference's resolve (see abuffer.h). */
-#include "reference/abuffer.h"
+#include "passes/abuffer.h"
 
 #include <math.h>
 #include <stdlib.h>
+
+_Static_assert(sizeof(abuffer_node) == 16 * ABUFFER_NODE_TEXELS, "abuffer_node is the list pass's RGBA32UI texels");
 
 /* Front to back: depth, then draw order, then primitive (a total order on what the list pass can
  * store twice at one pixel, so the result does not depend on the order fragments were appended). */
