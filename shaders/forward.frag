@@ -6,11 +6,16 @@
 //                (common/abuffer.glsl), nothing written to the targets.
 // Outputs: colour (linear, premultiplied, A = opacity) and coverage (DESIGN.md: opacity contributed
 // by alpha-mapped surfaces; 0 for opaque geometry and background).
+#ifdef PASS_LIST
+// The list pass allocates its nodes once per subgroup where it can (common/abuffer.glsl).
+#extension GL_ARB_shader_ballot : enable
+#extension GL_ARB_gpu_shader_int64 : enable
+#endif
 #include "common/shared_defs.h"
 #include "common/lighting.glsl"
 
-#if !defined(PASS_OPAQUE) && !defined(PASS_MASK) && !defined(PASS_BLEND) && !defined(PASS_LIST)
-#error "forward.frag needs one of PASS_OPAQUE, PASS_MASK, PASS_BLEND, PASS_LIST"
+#if !defined(PASS_OPAQUE) && !defined(PASS_MASK) && !defined(PASS_BLEND) && !defined(PASS_SOLID) && !defined(PASS_LIST)
+#error "forward.frag needs one of PASS_OPAQUE, PASS_MASK, PASS_BLEND, PASS_SOLID, PASS_LIST"
 #endif
 #include "common/draw_order.glsl"
 #ifdef FORWARD_DRAW_ORDER
@@ -93,7 +98,13 @@ void main()
     o_motion = vec4(v_motion, 0.0); // the blend pass leaves it unwritten (colour mask)
 #endif
 
-#if defined(PASS_LIST)
+#if defined(PASS_SOLID)
+    // Depth only (colour is masked off): the fragments a stochastic test always keeps.
+    if (!(alpha >= 1.0))
+        discard;
+    o_color = vec4(0.0);
+    o_coverage = vec4(0.0);
+#elif defined(PASS_LIST)
     // What a stochastic test keeps with probability alpha (MASK) or blends by alpha (BLEND): the
     // expectation of both is the front-to-back composite of these fragments.
     float a = min(alpha, 1.0);

@@ -83,9 +83,15 @@
 #define ABUFFER_NODE_TEXELS 2
 #define ABUFFER_END 0x7FFFFFFFu
 #define ABUFFER_OVERFLOW_BIT 0x80000000u
-#define ABUFFER_SOLID_NONE 0xFFFFFFFFu /* the solid-depth image's clear value: no alpha-1 fragment yet */
 #define ABUFFER_IMAGE_HEAD 0            /* image units of the list pass */
-#define ABUFFER_IMAGE_SOLID 1
-#define ABUFFER_IMAGE_NODES 2
+#define ABUFFER_IMAGE_NODES 1
+#define ABUFFER_COUNTER_BINDING 0       /* shader storage binding of the node counter */
+/* The GPU resolve (shaders/list_resolve.frag) sorts lists of up to this many nodes; it flags longer
+ * ones (ABUFFER_FLAG_LONG) for the C twin and those that lost fragments (ABUFFER_FLAG_OVERFLOW) for
+ * the stochastic fallback. */
+#define ABUFFER_RESOLVE_MAX 24
+#define ABUFFER_FLAG_DONE 0.0
+#define ABUFFER_FLAG_LONG 1.0
+#define ABUFFER_FLAG_OVERFLOW 2.0
 
 #endif

@@ -61,41 +61,50 @@ void abuffer_composite(abuffer_node *frags, size_t n, const float base[ABUFFER_P
     out[4] = (float)(a + t * base[4]); /* every stored fragment is alpha-mapped: it covers by its alpha */
 }
 
+int abuffer_resolve_pixel(const abuffer_lists *l, size_t i, const float base[ABUFFER_PLANES],
+                          float out[ABUFFER_PLANES], abuffer_scratch *s)
+{
+    uint64_t stored = l->count < l->capacity ? l->count : l->capacity;
+    size_t n = 0;
+    int over = 0;
+    uint32_t p = l->head[i];
+    /* Walk the list; more steps than nodes stored means a cycle (corrupt data): stop. */
+    for (uint64_t steps = 0; steps <= stored; steps++) {
+        over |= (p & ABUFFER_OVERFLOW_BIT) != 0;
+        p &= ~ABUFFER_OVERFLOW_BIT;
+        if (p == ABUFFER_END)
+            break;
+        if (p >= stored) { /* a node that was never written */
+            over = 1;
+            break;
+        }
+        if (n == s->cap) {
+            size_t cap = s->cap ? 2 * s->cap : 64;
+            abuffer_node *grown = realloc(s->items, cap * sizeof *grown);
+            if (!grown)
+                return -1;
+            s->items = grown;
+            s->cap = cap;
+        }
+        s->items[n++] = l->nodes[p];
+        p = l->nodes[p].next;
+    }
+    abuffer_composite(s->items, n, base, out);
+    return over;
+}
+
 long abuffer_resolve(const abuffer_lists *l, const float *const base[ABUFFER_PLANES], float *const out[ABUFFER_PLANES],
                      unsigned char *overflowed, abuffer_scratch *s)
 {
     size_t npix = (size_t)l->width * (size_t)l->height;
-    uint64_t stored = l->count < l->capacity ? l->count : l->capacity;
     long lost = 0;
     for (size_t i = 0; i < npix; i++) {
-        size_t n = 0;
-        int over = 0;
-        uint32_t p = l->head[i];
-        /* Walk the list; more steps than nodes stored means a cycle (corrupt data): stop. */
-        for (uint64_t steps = 0; steps <= stored; steps++) {
-            over |= (p & ABUFFER_OVERFLOW_BIT) != 0;
-            p &= ~ABUFFER_OVERFLOW_BIT;
-            if (p == ABUFFER_END)
-                break;
-            if (p >= stored) { /* a node that was never written */
-                over = 1;
-                break;
-            }
-            if (n == s->cap) {
-                size_t cap = s->cap ? 2 * s->cap : 64;
-                abuffer_node *grown = realloc(s->items, cap * sizeof *grown);
-                if (!grown)
-                    return -1;
-                s->items = grown;
-                s->cap = cap;
-            }
-            s->items[n++] = l->nodes[p];
-            p = l->nodes[p].next;
-        }
         float b[ABUFFER_PLANES], o[ABUFFER_PLANES];
         for (int k = 0; k < ABUFFER_PLANES; k++)
             b[k] = base[k][i];
-        abuffer_composite(s->items, n, b, o);
+        int over = abuffer_resolve_pixel(l, i, b, o, s);
+        if (over < 0)
+            return -1;
         for (int k = 0; k < ABUFFER_PLANES; k++)
             out[k][i] = o[k];
         if (overflowed)

@@ -11,8 +11,10 @@
  * Equal depths are ordered by draw order (the order a depth test with GL_LESS would keep them in),
  * then primitive: the result does not depend on the order the GPU appended the fragments in.
  *
- * Pure C, no GL: unit-tested on hand-built lists; the renderer reads the lists back
- * (renderer_read_lists) and the reference resolves them here.
+ * Pure C, no GL: the twin of shaders/list_resolve.frag, which resolves every list of up to
+ * ABUFFER_RESOLVE_MAX nodes on the GPU; the reference resolves the longer ones here (the renderer
+ * reads the lists back, renderer_read_lists). Unit-tested on hand-built lists; test_reference
+ * checks that the two resolves agree.
  */
 #ifndef FOVSIM_ABUFFER_H
 #define FOVSIM_ABUFFER_H
@@ -57,6 +59,11 @@ enum { ABUFFER_PLANES = 5 }; /* R, G, B, A, coverage */
  * what was stored. Returns the number of such pixels, or -1 when the scratch cannot grow. */
 long abuffer_resolve(const abuffer_lists *l, const float *const base[ABUFFER_PLANES], float *const out[ABUFFER_PLANES],
                      unsigned char *overflowed, abuffer_scratch *s);
+
+/* One pixel (index i, rows top first) of abuffer_resolve: returns 1 when its list lost fragments,
+ * 0 when not, -1 when the scratch cannot grow. */
+int abuffer_resolve_pixel(const abuffer_lists *l, size_t i, const float base[ABUFFER_PLANES],
+                          float out[ABUFFER_PLANES], abuffer_scratch *s);
 
 /* Composites one pixel's fragments (any order; sorted here in place) over base[ABUFFER_PLANES]. */
 void abuffer_composite(abuffer_node *frags, size_t n, const float base[ABUFFER_PLANES], float out[ABUFFER_PLANES]);

@@ -98,6 +98,10 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
         snprintf(ps->name, sizeof ps->name, "forward.blend");
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_BLEND 1");
         break;
+    case PLAN_PASS_FORWARD_SOLID:
+        snprintf(ps->name, sizeof ps->name, "forward.solid");
+        snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_SOLID 1");
+        break;
     case PLAN_PASS_FORWARD_LIST:
         snprintf(ps->name, sizeof ps->name, "forward.list");
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_LIST 1");
@@ -162,8 +166,8 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front); the
      * exact reference: opaque, then the list pass. */
     static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND,
-                                           PLAN_PASS_FORWARD_LIST};
-    for (int k = 0; k < 4; k++) {
+                                           PLAN_PASS_FORWARD_SOLID, PLAN_PASS_FORWARD_LIST};
+    for (int k = 0; k < 5; k++) {
         for (int a = 0; a < sc->asset_count; a++) {
             const asset *as = &sc->assets[a];
             long long inst = 0;
@@ -177,8 +181,11 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                 plan_pass_kind kind = m->alpha_kind == ALPHA_KIND_MASK    ? PLAN_PASS_FORWARD_MASK
                                       : m->alpha_kind == ALPHA_KIND_BLEND ? PLAN_PASS_FORWARD_BLEND
                                                                           : PLAN_PASS_FORWARD_OPAQUE;
+                /* The exact reference: MASK materials draw their alpha-1 texels' depth first (the
+                 * solid pass), then MASK and BLEND go to the list pass. */
                 if (out->reference_lists && kind != PLAN_PASS_FORWARD_OPAQUE)
-                    kind = PLAN_PASS_FORWARD_LIST;
+                    kind = kind == PLAN_PASS_FORWARD_MASK && order[k] == PLAN_PASS_FORWARD_SOLID ? PLAN_PASS_FORWARD_SOLID
+                                                                                               : PLAN_PASS_FORWARD_LIST;
                 if (kind != order[k])
                     continue;
                 alpha_mode mode = kind == PLAN_PASS_FORWARD_MASK ? plan_material_mode(out, m) : ALPHA_MODE_DEFAULT;
@@ -256,6 +263,9 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_COARSE_HISTORY 1");
         qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
     }
+    out->list_resolve = plan_find(out, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT) != NULL;
+    if (out->list_resolve)
+        fullscreen_pass(&out->list_resolve_pass, "list resolve", "shaders/list_resolve.frag");
     if (out->composite) {
         plan_pass *c = &out->composite_pass;
         fullscreen_pass(c, "composite", "shaders/composite.frag");

@@ -27,6 +27,7 @@ typedef enum plan_pass_kind {
     PLAN_PASS_FORWARD_OPAQUE = 0,
     PLAN_PASS_FORWARD_MASK,
     PLAN_PASS_FORWARD_BLEND,
+    PLAN_PASS_FORWARD_SOLID, /* the exact reference: depth of MASK fragments of alpha 1, pushed back */
     PLAN_PASS_FORWARD_LIST, /* the exact reference: MASK and BLEND fragments into per-pixel lists */
 } plan_pass_kind;
 
@@ -130,6 +131,9 @@ typedef struct plan {
     bool composite_tiles;       /* rings without overlay: rectangles whose every pixel takes one ring
                                  * unblended are drawn by composite_tile_pass, without the search */
     plan_pass composite_tile_pass; /* composite_pass + COMPOSITE_TILE (valid when composite_tiles) */
+    bool list_resolve;          /* the exact reference's list pass runs: its lists are sorted and
+                                 * composited by list_resolve_pass (shaders/list_resolve.frag) */
+    plan_pass list_resolve_pass;
 } plan;
 
 /* Builds the plan (FS_ERR_INTERNAL only if the scene needs more than PLAN_MAX_PASSES passes). */

@@ -146,13 +146,15 @@ struct renderer {
     int ring_instances[MAX_FOV_RINGS];     /* instances each ring drew in the last frame */
     float *read_buf, *read_row;            /* renderer_read's scratch, made on first use */
     /* >>lists: the exact reference's list pass (plan.reference_lists; abuffer.h) */
-    GLuint list_head, list_solid;          /* R32UI, display-sized: first node, nearest alpha-1 depth */
+    GLuint list_head;                      /* R32UI, display-sized: each pixel's first node */
     GLuint list_nodes, list_nodes_tex;     /* the node store and its RGBA32UI buffer texture */
-    GLuint list_counter;                   /* atomic counter: nodes asked for */
+    GLuint list_counter;                   /* shader storage: nodes asked for (atomicAdd) */
     uint64_t list_capacity;                /* nodes the store holds */
     uint32_t list_draw_order;              /* instances drawn so far in this pass (draw_order.glsl) */
     int list_phase;                        /* the list pass draws MASK (0), then BLEND (1) materials */
     uint64_t list_initial;                 /* renderer_desc.list_nodes, or 4 per pixel */
+    GLuint list_prog, list_u_stored;       /* the resolve (plan.list_resolve), its u_capacity */
+    GLuint list_fbo, list_color, list_coverage; /* its output: RGBA32F, RG32F (coverage, flag) */
     uint32_t *list_head_buf;               /* renderer_read_lists' scratch */
     void *list_node_buf;
     uint64_t list_node_buf_cap;
@@ -531,8 +533,22 @@ static fs_status create_targets(renderer *r)
     if (plan_find(&r->pl, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT)) {
         glCreateTextures(GL_TEXTURE_2D, 1, &r->list_head);
         glTextureStorage2D(r->list_head, 1, GL_R32UI, r->width, r->height);
-        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_solid);
-        glTextureStorage2D(r->list_solid, 1, GL_R32UI, r->width, r->height);
+        /* An integer texture with (the default) linear filtering is incomplete: reads return 0. */
+        glTextureParameteri(r->list_head, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(r->list_head, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_color);
+        glTextureStorage2D(r->list_color, 1, GL_RGBA32F, r->width, r->height);
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_coverage);
+        glTextureStorage2D(r->list_coverage, 1, GL_RG32F, r->width, r->height);
+        glCreateFramebuffers(1, &r->list_fbo);
+        glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT0, r->list_color, 0);
+        glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT1, r->list_coverage, 0);
+        glNamedFramebufferDrawBuffers(r->list_fbo, 2, bufs);
+        fs_status cst = check_fbo(r->list_fbo, "list resolve", r->width, r->height);
+        if (cst != FS_OK)
+            return cst;
+        if (!r->empty_vao)
+            glCreateVertexArrays(1, &r->empty_vao);
         glCreateBuffers(1, &r->list_counter);
         glNamedBufferStorage(r->list_counter, sizeof(GLuint), NULL, GL_DYNAMIC_STORAGE_BIT);
         if (renderer_reserve_list_nodes(r, r->list_initial) != FS_OK) {
@@ -581,6 +597,8 @@ static void name_stages(renderer *r)
     if (!r->pl.composite) {
         for (int i = 0; i < r->pl.pass_count; i++)
             snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "%s", r->pl.passes[i].name);
+        if (r->pl.list_resolve)
+            snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "list resolve");
         if (r->pl.taa)
             snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "taa resolve");
         return;
@@ -618,6 +636,10 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = composite_create(&r->pl.composite_tile_pass, &r->comp_tile);
     if (st == FS_OK && r->pl.taa)
         st = taa_create(&r->pl.taa_pass, &r->taa);
+    if (st == FS_OK && r->pl.list_resolve) {
+        st = build_pass_program(&r->pl.list_resolve_pass, &r->list_prog);
+        r->list_u_stored = (GLuint)glGetUniformLocation(r->list_prog, "u_capacity");
+    }
     if (st == FS_OK)
         st = upload_scene(r);
     if (st == FS_OK)
@@ -682,7 +704,10 @@ void renderer_destroy(renderer *r)
     free(r->read_buf);
     free(r->read_row);
     glDeleteTextures(1, &r->list_head);
-    glDeleteTextures(1, &r->list_solid);
+    glDeleteTextures(1, &r->list_color);
+    glDeleteTextures(1, &r->list_coverage);
+    glDeleteFramebuffers(1, &r->list_fbo);
+    glDeleteProgram(r->list_prog);
     glDeleteTextures(1, &r->list_nodes_tex);
     glDeleteBuffers(1, &r->list_nodes);
     glDeleteBuffers(1, &r->list_counter);
@@ -774,6 +799,7 @@ static bool prim_in_pass(const renderer *r, const material *m, const plan_pass *
     case PLAN_PASS_FORWARD_MASK: return m->alpha_kind == ALPHA_KIND_MASK && plan_material_mode(&r->pl, m) == ps->mode;
     case PLAN_PASS_FORWARD_BLEND: return m->alpha_kind == ALPHA_KIND_BLEND;
     /* MASK first, then BLEND: equal depths then order as the stochastic passes' depth test would. */
+    case PLAN_PASS_FORWARD_SOLID: return m->alpha_kind == ALPHA_KIND_MASK;
     case PLAN_PASS_FORWARD_LIST: return m->alpha_kind == (r->list_phase == 0 ? ALPHA_KIND_MASK : ALPHA_KIND_BLEND);
     }
     return false;
@@ -988,15 +1014,13 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
  * front of the opaque depth appended (early depth test, no depth or colour writes). */
 static void draw_lists(renderer *r, const gpu_program *pg, const plan_pass *ps)
 {
-    const GLuint end = ABUFFER_END, none = ABUFFER_SOLID_NONE, zero = 0;
+    const GLuint end = ABUFFER_END, zero = 0;
     glClearTexImage(r->list_head, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &end);
-    glClearTexImage(r->list_solid, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
     glClearNamedBufferData(r->list_counter, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     glBindImageTexture(ABUFFER_IMAGE_HEAD, r->list_head, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    glBindImageTexture(ABUFFER_IMAGE_SOLID, r->list_solid, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     glBindImageTexture(ABUFFER_IMAGE_NODES, r->list_nodes_tex, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
-    glBindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, r->list_counter);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ABUFFER_COUNTER_BINDING, r->list_counter);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     glProgramUniform1ui(pg->id, pg->u_list_capacity, (GLuint)r->list_capacity);
     glDepthMask(GL_FALSE);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -1005,6 +1029,31 @@ static void draw_lists(renderer *r, const gpu_program *pg, const plan_pass *ps)
         draw_instanced(r, pg, ps);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
+}
+
+/* The exact reference's lists sorted and composited over the opaque pass (list_resolve.frag). */
+static void list_resolve(renderer *r)
+{
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    glProgramUniform1ui(r->list_prog, (GLint)r->list_u_stored, (GLuint)r->list_capacity);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ABUFFER_COUNTER_BINDING, r->list_counter);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
+    glViewport(0, 0, r->width, r->height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(r->list_prog);
+    /* No sampler objects (the forward passes leave a material's on unit 0): texelFetch only, and
+     * an integer texture under a linear-filtering sampler is incomplete. */
+    for (GLuint u = 0; u < 4; u++)
+        glBindSampler(u, 0);
+    glBindTextureUnit(0, r->list_head);
+    glBindTextureUnit(1, r->list_nodes_tex);
+    glBindTextureUnit(2, r->rt.color);
+    glBindTextureUnit(3, r->rt.coverage);
+    glBindVertexArray(r->empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEnable(GL_DEPTH_TEST);
 }
 
 /* The forward passes of one ring into its target. `stage` >= 0: time each pass as a stage from
@@ -1067,6 +1116,15 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
             draw_instanced(r, pg, ps);
             glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
             glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+        } else if (ps->kind == PLAN_PASS_FORWARD_SOLID) {
+            /* Pushed back, so that the list pass (GL_LESS) still stores these fragments and any
+             * coplanar with them, in draw order: they order among themselves in the resolve. */
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(1.0f, 2.0f);
+            glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+            draw_instanced(r, pg, ps);
+            glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+            glDisable(GL_POLYGON_OFFSET_FILL);
         } else if (ps->kind == PLAN_PASS_FORWARD_LIST) {
             draw_lists(r, pg, ps);
         } else {
@@ -1182,10 +1240,16 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
     r->shaded_pixels = 0;
     if (!r->pl.composite) {
         draw_ring(r, fr, 0, 0, &t_prev);
-        if (r->pl.taa) {
+        if (r->pl.list_resolve) {
             stage_begin(r, r->pl.pass_count);
-            taa_resolve_ring(r, fr, 0);
+            list_resolve(r);
             stage_end(r, r->pl.pass_count, &t_prev);
+        }
+        if (r->pl.taa) {
+            int k = r->pl.pass_count + r->pl.list_resolve;
+            stage_begin(r, k);
+            taa_resolve_ring(r, fr, 0);
+            stage_end(r, k, &t_prev);
         }
         r->shaded_pixels = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
     } else {
@@ -1290,7 +1354,9 @@ static void flip_rows(void *p, void *row, int w, int h, int comps)
     }
 }
 
-fs_status renderer_read(renderer *r, exr_image *img)
+/* Reads `color` (RGBA) and `coverage` (its first channel) at level 0, layer 0, into *img as R, G, B,
+ * A and coverage, then any of the debug channels and the list resolve's flags the plan writes. */
+static fs_status read_images(renderer *r, exr_image *img, GLuint color, GLuint coverage, bool extras)
 {
     size_t n = (size_t)r->width * (size_t)r->height;
     /* The interleaved read-back lives as long as the renderer: nothing in the frame loop is
@@ -1305,18 +1371,17 @@ fs_status renderer_read(renderer *r, exr_image *img)
     if (!exr_image_init(img, r->width, r->height))
         return FS_ERR_NOMEM;
     static const char *const names[] = {"R", "G", "B", "A", "coverage", "ring.id", "eccentricity"};
-    int channels = r->pl.debug_channels ? 7 : 5;
-    float *planes[7];
+    int channels = extras && r->pl.debug_channels ? 7 : 5;
+    float *planes[7], *flags = NULL;
     for (int c = 0; c < channels; c++)
         if (!(planes[c] = exr_image_add_channel(img, names[c]))) {
             exr_image_free(img);
             return FS_ERR_NOMEM;
         }
-    /* Composite: the display targets; rings off: layer 0 of the ring arrays (display-sized). */
-    GLuint color = r->pl.composite ? r->out_tex[OUT_COLOR] : r->pl.taa ? r->taa_color[r->out_parity] : r->rt.color;
-    GLuint coverage = r->pl.composite ? r->out_tex[OUT_COVERAGE]
-                      : r->pl.taa  ? r->taa_coverage[r->out_parity]
-                                   : r->rt.coverage;
+    if (extras && r->pl.list_resolve && !(flags = exr_image_add_channel(img, RENDERER_LIST_FLAG_CHANNEL))) {
+        exr_image_free(img);
+        return FS_ERR_NOMEM;
+    }
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
     glGetTextureSubImage(color, 0, 0, 0, 0, r->width, r->height, 1, GL_RGBA, GL_FLOAT,
                          (GLsizei)(sizeof(float) * 4 * n), rgba);
@@ -1327,7 +1392,7 @@ fs_status renderer_read(renderer *r, exr_image *img)
     for (size_t i = 0; i < n; i++)
         for (int c = 0; c < 4; c++)
             planes[c][i] = rgba[4 * i + (size_t)c];
-    if (r->pl.debug_channels) {
+    if (channels == 7) {
         glGetTextureImage(r->out_tex[OUT_DEBUG], 0, GL_RG, GL_FLOAT, (GLsizei)(sizeof(float) * 2 * n), rgba);
         flip_rows(rgba, r->read_row, r->width, r->height, 2);
         for (size_t i = 0; i < n; i++) {
@@ -1335,7 +1400,32 @@ fs_status renderer_read(renderer *r, exr_image *img)
             planes[6][i] = rgba[2 * i + 1];
         }
     }
+    if (flags) {
+        glGetTextureImage(coverage, 0, GL_GREEN, GL_FLOAT, (GLsizei)(sizeof(float) * n), flags);
+        flip_rows(flags, r->read_row, r->width, r->height, 1);
+    }
     return FS_OK;
+}
+
+fs_status renderer_read(renderer *r, exr_image *img)
+{
+    /* Composite: the display targets; rings off: layer 0 of the ring arrays (display-sized); the
+     * exact reference: its resolve. */
+    GLuint color = r->pl.composite      ? r->out_tex[OUT_COLOR]
+                   : r->pl.list_resolve ? r->list_color
+                   : r->pl.taa          ? r->taa_color[r->out_parity]
+                                        : r->rt.color;
+    GLuint coverage = r->pl.composite      ? r->out_tex[OUT_COVERAGE]
+                      : r->pl.list_resolve ? r->list_coverage
+                      : r->pl.taa          ? r->taa_coverage[r->out_parity]
+                                           : r->rt.coverage;
+    return read_images(r, img, color, coverage, true);
+}
+
+fs_status renderer_read_opaque(renderer *r, exr_image *img)
+{
+    FS_ASSERT(r->pl.list_resolve);
+    return read_images(r, img, r->rt.color, r->rt.coverage, false);
 }
 
 void renderer_set_mip_bias(renderer *r, int ring, float bias)
@@ -1384,14 +1474,17 @@ fs_status renderer_reserve_list_nodes(renderer *r, uint64_t nodes)
     return FS_OK;
 }
 
-fs_status renderer_read_lists(renderer *r, abuffer_lists *out)
+fs_status renderer_read_lists(renderer *r, abuffer_lists *out, bool with_nodes)
 {
     FS_ASSERT(r->list_head);
     size_t npix = (size_t)r->width * (size_t)r->height;
-    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     GLuint count = 0;
     glGetNamedBufferSubData(r->list_counter, 0, sizeof count, &count);
     uint64_t stored = count < r->list_capacity ? count : r->list_capacity;
+    *out = (abuffer_lists){r->width, r->height, NULL, NULL, count, r->list_capacity};
+    if (!with_nodes)
+        return FS_OK;
     if (!r->list_head_buf && !(r->list_head_buf = malloc(sizeof(uint32_t) * npix)))
         return FS_ERR_NOMEM;
     if (!r->read_row && !(r->read_row = malloc(sizeof(float) * 4 * (size_t)r->width)))

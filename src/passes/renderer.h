@@ -65,8 +65,13 @@ void renderer_destroy(renderer *r);
 /* Draws one frame into the renderer's targets. */
 fs_status renderer_draw(renderer *r, const frame_record *fr);
 /* Reads colour and coverage into *img (initialised here; rows top first): channels R, G, B, A,
- * coverage, and ring.id + eccentricity when the plan asks for debug channels. */
+ * coverage, and ring.id + eccentricity when the plan asks for debug channels. The exact
+ * reference's plan (plan.list_resolve): its resolved lists, and RENDERER_LIST_FLAG_CHANNEL with
+ * each pixel's ABUFFER_FLAG_* (long lists and overflowed ones are not resolved there). */
 fs_status renderer_read(renderer *r, exr_image *img);
+#define RENDERER_LIST_FLAG_CHANNEL "list.flag"
+/* plan.list_resolve: the opaque pass alone (what the lists are composited over), R, G, B, A, coverage. */
+fs_status renderer_read_opaque(renderer *r, exr_image *img);
 /* With `on`, every later renderer_draw finishes the GPU after each pass and records its wall time
  * (renderer_stats.pass_wall_ms). Adds sync overhead: bench measures frame time without it. */
 void renderer_set_pass_sync(renderer *r, bool on);
@@ -79,8 +84,9 @@ void renderer_finish(renderer *r);
 uint64_t renderer_list_nodes_max(void);
 /* Grows the store to at least `nodes` (at most renderer_list_nodes_max); the next frame uses it. */
 fs_status renderer_reserve_list_nodes(renderer *r, uint64_t nodes);
-/* The last frame's lists (borrowed: valid until the next call or renderer_destroy); rows top first. */
-fs_status renderer_read_lists(renderer *r, abuffer_lists *out);
+/* The last frame's lists (borrowed: valid until the next call or renderer_destroy); rows top first.
+ * `with_nodes` false reads only the counts (count, capacity), for deciding whether to grow. */
+fs_status renderer_read_lists(renderer *r, abuffer_lists *out, bool with_nodes);
 
 /* Sets a ring's mip bias for later frames (the reference draws grids of several sizes). */
 void renderer_set_mip_bias(renderer *r, int ring, float bias);

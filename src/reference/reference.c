@@ -11,6 +11,7 @@
 #include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "passes/abuffer.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
@@ -350,9 +351,10 @@ static fs_status exact_fallback(reference *rf, const frame_record *fr, float bia
 }
 
 /* One exact sub-sample into rf->sample: the opaque pass's image with every pixel's fragment list
- * composited over it front to back (abuffer_resolve). A pass whose lists outgrow the store is drawn
- * again with a store grown to what it asked for, up to the budget; pixels that still lose fragments
- * take the stochastic estimate (exact_fallback). */
+ * composited over it front to back, by the GPU resolve (list_resolve.frag), lists longer than it
+ * sorts by its C twin (abuffer_resolve_pixel). A pass whose lists outgrow the store is drawn again
+ * with a store grown to what it asked for, up to the budget; pixels that still lose fragments take
+ * the stochastic estimate (exact_fallback). */
 static fs_status exact_sample(reference *rf, const frame_record *fr, float bias, reference_info *info)
 {
     size_t n = (size_t)rf->width * (size_t)rf->height;
@@ -360,7 +362,7 @@ static fs_status exact_sample(reference *rf, const frame_record *fr, float bias,
     fs_status st = renderer_draw(rf->r, fr);
     abuffer_lists l = {0};
     for (int attempt = 0; st == FS_OK && rf->lists; attempt++) {
-        st = renderer_read_lists(rf->r, &l);
+        st = renderer_read_lists(rf->r, &l, false);
         if (st != FS_OK || l.count <= l.capacity || l.capacity >= rf->budget_nodes || attempt == 2)
             break;
         uint64_t want = l.count + l.count / 8;
@@ -373,29 +375,53 @@ static fs_status exact_sample(reference *rf, const frame_record *fr, float bias,
         }
         st = renderer_draw(rf->r, fr);
     }
-    exr_image base;
+    exr_image img;
     if (st == FS_OK)
-        st = renderer_read(rf->r, &base);
+        st = renderer_read(rf->r, &img);
     if (st != FS_OK)
         return st;
-    const float *bp[REF_CHANNELS];
-    float *op[REF_CHANNELS];
-    for (int c = 0; c < REF_CHANNELS; c++) {
-        bp[c] = exr_image_channel(&base, k_channels[c]);
-        op[c] = rf->sample + (size_t)c * n;
+    for (int c = 0; c < REF_CHANNELS; c++)
+        memcpy(rf->sample + (size_t)c * n, exr_image_channel(&img, k_channels[c]), sizeof(float) * n);
+    if (!rf->lists) {
+        exr_image_free(&img);
+        return FS_OK;
     }
-    long lost = 0;
-    if (rf->lists) {
-        info->list_nodes = l.count > info->list_nodes ? l.count : info->list_nodes;
-        lost = abuffer_resolve(&l, bp, op, rf->lost, &rf->scratch);
-    } else {
-        for (int c = 0; c < REF_CHANNELS; c++)
-            memcpy(op[c], bp[c], sizeof(float) * n);
+    info->list_nodes = l.count > info->list_nodes ? l.count : info->list_nodes;
+    const float *flag = exr_image_channel(&img, RENDERER_LIST_FLAG_CHANNEL);
+    long lost = 0, longer = 0;
+    for (size_t i = 0; i < n; i++) {
+        rf->lost[i] = flag[i] == (float)ABUFFER_FLAG_OVERFLOW;
+        lost += rf->lost[i];
+        longer += flag[i] == (float)ABUFFER_FLAG_LONG;
     }
-    exr_image_free(&base);
-    if (lost < 0)
-        return FS_ERR_NOMEM;
-    if (lost > 0) {
+    if (longer > 0) { /* the C twin sorts what the GPU resolve had no room for */
+        exr_image base = {0};
+        st = renderer_read_lists(rf->r, &l, true);
+        if (st == FS_OK)
+            st = renderer_read_opaque(rf->r, &base);
+        bool have_base = st == FS_OK;
+        for (size_t i = 0; i < n && st == FS_OK; i++) {
+            if (flag[i] != (float)ABUFFER_FLAG_LONG)
+                continue;
+            float b[REF_CHANNELS], o[REF_CHANNELS];
+            for (int c = 0; c < REF_CHANNELS; c++)
+                b[c] = base.planes[c][i];
+            int over = abuffer_resolve_pixel(&l, i, b, o, &rf->scratch);
+            if (over < 0)
+                st = FS_ERR_NOMEM;
+            for (int c = 0; c < REF_CHANNELS; c++)
+                rf->sample[(size_t)c * n + i] = o[c];
+            if (over > 0) {
+                rf->lost[i] = 1;
+                lost++;
+            }
+        }
+        if (have_base)
+            exr_image_free(&base);
+    }
+    exr_image_free(&img);
+    info->long_lists += longer;
+    if (st == FS_OK && lost > 0) {
         info->overflow_pixels += lost;
         st = exact_fallback(rf, fr, bias);
     }

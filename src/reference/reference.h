@@ -73,6 +73,8 @@ typedef struct reference_info {
     long overflow_pixels; /* exact: sub-sample pixels whose lists overflowed and fell back (summed
                            * over the sub-samples of the frame; 0 when cached) */
     uint64_t list_nodes;  /* exact: the most list nodes one pass asked for (0 when cached) */
+    long long_lists;      /* exact: sub-sample pixels whose lists were longer than the GPU resolve
+                           * sorts (ABUFFER_RESOLVE_MAX), resolved on the CPU (0 when cached) */
     char path[1024];   /* the cache file ("" without a cache) */
     uint64_t key;
 } reference_info;
