@@ -26,7 +26,11 @@ struct reference {
     const scene *sc;
     reference_kind kind;
     int width, height, ss, k;
-    int grid_c;        /* exact: the comparison grid C of the error estimate */
+    /* exact, the error estimate: even S compares with the four (S/2) x (S/2) sub-grids of every
+     * other sub-sample (sub: their RGB sums, 4 x 3 planes; no extra passes); odd S with a C x C
+     * grid drawn for it (grid_c = S / 2, or 2 when S = 1). */
+    int grid_c;
+    float *sub;
     char cache_dir[900];
     char describe[128];
     plan pl;
@@ -107,12 +111,14 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     po.reference_lists = exact;
     *status = plan_build(sc, &po, &rf->pl);
     rf->lists = exact && plan_find(&rf->pl, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT) != NULL;
-    rf->grid_c = rf->ss >= 2 ? rf->ss / 2 : 2;
+    rf->grid_c = rf->ss % 2 == 0 ? 0 : rf->ss >= 3 ? rf->ss / 2 : 2;
     size_t npix = (size_t)rf->width * (size_t)rf->height, n = npix * REF_CHANNELS;
     for (int h = 0; h < 2 && *status == FS_OK; h++)
         if (!(rf->half[h] = malloc(sizeof(float) * n)))
             *status = FS_ERR_NOMEM;
     if (*status == FS_OK && exact && (!(rf->sample = malloc(sizeof(float) * n)) || !(rf->lost = malloc(npix))))
+        *status = FS_ERR_NOMEM;
+    if (*status == FS_OK && exact && rf->grid_c == 0 && !(rf->sub = malloc(sizeof(float) * 12 * npix)))
         *status = FS_ERR_NOMEM;
     if (*status == FS_OK) {
         /* The budget in nodes: what the caller asked for, capped by what one GL store can hold. */
@@ -157,6 +163,7 @@ void reference_destroy(reference *rf)
     free(rf->half[0]);
     free(rf->half[1]);
     free(rf->sample);
+    free(rf->sub);
     free(rf->lost);
     free(rf->fallback_sum);
     abuffer_scratch_free(&rf->scratch);
@@ -185,7 +192,7 @@ int reference_samples(const reference *rf)
 
 int reference_compare_grid(const reference *rf)
 {
-    return rf->grid_c;
+    return rf->grid_c ? rf->grid_c : rf->ss / 2;
 }
 
 int reference_pass_count(const reference *rf)
@@ -238,6 +245,17 @@ static bool cache_load(const reference *rf, const char *path, const char *hex, e
 static void add_planes(float *sum, const float *const planes[REF_CHANNELS], size_t n)
 {
     for (int c = 0; c < REF_CHANNELS; c++) {
+        const float *p = planes[c];
+        float *s = sum + (size_t)c * n;
+        for (size_t i = 0; i < n; i++)
+            s[i] += isfinite(p[i]) ? p[i] : 0.0f;
+    }
+}
+
+/* Adds the R, G, B planes into a sum of 3 planes. */
+static void add_planes_rgb(float *sum, const float *const planes[REF_CHANNELS], size_t n)
+{
+    for (int c = 0; c < 3; c++) {
         const float *p = planes[c];
         float *s = sum + (size_t)c * n;
         for (size_t i = 0; i < n; i++)
@@ -428,13 +446,16 @@ static fs_status exact_sample(reference *rf, const frame_record *fr, float bias,
     return st;
 }
 
-/* The exact kind: the S x S grid, and the C x C grid it is compared with for the error estimate. */
+/* The exact kind: the S x S grid, and for the error estimate its four sub-grids (even S) or a
+ * C x C grid drawn for it (odd S). */
 static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *img, reference_info *info)
 {
     size_t n = (size_t)rf->width * (size_t)rf->height;
     int grids[2] = {rf->ss, rf->grid_c}, total = reference_pass_count(rf), done = 0;
     fs_status st = FS_OK;
-    for (int g = 0; g < 2 && st == FS_OK; g++) {
+    if (rf->sub)
+        memset(rf->sub, 0, sizeof(float) * 12 * n);
+    for (int g = 0; g < 2 && grids[g] > 0 && st == FS_OK; g++) {
         memset(rf->half[g], 0, sizeof(float) * n * REF_CHANNELS);
         float bias = -log2f((float)grids[g]);
         for (int sy = 0; sy < grids[g] && st == FS_OK; sy++)
@@ -446,6 +467,8 @@ static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *i
                     for (int c = 0; c < REF_CHANNELS; c++)
                         planes[c] = rf->sample + (size_t)c * n;
                     add_planes(rf->half[g], planes, n);
+                    if (g == 0 && rf->sub) /* RGB of sub-grid (sx % 2, sy % 2) */
+                        add_planes_rgb(rf->sub + (size_t)(3 * (2 * (sy % 2) + sx % 2)) * n, planes, n);
                 }
                 done++;
                 if (rf->on_pass)
@@ -456,19 +479,30 @@ static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *i
         return st;
     if (!exr_image_init(img, rf->width, rf->height))
         return FS_ERR_NOMEM;
-    double inv_s = 1.0 / (double)(rf->ss * rf->ss), inv_c = 1.0 / (double)(rf->grid_c * rf->grid_c), err2 = 0.0;
+    int half = rf->ss / 2;
+    double inv_s = 1.0 / (double)(rf->ss * rf->ss), err2 = 0.0;
+    double inv_c = rf->grid_c ? 1.0 / (double)(rf->grid_c * rf->grid_c) : 1.0 / (double)(half * half);
     for (int c = 0; c < REF_CHANNELS; c++) {
         float *p = exr_image_add_channel(img, k_channels[c]);
         if (!p) {
             exr_image_free(img);
             return FS_ERR_NOMEM;
         }
-        const float *a = rf->half[0] + (size_t)c * n, *b = rf->half[1] + (size_t)c * n;
+        const float *a = rf->half[0] + (size_t)c * n;
         for (size_t i = 0; i < n; i++) {
-            double ms = a[i] * inv_s, mc = b[i] * inv_c;
+            double ms = a[i] * inv_s;
             p[i] = exr_half_round((float)ms); /* rounded as the cache stores it */
-            if (c < 3)
+            if (c >= 3)
+                continue;
+            if (rf->grid_c) {
+                double mc = rf->half[1][(size_t)c * n + i] * inv_c;
                 err2 += (ms - mc) * (ms - mc);
+            } else {
+                for (int k = 0; k < 4; k++) {
+                    double mc = rf->sub[(size_t)(3 * k + c) * n + i] * inv_c;
+                    err2 += 0.25 * (ms - mc) * (ms - mc);
+                }
+            }
         }
     }
     info->error = sqrt(err2 / (3.0 * (double)n));
@@ -504,9 +538,12 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     exr_image_set_string(img, "fovsim:ref_kind", reference_kind_name(rf->kind));
     exr_image_set_float(img, "fovsim:ref_error", (float)info->error);
     char what[200];
-    if (exact)
-        snprintf(what, sizeof what, "RMS over linear RGB of this frame minus the same at %dx%d sub-samples", rf->grid_c,
-                 rf->grid_c);
+    if (exact && rf->grid_c)
+        snprintf(what, sizeof what, "RMS over linear RGB of this frame minus the same drawn at %dx%d sub-samples",
+                 rf->grid_c, rf->grid_c);
+    else if (exact)
+        snprintf(what, sizeof what, "RMS over linear RGB of this frame minus each of its four %dx%d sub-grids (every "
+                 "other sub-sample)", rf->ss / 2, rf->ss / 2);
     else
         snprintf(what, sizeof what, "RMS over linear RGB of half the difference of the two halves of the %d tests", rf->k);
     exr_image_set_string(img, "fovsim:ref_error_method", what);
