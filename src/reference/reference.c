@@ -241,21 +241,11 @@ static bool cache_load(const reference *rf, const char *path, const char *hex, e
 
 /* >>drawing */
 
-/* Adds REF_CHANNELS planes into a sum; a broken sample must not poison the truth. */
-static void add_planes(float *sum, const float *const planes[REF_CHANNELS], size_t n)
+/* Adds the first `count` planes (of n values) into a sum of as many planes; a broken sample must
+ * not poison the truth. */
+static void add_planes(float *sum, const float *const planes[REF_CHANNELS], int count, size_t n)
 {
-    for (int c = 0; c < REF_CHANNELS; c++) {
-        const float *p = planes[c];
-        float *s = sum + (size_t)c * n;
-        for (size_t i = 0; i < n; i++)
-            s[i] += isfinite(p[i]) ? p[i] : 0.0f;
-    }
-}
-
-/* Adds the R, G, B planes into a sum of 3 planes. */
-static void add_planes_rgb(float *sum, const float *const planes[REF_CHANNELS], size_t n)
-{
-    for (int c = 0; c < 3; c++) {
+    for (int c = 0; c < count; c++) {
         const float *p = planes[c];
         float *s = sum + (size_t)c * n;
         for (size_t i = 0; i < n; i++)
@@ -273,7 +263,7 @@ static fs_status accumulate(reference *rf, renderer *r, float *sum)
     const float *planes[REF_CHANNELS];
     for (int c = 0; c < REF_CHANNELS; c++)
         planes[c] = exr_image_channel(&img, k_channels[c]);
-    add_planes(sum, planes, (size_t)rf->width * (size_t)rf->height);
+    add_planes(sum, planes, REF_CHANNELS, (size_t)rf->width * (size_t)rf->height);
     exr_image_free(&img);
     return FS_OK;
 }
@@ -413,26 +403,29 @@ static fs_status exact_sample(reference *rf, const frame_record *fr, float bias,
         longer += flag[i] == (float)ABUFFER_FLAG_LONG;
     }
     if (longer > 0) { /* the C twin sorts what the GPU resolve had no room for */
-        exr_image base = {0};
+        exr_image base;
         st = renderer_read_lists(rf->r, &l, true);
         if (st == FS_OK)
             st = renderer_read_opaque(rf->r, &base);
         bool have_base = st == FS_OK;
+        const float *bp[REF_CHANNELS];
+        for (int c = 0; c < REF_CHANNELS && have_base; c++)
+            bp[c] = exr_image_channel(&base, k_channels[c]);
         for (size_t i = 0; i < n && st == FS_OK; i++) {
             if (flag[i] != (float)ABUFFER_FLAG_LONG)
                 continue;
             float b[REF_CHANNELS], o[REF_CHANNELS];
             for (int c = 0; c < REF_CHANNELS; c++)
-                b[c] = base.planes[c][i];
+                b[c] = bp[c][i];
             int over = abuffer_resolve_pixel(&l, i, b, o, &rf->scratch);
-            if (over < 0)
+            if (over < 0) {
                 st = FS_ERR_NOMEM;
+                break;
+            }
             for (int c = 0; c < REF_CHANNELS; c++)
                 rf->sample[(size_t)c * n + i] = o[c];
-            if (over > 0) {
-                rf->lost[i] = 1;
-                lost++;
-            }
+            rf->lost[i] = (unsigned char)over;
+            lost += over;
         }
         if (have_base)
             exr_image_free(&base);
@@ -466,9 +459,9 @@ static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *i
                     const float *planes[REF_CHANNELS];
                     for (int c = 0; c < REF_CHANNELS; c++)
                         planes[c] = rf->sample + (size_t)c * n;
-                    add_planes(rf->half[g], planes, n);
+                    add_planes(rf->half[g], planes, REF_CHANNELS, n);
                     if (g == 0 && rf->sub) /* RGB of sub-grid (sx % 2, sy % 2) */
-                        add_planes_rgb(rf->sub + (size_t)(3 * (2 * (sy % 2) + sx % 2)) * n, planes, n);
+                        add_planes(rf->sub + (size_t)(3 * (2 * (sy % 2) + sx % 2)) * n, planes, 3, n);
                 }
                 done++;
                 if (rf->on_pass)
