@@ -108,7 +108,7 @@ static fs_status run_reference(const run_desc *d)
     if (st == FS_OK && !errors)
         st = FS_ERR_NOMEM;
     int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0;
-    long overflow = 0;
+    long overflow = 0, long_lists = 0;
     uint64_t nodes = 0;
     session_catch_sigint();
     rp.pr = progress_begin("reference pass", frames * passes, d->quiet);
@@ -128,6 +128,7 @@ static fs_status run_reference(const run_desc *d)
             break;
         errors[i] = info.error;
         overflow += info.overflow_pixels;
+        long_lists += info.long_lists;
         nodes = info.list_nodes > nodes ? info.list_nodes : nodes;
         cached += info.cached;
         rebuilt += info.rebuilt;
@@ -166,9 +167,11 @@ static fs_status run_reference(const run_desc *d)
                    "max %.5f\n", reference_supersample(rf), reference_supersample(rf), c, c,
                    stats_quantile(errors, frames, 0.5), errors[frames - 1]);
             if (drawn > 0)
-                printf("  fragment lists: at most %llu nodes in one pass (%.0f MB); %ld overflowed sub-sample pixels "
-                       "took %d stochastic tests instead\n", (unsigned long long)nodes,
-                       (double)nodes * (double)sizeof(abuffer_node) / 1048576.0, overflow, reference_samples(rf));
+                printf("  fragment lists: at most %llu nodes in one pass (%.0f MB); %ld sub-sample pixels had more "
+                       "than %d fragments (sorted on the CPU); %ld overflowed sub-sample pixels took %d stochastic "
+                       "tests instead\n", (unsigned long long)nodes,
+                       (double)nodes * (double)sizeof(abuffer_node) / 1048576.0, long_lists, ABUFFER_RESOLVE_MAX,
+                       overflow, reference_samples(rf));
         } else {
             printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
                    stats_quantile(errors, frames, 0.5), errors[frames - 1]);
