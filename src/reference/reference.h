@@ -8,13 +8,16 @@
  * (frame_record_shift), with texture LOD biased by -log2(S) so it samples the mip level an S x S
  * supersampled pixel would. Two kinds:
  *
- *   exact (default): the expectation itself. Each pass draws the opaque surfaces, then appends every
- *     MASK and BLEND fragment in front of them to its pixel's list (an A-buffer, abuffer.h), which
- *     is sorted and composited front to back. S*S passes. Convergence is spatial only: the frame's
- *     estimated error is RMS(ref_S - ref_C) over linear RGB, C = S/2 (C = 2 when S = 1), which
- *     costs C*C more passes. The list store has a memory budget; a pass that needs more grows it up
- *     to the budget, and the pixels that still lose fragments fall back to a K-test stochastic
- *     estimate of that sub-sample (reference_info.overflow_pixels counts them).
+ *   exact (default): the expectation itself. Each pass draws the opaque surfaces and the depth of
+ *     alpha-1 MASK texels, then appends every MASK and BLEND fragment in front of them to its
+ *     pixel's list (an A-buffer, abuffer.h), which the GPU sorts and composites front to back (lists
+ *     longer than ABUFFER_RESOLVE_MAX: the C twin). S*S passes. Convergence is spatial only: the
+ *     frame's estimated error is RMS(ref_S - ref_S/2) over linear RGB, for even S against the four
+ *     (S/2) x (S/2) sub-grids of every other sub-sample (no extra pass), for odd S against a C x C
+ *     grid drawn for it (C = S/2 rounded down; 2 when S = 1). The list store has a memory budget; a
+ *     pass that needs more grows it up to the budget, and the pixels that still lose fragments
+ *     fall back to a K-test stochastic estimate of that sub-sample (reference_info.overflow_pixels
+ *     counts them).
  *   stochastic: K stochastic alpha tests per sub-sample, S*S*K passes, each with its own threshold;
  *     error proportional to 1/sqrt(K). The passes are summed in two halves A (the first K/2 tests of
  *     every sub-sample) and B (the rest); the frame is (A + B) / 2 and its estimated error
@@ -93,9 +96,9 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
 reference_kind reference_get_kind(const reference *rf);
 int reference_supersample(const reference *rf);
 int reference_samples(const reference *rf);
-/* Exact: the comparison grid C of the error estimate (S / 2, or 2 when S = 1). */
+/* Exact: the grid the error estimate compares with (S / 2 rounded down, or 2 when S = 1). */
 int reference_compare_grid(const reference *rf);
-/* Passes a drawn frame takes: exact S * S + C * C (without fallbacks), stochastic S * S * K. */
+/* Passes a drawn frame takes: exact S * S (+ C * C for odd S; without fallbacks), stochastic S * S * K. */
 int reference_pass_count(const reference *rf);
 /* One line for people: "exact (A-buffer), 4x4 sub-samples" or "stochastic, 4x4 sub-samples x 64
  * alpha tests". */

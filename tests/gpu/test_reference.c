@@ -614,6 +614,27 @@ TEST(gpu_and_c_resolves_agree_on_the_forest)
     scene_free(&sc);
 }
 
+TEST(exact_opaque_only_scene_is_the_opaque_pass)
+{
+    /* No MASK or BLEND material: no list pass, and the exact frame is the opaque card's colour,
+     * coverage 0, A 1, the same as the stochastic kind (which has nothing to test either). */
+    enum { W = 32, H = 20 };
+    static const card opaque[1] = {{-1.0f, 1.0f, {0.2f, 0.5f, 0.7f}, ALPHA_KIND_OPAQUE}};
+    scene sc;
+    stacked_cards_scene(&sc, opaque, 1);
+    exr_image ex, st;
+    reference_info ie, is;
+    CHECK(exact_frame(&sc, W, H, 2, NULL, &ex, &ie) == FS_OK);
+    CHECK(ref_frame(&sc, W, H, 2, 2, NULL, &st, &is) == FS_OK);
+    CHECK(ie.list_nodes == 0 && ie.overflow_pixels == 0);
+    CHECK(files_equal(&ex, &st));
+    CHECK(image_max_dev(&ex, "G", 0.5) <= 1e-3 && image_max_dev(&ex, "coverage", 0.0) == 0.0 &&
+          image_max_dev(&ex, "A", 1.0) == 0.0);
+    exr_image_free(&ex);
+    exr_image_free(&st);
+    scene_free(&sc);
+}
+
 TEST(exact_works_on_every_builtin_scene)
 {
     /* Every built-in scene (the swaying one at t = 0.5 s): the exact frame is finite, A and
@@ -702,6 +723,7 @@ int main(void)
     RUN(exact_error_shrinks_with_s);
     RUN(exact_long_lists_are_resolved_by_the_c_twin);
     RUN(gpu_and_c_resolves_agree_on_the_forest);
+    RUN(exact_opaque_only_scene_is_the_opaque_pass);
     RUN(exact_works_on_every_builtin_scene);
     RUN(stochastic_coplanar_cards_are_tested_independently);
     return test_summary();

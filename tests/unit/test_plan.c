@@ -84,6 +84,39 @@ TEST(mask_and_blend_get_their_passes_in_draw_order)
     scene_free(&sc);
 }
 
+TEST(exact_reference_passes_follow_the_content)
+{
+    /* The exact reference: opaque, the solid depth of MASK materials, then one list pass for MASK
+     * and BLEND, and the list resolve. Without MASK no solid pass; with only opaque materials no
+     * list pass and no resolve (the opaque pass is the whole answer). */
+    plan_options ref = {.frames = 1, .reference = true, .reference_lists = true};
+    scene sc;
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_BLEND, 2);
+    add(&sc, ALPHA_KIND_MASK, 3);
+    add(&sc, ALPHA_KIND_OPAQUE, 1);
+    plan p;
+    CHECK(plan_build(&sc, &ref, &p) == FS_OK);
+    CHECK(p.pass_count == 3 && p.list_resolve);
+    CHECK(p.passes[0].kind == PLAN_PASS_FORWARD_OPAQUE);
+    CHECK(p.passes[1].kind == PLAN_PASS_FORWARD_SOLID && p.passes[1].triangles == 3);
+    CHECK(p.passes[2].kind == PLAN_PASS_FORWARD_LIST && p.passes[2].triangles == 5);
+    CHECK(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_STOCHASTIC) == NULL);
+    scene_free(&sc);
+
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_BLEND, 2);
+    CHECK(plan_build(&sc, &ref, &p) == FS_OK);
+    CHECK(p.pass_count == 1 && p.passes[0].kind == PLAN_PASS_FORWARD_LIST && p.list_resolve);
+    scene_free(&sc);
+
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_OPAQUE, 2);
+    CHECK(plan_build(&sc, &ref, &p) == FS_OK);
+    CHECK(p.pass_count == 1 && p.passes[0].kind == PLAN_PASS_FORWARD_OPAQUE && !p.list_resolve);
+    scene_free(&sc);
+}
+
 TEST(unplaced_assets_cost_nothing)
 {
     scene sc;
@@ -306,6 +339,7 @@ int main(void)
 {
     RUN(opaque_scene_has_no_alpha_variant_whatever_the_mode);
     RUN(mask_and_blend_get_their_passes_in_draw_order);
+    RUN(exact_reference_passes_follow_the_content);
     RUN(unplaced_assets_cost_nothing);
     RUN(modes_choose_variants_and_targets);
     RUN(shipped_scenes);
