@@ -15,6 +15,13 @@ layout(std430, binding = ABUFFER_COUNTER_BINDING) readonly buffer abuffer_counte
 };
 uniform uint u_capacity;                              // nodes the store holds
 
+// Equal depths: whether node a comes before node b (draw order, then primitive).
+bool abuffer_tie_before(uint a, uint b)
+{
+    uvec2 ka = texelFetch(u_nodes, int(a) * ABUFFER_NODE_TEXELS).zw, kb = texelFetch(u_nodes, int(b) * ABUFFER_NODE_TEXELS).zw;
+    return ka.x != kb.x ? ka.x < kb.x : ka.y < kb.y;
+}
+
 layout(location = 0) out vec4 o_color;    // premultiplied colour, A
 layout(location = 1) out vec4 o_coverage; // .r coverage, .g ABUFFER_FLAG_*
 
@@ -25,7 +32,7 @@ void main()
     vec4 base = texelFetch(u_base_color, ivec3(p, 0), 0);
     float base_cov = texelFetch(u_base_coverage, ivec3(p, 0), 0).r;
     float depth[ABUFFER_RESOLVE_MAX];
-    uint order[ABUFFER_RESOLVE_MAX], prim[ABUFFER_RESOLVE_MAX], node[ABUFFER_RESOLVE_MAX];
+    uint node[ABUFFER_RESOLVE_MAX];
     int n = 0;
     float flag = ABUFFER_FLAG_DONE;
     uint ptr = texelFetch(u_head, p, 0).r;
@@ -45,27 +52,22 @@ void main()
         }
         uvec4 a = texelFetch(u_nodes, int(ptr) * ABUFFER_NODE_TEXELS);
         depth[n] = uintBitsToFloat(a.y);
-        order[n] = a.z;
-        prim[n] = a.w;
         node[n] = ptr;
         n++;
         ptr = a.x;
     }
-    // Insertion sort, front to back: depth, then draw order, then primitive.
+    // Insertion sort, front to back: depth, then draw order, then primitive (fetched from the
+    // nodes only on equal depths, which are rare: two arrays instead of four).
     for (int i = 1; i < n; i++) {
         float d = depth[i];
-        uint o = order[i], q = prim[i], k = node[i];
+        uint k = node[i];
         int j = i;
-        while (j > 0 && (d != depth[j - 1] ? d < depth[j - 1] : o != order[j - 1] ? o < order[j - 1] : q < prim[j - 1])) {
+        while (j > 0 && (d < depth[j - 1] || (d == depth[j - 1] && abuffer_tie_before(k, node[j - 1])))) {
             depth[j] = depth[j - 1];
-            order[j] = order[j - 1];
-            prim[j] = prim[j - 1];
             node[j] = node[j - 1];
             j--;
         }
         depth[j] = d;
-        order[j] = o;
-        prim[j] = q;
         node[j] = k;
     }
     // Front-to-back "over" (abuffer_composite): alpha 0, NaN or a non-finite colour hides nothing.
