@@ -29,6 +29,7 @@ typedef struct mode_run {
     double *frame_ms;      /* per frame: draw to glFinish */
     /* Sums over frames, per measurement ring (+1: the whole display). */
     double ratio_sum[MAX_FOV_RINGS + 1], rmse_sum[MAX_FOV_RINGS + 1], psnr_sum[MAX_FOV_RINGS + 1];
+    double alpha_rmse_sum[MAX_FOV_RINGS + 1]; /* against the band-limited reference */
     double flicker_sum[MAX_FOV_RINGS + 1];
     int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], flicker_n[MAX_FOV_RINGS + 1];
 } mode_run;
@@ -189,6 +190,7 @@ static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
         if (m->pixels == 0)
             continue;
         mr->rmse_sum[k] += m->rmse;
+        mr->alpha_rmse_sum[k] += m->alpha_rmse;
         mr->psnr_sum[k] += m->psnr;
         mr->err_n[k]++;
         if (m->ref_coverage > METRICS_EPS) {
@@ -256,16 +258,18 @@ static fs_status report(const report_desc *r)
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
            r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
     printf("measured in rings %s (eccentricity from each frame's gaze); means over frames\n\n", mrings);
-    printf("%-12s %-18s %10s %10s %8s %9s\n", "mode", "ring", "coverage", "RMSE", "PSNR", "flicker");
-    printf("%-12s %-18s %10s %10s %8s %9s\n", "", "", "/ reference", "(linear)", "(dB)", "/ ref");
+    printf("%-12s %-18s %10s %10s %10s %8s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "PSNR",
+           "flicker");
+    printf("%-12s %-18s %10s %10s %10s %8s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(dB)", "/ ref");
     for (int m = 0; m < nm; m++)
         for (int k = 0; k <= nr; k++) {
             const mode_run *mr = &r->runs[m];
             char label[48];
             ring_label(r->layout, k, label, sizeof label);
-            printf("%-12s %-18s %10.3f %10.4f %8.2f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "", label,
+            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.2f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "", label,
                    mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
-                   mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0));
+                   mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
+                   mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0));
         }
     printf("\n%-12s %14s %10s\n", "mode", "frame ms (med)", "relative");
     for (int m = 0; m < nm; m++)
@@ -294,9 +298,10 @@ static fs_status report(const report_desc *r)
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
             fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"rmse\": %.6f, "
-                    "\"psnr\": %.3f, \"flicker\": %.4f, \"frames_measured\": %d}",
+                    "\"alpha_rmse\": %.6f, \"psnr\": %.3f, \"flicker\": %.4f, \"frames_measured\": %d}",
                     k ? "," : "", k < nr ? k : -1, outer, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0),
-                    mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
+                    mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0),
+                    mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
                     mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0), mr->err_n[k]);
         }
         fprintf(f, "]}%s\n", m + 1 < nm ? "," : "");
@@ -368,6 +373,12 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         st = FS_ERR_NOMEM;
     int passes = rf ? reference_pass_count(rf) : 0, done = 0, ref_cached = 0;
     exr_image ref = {0}, prev_ref = {0};
+    /* The band-limited reference of the frame (metrics_band_limit): R, G, B, coverage planes. */
+    size_t band_n = (size_t)s.pl.width * (size_t)s.pl.height;
+    float *band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * band_n) : NULL;
+    if (st == FS_OK && !band_buf)
+        st = FS_ERR_NOMEM;
+    float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
     bool have_prev_ref = false;
     session_catch_sigint();
     rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)", frames * passes,
@@ -403,12 +414,15 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         display_desc dd = {s.pl.width, s.pl.height, fr.hfov_deg};
         ring_mask mask;
         st = ring_mask_build(&dd, &ml, fr.gaze_px[0], fr.gaze_px[1], &mask);
-        metrics_view vr = view_of(&ref), vpr = view_of(&prev_ref);
+        metrics_view vr = view_of(&ref), vpr = view_of(&prev_ref), vb;
+        /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
+        if (st == FS_OK)
+            st = metrics_band_limit(&vr, &dd, &s.pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band, &vb);
         for (int m = 0; m < nm && st == FS_OK; m++) {
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&runs[m].img), vp = view_of(&runs[m].prev);
             bool prev = runs[m].have_prev && have_prev_ref;
-            st = metrics_compute(&vi, &vr, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
+            st = metrics_compute(&vi, &vr, &vb, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
             accumulate(&runs[m], rm, ml.count);
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
@@ -468,6 +482,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
                   done, out);
     exr_image_free(&ref);
     exr_image_free(&prev_ref);
+    free(band_buf);
     for (int m = 0; m < nm; m++) {
         exr_image_free(&runs[m].img);
         exr_image_free(&runs[m].prev);
@@ -700,6 +715,12 @@ fs_status run_bench_accuracy(const run_desc *d)
     progress pr = progress_begin("accuracy frame", n + warm, d->quiet);
     rp.pr.enabled = false; /* one progress line: frames */
     exr_image ref = {0}, prev_ref = {0};
+    /* The band-limited reference of the frame (metrics_band_limit): R, G, B, coverage planes. */
+    size_t band_n = (size_t)s.pl.width * (size_t)s.pl.height;
+    float *band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * band_n) : NULL;
+    if (st == FS_OK && !band_buf)
+        st = FS_ERR_NOMEM;
+    float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
     bool have_prev_ref = false;
     for (int i = 0; i < n + warm && st == FS_OK; i++) {
         if (session_interrupted()) {
@@ -740,8 +761,12 @@ fs_status run_bench_accuracy(const run_desc *d)
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&mr->img), vp = view_of(&mr->prev);
             bool prev = mr->have_prev && have_prev_ref && !fr.cut;
+            metrics_view vb;
             if (st == FS_OK)
-                st = metrics_compute(&vi, &vr, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
+                st = metrics_band_limit(&vr, &disp, &mr->pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band,
+                                        &vb);
+            if (st == FS_OK)
+                st = metrics_compute(&vi, &vr, &vb, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
             accumulate(mr, rm, ml.count);
             exr_image_free(&mr->prev);
             mr->prev = mr->img;
@@ -904,6 +929,7 @@ fs_status run_bench_accuracy(const run_desc *d)
     free(front_fs);
     exr_image_free(&ref);
     exr_image_free(&prev_ref);
+    free(band_buf);
     for (int c = 0; c < nc; c++) {
         exr_image_free(&cfg[c].run.img);
         exr_image_free(&cfg[c].run.prev);

@@ -77,7 +77,7 @@ static double safe_ratio(double num, double den)
 
 typedef struct acc {
     long long pixels;
-    double cov, ref_cov, sq_err, change, ref_change;
+    double cov, ref_cov, sq_err, band_sq_err, change, ref_change;
 } acc;
 
 static bool same_size(const metrics_view *v, const ring_mask *m)
@@ -105,6 +105,7 @@ static void finish(const acc *a, bool has_prev, ring_metrics *o)
      * finite (den floored), just meaningless, which the test of |ratio - 1| will flag. */
     const double mse = a->sq_err / (3.0 * n);
     o->rmse = sqrt(mse);
+    o->alpha_rmse = sqrt(a->band_sq_err / (3.0 * n));
     /* 10 log10(1 / mse) >= cap exactly when mse <= 10^(-cap / 10): no log of 0. */
     o->psnr = mse <= pow(10.0, -METRICS_PSNR_CAP_DB / 10.0) ? METRICS_PSNR_CAP_DB
                                                             : -10.0 * log10(mse);
@@ -117,15 +118,17 @@ static void finish(const acc *a, bool has_prev, ring_metrics *o)
     }
 }
 
-fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
+fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
                           const metrics_view *prev, const metrics_view *prev_ref,
                           const ring_mask *mask, ring_metrics *out)
 {
     FS_ASSERT(mask && out);
     const int rings = mask->ring_count;
     const bool has_prev = prev && prev_ref;
+    if (!band)
+        band = ref;
     bool ok = mask->ring && rings >= 1 && rings <= MAX_FOV_RINGS && same_size(img, mask) &&
-              same_size(ref, mask) &&
+              same_size(ref, mask) && same_size(band, mask) &&
               (!has_prev || (same_size(prev, mask) && same_size(prev_ref, mask)));
     if (!ok) {
         if (rings >= 1 && rings <= MAX_FOV_RINGS)
@@ -145,6 +148,8 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
         const double ir = sample(img->r[i]), ig = sample(img->g[i]), ib = sample(img->b[i]);
         const double fr = sample(ref->r[i]), fg = sample(ref->g[i]), fb = sample(ref->b[i]);
         r->sq_err += (ir - fr) * (ir - fr) + (ig - fg) * (ig - fg) + (ib - fb) * (ib - fb);
+        const double br = sample(band->r[i]), bg = sample(band->g[i]), bb = sample(band->b[i]);
+        r->band_sq_err += (ir - br) * (ir - br) + (ig - bg) * (ig - bg) + (ib - bb) * (ib - bb);
         if (has_prev) {
             r->change += (fabs(ir - sample(prev->r[i])) + fabs(ig - sample(prev->g[i])) +
                           fabs(ib - sample(prev->b[i]))) / 3.0;
@@ -160,6 +165,7 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
         all->cov += a[k].cov;
         all->ref_cov += a[k].ref_cov;
         all->sq_err += a[k].sq_err;
+        all->band_sq_err += a[k].band_sq_err;
         all->change += a[k].change;
         all->ref_change += a[k].ref_change;
     }
@@ -168,12 +174,100 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
     return FS_OK;
 }
 
+// >>band-limited reference
+
+/* Ring i's image: the mean of the reference's display pixels in each ring pixel's block that lie
+ * on the display. Rows top first (ring row 0 at the rect's top), w * h values per plane. */
+static void box_down(const metrics_view *ref, const fov_ring_rect *rr, float *const ring[4])
+{
+    const float *src[4] = {ref->r, ref->g, ref->b, ref->coverage};
+    for (int ty = 0; ty < rr->height; ty++)
+        for (int tx = 0; tx < rr->width; tx++) {
+            double s[4] = {0, 0, 0, 0};
+            int n = 0;
+            for (int y = rr->y0 + ty * rr->block; y < rr->y0 + (ty + 1) * rr->block; y++)
+                for (int x = rr->x0 + tx * rr->block; x < rr->x0 + (tx + 1) * rr->block; x++) {
+                    if (x < 0 || y < 0 || x >= ref->width || y >= ref->height)
+                        continue;
+                    size_t i = (size_t)y * (size_t)ref->width + (size_t)x;
+                    for (int c = 0; c < 4; c++)
+                        s[c] += sample(src[c][i]);
+                    n++;
+                }
+            size_t o = (size_t)ty * (size_t)rr->width + (size_t)tx;
+            for (int c = 0; c < 4; c++)
+                ring[c][o] = n ? (float)(s[c] / n) : 0.0f;
+        }
+}
+
+/* Bilinear sample of a ring image at display point (px, py) as composite.frag's ring_uvw does:
+ * ring texel coordinates clamped to the rendered texel centres. */
+static void ring_sample(const fov_ring_rect *rr, float *const ring[4], float px, float py, float out[4])
+{
+    float tx = (px - (float)rr->x0) / (float)rr->block, ty = (py - (float)rr->y0) / (float)rr->block;
+    tx = fminf(fmaxf(tx, 0.5f), (float)rr->width - 0.5f) - 0.5f;
+    ty = fminf(fmaxf(ty, 0.5f), (float)rr->height - 0.5f) - 0.5f;
+    int x0 = (int)floorf(tx), y0 = (int)floorf(ty);
+    float fx = tx - (float)x0, fy = ty - (float)y0;
+    int x1 = x0 + 1 < rr->width ? x0 + 1 : x0, y1 = y0 + 1 < rr->height ? y0 + 1 : y0;
+    size_t w = (size_t)rr->width;
+    for (int c = 0; c < 4; c++) {
+        const float *p = ring[c];
+        float a = p[(size_t)y0 * w + (size_t)x0] + fx * (p[(size_t)y0 * w + (size_t)x1] - p[(size_t)y0 * w + (size_t)x0]);
+        float b = p[(size_t)y1 * w + (size_t)x0] + fx * (p[(size_t)y1 * w + (size_t)x1] - p[(size_t)y1 * w + (size_t)x0]);
+        out[c] = a + fy * (b - a);
+    }
+}
+
+fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, const fov_layout *l,
+                             const fov_ring_rect *rects, float gx_px, float gy_px, float *const out[4],
+                             metrics_view *band)
+{
+    FS_ASSERT(ref && d && l && rects && out && band);
+    if (l->count < 1 || l->count > MAX_FOV_RINGS || d->width != ref->width || d->height != ref->height) {
+        log_error("METRICS: band limit: bad layout (%d rings) or display size", l->count);
+        return FS_ERR_USAGE;
+    }
+    float *rings[MAX_FOV_RINGS][4] = {{NULL}};
+    fs_status st = FS_OK;
+    for (int i = 0; i < l->count && st == FS_OK; i++) {
+        size_t n = (size_t)rects[i].width * (size_t)rects[i].height;
+        for (int c = 0; c < 4 && st == FS_OK; c++)
+            if (!(rings[i][c] = malloc(sizeof(float) * (n ? n : 1))))
+                st = FS_ERR_NOMEM;
+        if (st == FS_OK)
+            box_down(ref, &rects[i], rings[i]);
+    }
+    float gx = gx_px, gy = gy_px;
+    fov_gaze_clamp(d, &gx, &gy);
+    for (int y = 0; y < d->height && st == FS_OK; y++)
+        for (int x = 0; x < d->width; x++) {
+            float px = (float)x + 0.5f, py = (float)y + 0.5f, a[4], b[4];
+            fov_blend w = fov_composite_weight(l, fov_eccentricity_deg(d, gx, gy, px, py));
+            int k = w.ring < l->count ? w.ring : l->count - 1;
+            ring_sample(&rects[k], rings[k], px, py, a);
+            if (w.next > 0.0f && k + 1 < l->count) {
+                ring_sample(&rects[k + 1], rings[k + 1], px, py, b);
+                for (int c = 0; c < 4; c++)
+                    a[c] += w.next * (b[c] - a[c]);
+            }
+            size_t i = (size_t)y * (size_t)d->width + (size_t)x;
+            for (int c = 0; c < 4; c++)
+                out[c][i] = a[c];
+        }
+    for (int i = 0; i < l->count; i++)
+        for (int c = 0; c < 4; c++)
+            free(rings[i][c]);
+    *band = (metrics_view){d->width, d->height, out[0], out[1], out[2], out[3]};
+    return st;
+}
+
 // >>csv
 
 bool metrics_csv_header(FILE *f)
 {
     FS_ASSERT(f);
-    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,psnr,change,"
+    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,psnr,change,"
           "ref_change,flicker,frame_ms\n",
           f);
     return !ferror(f);
@@ -207,8 +301,8 @@ bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
     fprintf(f, "%d,%.9g,", frame, (double)time);
     csv_field(f, mode);
     /* %.9g keeps 9 significant digits: more than the half-float inputs carry. */
-    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
-            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->psnr, m->change,
+    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
+            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->psnr, m->change,
             m->ref_change, m->flicker, frame_ms);
     return !ferror(f);
 }

@@ -87,6 +87,9 @@ typedef struct ring_metrics {
     double ref_coverage;   /* mean coverage of the reference */
     double coverage_ratio; /* coverage / ref_coverage (see the header for ~0); 1 = preserved */
     double rmse;           /* sqrt(mean over pixels and R, G, B of (img - ref)^2) */
+    double alpha_rmse;     /* the same against the band-limited reference (metrics_band_limit):
+                              the part of the error the rings' resolution does not explain; equals
+                              rmse when no band-limited reference is given */
     double psnr;           /* 10 log10(1 / MSE), peak 1.0, capped at METRICS_PSNR_CAP_DB */
     double change;         /* mean over pixels of (|dR| + |dG| + |dB|) / 3, frame - previous */
     double ref_change;     /* the same for the reference */
@@ -96,15 +99,29 @@ typedef struct ring_metrics {
 
 /* Fills out[0 .. ring_count - 1] (per ring) and out[ring_count] (whole display). prev and
  * prev_ref may be NULL (first frame, after a cut): no change measured unless both are given.
- * Every view must have the mask's size: FS_ERR_INTERNAL otherwise (a bug in the caller, out[] is
- * then zeroed), else FS_OK. Sums in double. */
-fs_status metrics_compute(const metrics_view *img, const metrics_view *ref,
+ * band (may be NULL) is the band-limited reference, for alpha_rmse. Every view must have the
+ * mask's size: FS_ERR_INTERNAL otherwise (a bug in the caller, out[] is then zeroed), else FS_OK.
+ * Sums in double. */
+fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
                           const metrics_view *prev, const metrics_view *prev_ref,
                           const ring_mask *mask, ring_metrics *out);
 
+/* The band-limited reference: the reference as the rings of layout `l` would show it if each had
+ * drawn it exactly. Each ring's footprint rects[i] (the frame's ring_rect) is box-filtered down to
+ * the ring's grid (the display pixels of each ring pixel that lie on the display, averaged), and
+ * every display pixel is reconstructed as the composite does (shaders/composite.frag): the ring of
+ * its eccentricity for gaze (gx_px, gy_px) (clamped as fov_gaze_clamp), sampled bilinearly with
+ * taps clamped to the rendered texel centres, mixed with the next ring inside the blend band.
+ * With one full-resolution ring it is the reference itself. out: four planes (R, G, B, coverage)
+ * of the reference's size, written here; *band views them. FS_ERR_NOMEM when out of memory,
+ * FS_ERR_USAGE for a bad layout. */
+fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, const fov_layout *l,
+                             const fov_ring_rect *rects, float gx_px, float gy_px, float *const out[4],
+                             metrics_view *band);
+
 /* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
- * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,psnr,change,ref_change,
- * flicker,frame_ms. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
+ * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,psnr,change,
+ * ref_change,flicker,frame_ms. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
  * not finite means "not measured" and is written as -1; a non-finite time as 0. Both return
  * false when the stream reports an error. */
 bool metrics_csv_header(FILE *f);

@@ -204,7 +204,7 @@ TEST(rmse_psnr_known_values)
      * (0.375 - 0.25 is exact in float.) */
     frame_init(&img, 7, 5, 0.375f, 0.625f, 1.125f, 1.0f);
     frame_init(&ref, 7, 5, 0.25f, 0.5f, 1.0f, 1.0f);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].pixels == 35 && o[1].pixels == 35);
     CHECK_NEAR(o[0].rmse, 0.125, 1e-15);
     CHECK_NEAR(o[0].psnr, 10.0 * log10(64.0), 1e-12);
@@ -216,19 +216,19 @@ TEST(rmse_psnr_known_values)
         img.g[i] = ref.g[i];
         img.b[i] = ref.b[i];
     }
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK_NEAR(o[0].rmse, sqrt(0.25 / 3.0), 1e-15);
     CHECK_NEAR(o[0].psnr, 10.0 * log10(3.0 / 0.25), 1e-12);
 
     /* Identical images: RMSE 0, PSNR at the cap (not Inf). */
-    CHECK(metrics_compute(&ref.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&ref.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].rmse == 0.0);
     CHECK(o[0].psnr == METRICS_PSNR_CAP_DB);
     /* Just above the cap's MSE (1e-10) the formula takes over, continuous with the cap. */
     for (int i = 0; i < 35; i++)
         img.r[i] = ref.r[i];
     img.r[0] = ref.r[0] + 0.001f; /* MSE = 1e-6 / 105 ~ 9.5e-9: 80.2 dB */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     double d0 = (double)(ref.r[0] + 0.001f) - (double)ref.r[0];
     CHECK_NEAR(o[0].psnr, -10.0 * log10(d0 * d0 / 105.0), 1e-9);
     CHECK(o[0].psnr < METRICS_PSNR_CAP_DB);
@@ -252,7 +252,7 @@ TEST(error_per_ring)
         if (m.ring[i] == 0)
             img.g[i] = 0.75f;
     ring_metrics o[3];
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     long long n0 = count_ring(&m, 0);
     CHECK(n0 > 0 && o[0].pixels == n0 && o[1].pixels == 64 * 36 - n0 && o[2].pixels == 64 * 36);
     CHECK_NEAR(o[0].rmse, sqrt(0.0625 / 3.0), 1e-15);
@@ -273,24 +273,24 @@ TEST(coverage_ratio)
     frame_init(&img, 8, 4, 0.1f, 0.2f, 0.3f, 0.5f);
     frame_init(&ref, 8, 4, 0.1f, 0.2f, 0.3f, 1.0f);
     /* Half the reference's coverage (erosion). */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].coverage == 0.5 && o[0].ref_coverage == 1.0);
     CHECK(o[0].coverage_ratio == 0.5);
     /* Twice the reference's coverage (bloat): the other direction. */
-    CHECK(metrics_compute(&ref.v, &img.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&ref.v, &img.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].coverage_ratio == 2.0);
     /* Both empty: nothing to preserve, nothing added -> 1. */
     for (int i = 0; i < 32; i++)
         img.cov[i] = ref.cov[i] = 0.0f;
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].coverage_ratio == 1.0);
     /* Empty reference, covered method: num / METRICS_EPS, large and finite. */
     img.cov[0] = 1.0f; /* mean 1/32 */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK_NEAR(o[0].coverage_ratio, (1.0 / 32.0) / METRICS_EPS, 1e-6);
     /* A tiny but real reference stays a plain ratio. */
     ref.cov[1] = 3.2e-4f; /* mean 1e-5 */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK_NEAR(o[0].coverage_ratio, (1.0 / 32.0) / ((double)3.2e-4f / 32.0), 1e-6);
     frame_free(&img);
     frame_free(&ref);
@@ -308,23 +308,23 @@ TEST(flicker_ratio_and_no_previous)
     frame_init(&ref, 6, 6, 0.5f, 0.5f, 0.5f, 1.0f);
     frame_init(&prev, 6, 6, 0.375f, 0.5f, 0.5f, 1.0f);   /* R changed by 0.125 */
     frame_init(&prev_ref, 6, 6, 0.25f, 0.75f, 0.25f, 1.0f); /* every channel by 0.25 */
-    CHECK(metrics_compute(&img.v, &ref.v, &prev.v, &prev_ref.v, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, &prev.v, &prev_ref.v, &m, o) == FS_OK);
     CHECK(o[0].has_prev == 1);
     CHECK_NEAR(o[0].change, 0.125 / 3.0, 1e-15);
     CHECK_NEAR(o[0].ref_change, 0.25, 1e-15);
     CHECK_NEAR(o[0].flicker, (0.125 / 3.0) / 0.25, 1e-15);
 
     /* No previous frame (first frame, after a cut), or only one of the two. */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].has_prev == 0 && o[0].change == 0.0 && o[0].ref_change == 0.0);
     CHECK(o[0].flicker == 1.0);
-    CHECK(metrics_compute(&img.v, &ref.v, &prev.v, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, &prev.v, NULL, &m, o) == FS_OK);
     CHECK(o[0].has_prev == 0 && o[0].change == 0.0 && o[0].flicker == 1.0);
 
     /* A still reference: both still -> 1; the method alone moving -> change / METRICS_EPS. */
-    CHECK(metrics_compute(&img.v, &ref.v, &img.v, &ref.v, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, &img.v, &ref.v, &m, o) == FS_OK);
     CHECK(o[0].change == 0.0 && o[0].ref_change == 0.0 && o[0].flicker == 1.0);
-    CHECK(metrics_compute(&img.v, &ref.v, &prev.v, &ref.v, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, &prev.v, &ref.v, &m, o) == FS_OK);
     CHECK_NEAR(o[0].flicker, (0.125 / 3.0) / METRICS_EPS, 1e-6);
     CHECK(isfinite(o[0].flicker));
     frame_free(&img);
@@ -347,7 +347,7 @@ TEST(non_finite_inputs)
     frame_init(&ref, 1, 1, 0.5f, 0.5f, 0.5f, 1.0f);
     frame_init(&prev, 1, 1, 0.5f, INFINITY, 0.5f, 1.0f);
     frame_init(&prev_ref, 1, 1, 0.5f, 0.5f, -INFINITY, 1.0f);
-    CHECK(metrics_compute(&img.v, &ref.v, &prev.v, &prev_ref.v, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, &prev.v, &prev_ref.v, &m, o) == FS_OK);
     for (int k = 0; k < 2; k++)
         CHECK(all_finite(&o[k]));
     CHECK_NEAR(o[0].rmse, sqrt(0.25 / 3.0), 1e-15);  /* NaN R -> 0 against 0.5 */
@@ -364,7 +364,7 @@ TEST(non_finite_inputs)
     frame_init(&a, 16, 9, INFINITY, -INFINITY, NAN, INFINITY);
     frame_init(&b, 16, 9, NAN, NAN, 1e30f, -1e30f);
     ring_metrics r[3];
-    CHECK(metrics_compute(&a.v, &b.v, &b.v, &a.v, &rm, r) == FS_OK);
+    CHECK(metrics_compute(&a.v, &b.v, NULL, &b.v, &a.v, &rm, r) == FS_OK);
     for (int k = 0; k < 3; k++)
         CHECK(all_finite(&r[k]));
     frame_free(&a);
@@ -390,7 +390,7 @@ TEST(one_pixel_and_empty_ring)
     frame_init(&img, 1, 1, 0.25f, 0.25f, 0.25f, 0.25f);
     frame_init(&ref, 1, 1, 0.5f, 0.5f, 0.5f, 1.0f);
     ring_metrics o[3];
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].pixels == 1 && o[1].pixels == 0 && o[2].pixels == 1);
     CHECK_NEAR(o[0].rmse, 0.25, 1e-15);
     CHECK(o[0].coverage_ratio == 0.25);
@@ -419,16 +419,114 @@ TEST(size_mismatch_refused)
     frame_init(&ref, 4, 3, 0, 0, 0, 0);
     ring_metrics o[2];
     log_set_quiet_errors(true);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
-    CHECK(metrics_compute(&img.v, &img.v, &ref.v, &img.v, &m, o) == FS_ERR_INTERNAL);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
+    CHECK(metrics_compute(&img.v, &img.v, NULL, &ref.v, &img.v, &m, o) == FS_ERR_INTERNAL);
     metrics_view no_cov = img.v;
     no_cov.coverage = NULL;
-    CHECK(metrics_compute(&no_cov, &img.v, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
+    CHECK(metrics_compute(&no_cov, &img.v, NULL, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
     log_set_quiet_errors(false);
     CHECK(o[0].pixels == 0 && o[1].pixels == 0);
     frame_free(&img);
     frame_free(&ref);
     ring_mask_free(&m);
+}
+
+// >>band-limited reference
+
+/* A display, a three-ring layout (full, 1/2, 1/4) and its footprints for a gaze. */
+typedef struct band_setup {
+    display_desc d;
+    fov_layout l;
+    fov_ring_rect rects[MAX_FOV_RINGS];
+    float gx, gy;
+} band_setup;
+
+static band_setup band_setup_make(int w, int h, float gx, float gy)
+{
+    band_setup b = {.d = {w, h, 90.0f}, .gx = gx, .gy = gy};
+    char err[160];
+    CHECK(fov_layout_parse("8:1:0,20:1/2:0,*:1/4:0", &b.d, &b.l, err, sizeof err) == FS_OK);
+    for (int i = 0; i < b.l.count; i++)
+        b.rects[i] = fov_ring_footprint(&b.d, &b.l, i, gx, gy, FOV_MARGIN_BLOCKS);
+    return b;
+}
+
+TEST(band_limit_keeps_what_the_rings_can_show)
+{
+    /* A constant image stays constant; an image linear in x and y is reproduced by box filter +
+     * bilinear reconstruction wherever the taps are not clamped (away from a footprint's edge):
+     * checked over the pixels whose ring footprint holds them with a margin of two ring pixels. */
+    enum { W = 160, H = 96 };
+    band_setup b = band_setup_make(W, H, 60.0f, 40.0f);
+    frame ref, out;
+    frame_init(&ref, W, H, 0.3f, 0.5f, 0.7f, 0.25f);
+    frame_init(&out, W, H, 0, 0, 0, 0);
+    float *planes[4] = {out.r, out.g, out.b, out.cov};
+    metrics_view band;
+    CHECK(metrics_band_limit(&ref.v, &b.d, &b.l, b.rects, b.gx, b.gy, planes, &band) == FS_OK);
+    double worst = 0;
+    for (int i = 0; i < W * H; i++)
+        worst = fmax(worst, fmax(fabs(out.r[i] - 0.3f), fabs(out.cov[i] - 0.25f)));
+    CHECK(worst < 1e-6);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            ref.r[y * W + x] = 0.01f * (float)x + 0.02f * (float)y;
+    CHECK(metrics_band_limit(&ref.v, &b.d, &b.l, b.rects, b.gx, b.gy, planes, &band) == FS_OK);
+    worst = 0;
+    long checked = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            bool inside = true;
+            for (int k = 0; k < b.l.count; k++) {
+                const fov_ring_rect *r = &b.rects[k];
+                int m = 2 * r->block;
+                inside = inside && x >= r->x0 + m && x < r->x1 - m && y >= r->y0 + m && y < r->y1 - m &&
+                         r->x1 <= W && r->y1 <= H;
+            }
+            if (!inside)
+                continue;
+            checked++;
+            worst = fmax(worst, fabs(out.r[y * W + x] - ref.r[y * W + x]));
+        }
+    CHECK(checked > 100);
+    CHECK(worst < 1e-4);
+    frame_free(&ref);
+    frame_free(&out);
+}
+
+TEST(band_limited_reference_scores_zero_alpha_error)
+{
+    /* A mode that renders the band-limited reference exactly: alpha_rmse 0 in every ring, while its
+     * rmse against the full reference (a high-frequency checkerboard the coarse rings cannot hold)
+     * is large outside the full-resolution ring. A wrong band limit would leave alpha_rmse > 0. */
+    enum { W = 160, H = 96 };
+    band_setup b = band_setup_make(W, H, 80.0f, 48.0f);
+    frame ref, out;
+    frame_init(&ref, W, H, 0, 0, 0, 0.5f);
+    frame_init(&out, W, H, 0, 0, 0, 0);
+    for (int i = 0; i < W * H; i++)
+        ref.r[i] = ref.g[i] = ref.b[i] = (float)(((i % W) + (i / W)) % 2);
+    float *planes[4] = {out.r, out.g, out.b, out.cov};
+    metrics_view band;
+    CHECK(metrics_band_limit(&ref.v, &b.d, &b.l, b.rects, b.gx, b.gy, planes, &band) == FS_OK);
+    ring_mask m;
+    CHECK(ring_mask_build(&b.d, &b.l, b.gx, b.gy, &m) == FS_OK);
+    ring_metrics o[MAX_FOV_RINGS + 1];
+    CHECK(metrics_compute(&band, &ref.v, &band, NULL, NULL, &m, o) == FS_OK);
+    for (int k = 0; k <= b.l.count; k++)
+        CHECK(o[k].pixels == 0 || o[k].alpha_rmse < 1e-9);
+    CHECK(o[2].pixels > 0 && o[2].rmse > 0.3);
+    /* Without a band-limited reference, alpha_rmse is rmse. */
+    CHECK(metrics_compute(&band, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(o[2].alpha_rmse == o[2].rmse);
+    /* One full-resolution ring: the band-limited reference is the reference. */
+    fov_layout off = fov_layout_off();
+    fov_ring_rect full = fov_ring_footprint(&b.d, &off, 0, b.gx, b.gy, 0);
+    CHECK(metrics_band_limit(&ref.v, &b.d, &off, &full, b.gx, b.gy, planes, &band) == FS_OK);
+    CHECK(memcmp(out.r, ref.r, sizeof(float) * W * H) == 0);
+    ring_mask_free(&m);
+    frame_free(&ref);
+    frame_free(&out);
 }
 
 // >>csv
@@ -442,17 +540,17 @@ TEST(csv_rows)
     if (!f)
         return;
     ring_metrics m = {.pixels = 9849, .coverage = 0.25, .ref_coverage = 0.5,
-                      .coverage_ratio = 0.5, .rmse = 0.125, .psnr = 18.0617997,
+                      .coverage_ratio = 0.5, .rmse = 0.125, .alpha_rmse = 0.0625, .psnr = 18.0617997,
                       .change = 0.01, .ref_change = 0.02, .flicker = 0.5, .has_prev = 1};
     CHECK(metrics_csv_header(f));
     CHECK(metrics_csv_row(f, 3, 0.125f, "hashed", 0, &m, 12.5));
     CHECK(metrics_csv_row(f, 4, NAN, "a,\"b\"", -1, &m, NAN));
     fclose(f);
     const char *want =
-        "frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,psnr,change,"
+        "frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,psnr,change,"
         "ref_change,flicker,frame_ms\n"
-        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,18.0617997,0.01,0.02,0.5,12.500\n"
-        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,18.0617997,0.01,0.02,0.5,-1.000\n";
+        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,18.0617997,0.01,0.02,0.5,12.500\n"
+        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,18.0617997,0.01,0.02,0.5,-1.000\n";
     CHECK(buf && strcmp(buf, want) == 0);
     if (buf && strcmp(buf, want) != 0)
         fprintf(stderr, "  got:\n%s", buf);
@@ -472,6 +570,8 @@ int main(void)
     RUN(non_finite_inputs);
     RUN(one_pixel_and_empty_ring);
     RUN(size_mismatch_refused);
+    RUN(band_limit_keeps_what_the_rings_can_show);
+    RUN(band_limited_reference_scores_zero_alpha_error);
     RUN(csv_rows);
     return test_summary();
 }
