@@ -15,6 +15,7 @@ packages=(
   ffmpeg                                                            # tests: ffmpeg's EXR decoder reads our files
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
   libcjson-dev                                                      # scene files
+  zlib1g-dev                                                        # PNG export (FovVideoVDP input)
   python3                                                           # tests: checks bench JSON
   gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
 )

@@ -165,7 +165,12 @@ void cli_print_help(command cmd)
                "  --cache DIR         reference frame cache (default $XDG_CACHE_HOME/fovsim/reference)\n"
                "  --no-cache          draw reference frames without reading or writing the cache\n");
     if (cmd == CMD_COMPARE || cmd == CMD_DEMO)
-        printf("  --modes M,M,...     alpha modes side by side (or all; default traditional,hashed)\n");
+        printf("  --modes M,M,...     alpha modes side by side (or all; default traditional,hashed)\n"
+               "  --export-fvvdp      also write FovVideoVDP's inputs to DIR/fvvdp/: 16-bit sRGB PNG\n"
+               "                      sequences of every mode and the reference, the fixation per frame,\n"
+               "                      the display and run_fvvdp.py (see docs/metrics.md)\n"
+               "  --fvvdp             --export-fvvdp, then run it when the fvvdp command (pyfvvdp) is\n"
+               "                      installed and put each mode's JOD into summary.json\n");
     if (cmd == CMD_BENCH)
         printf("  --warmup W          frames drawn before timing (default 5)\n"
                "  --markdown FILE     append the result as a Markdown section to FILE\n"
@@ -285,6 +290,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                      : !strcmp(opt, "--a2c-sharpen")    ? &d->a2c_sharpen
                      : !strcmp(opt, "--no-cache")       ? &d->no_cache
                      : !strcmp(opt, "--accuracy")       ? &d->accuracy
+                     : !strcmp(opt, "--export-fvvdp")   ? &d->export_fvvdp
+                     : !strcmp(opt, "--fvvdp")          ? &d->run_fvvdp
                                                         : NULL;
         if (flag) {
             if (val) {
@@ -510,6 +517,11 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         log_error("--modes is an option of fovsim bench, compare and demo (render and plan take --alpha)");
         return FS_ERR_USAGE;
     }
+    if ((d->export_fvvdp || d->run_fvvdp) && d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO) {
+        log_error("--export-fvvdp and --fvvdp are options of fovsim compare and demo");
+        return FS_ERR_USAGE;
+    }
+    d->export_fvvdp |= d->run_fvvdp; /* running it needs its inputs */
     bool uses_reference = d->cmd == CMD_REFERENCE || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO ||
                           (d->cmd == CMD_BENCH && d->accuracy);
     if ((d->supersample || d->samples || d->reference_set || d->ref_memory_mb || d->cache_dir || d->no_cache) &&

@@ -74,6 +74,8 @@ typedef struct run_desc {
     const char *cache_dir;   /* --cache DIR for reference frames, NULL = the default */
     bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
     bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */
+    bool export_fvvdp;       /* compare/demo: --export-fvvdp, FovVideoVDP's inputs in DIR/fvvdp/ */
+    bool run_fvvdp;          /* compare/demo: --fvvdp, export and run the user's FovVideoVDP */
     const char *script;      /* view: --script FILE, scripted input events (docs/viewer.md) */
     const char *record;      /* view: --record FILE, where gaze recordings go (default out/view/gaze-<n>.csv) */
     alpha_mode split[2];     /* view: --split A,B, left and right alpha modes; DEFAULT = no split */

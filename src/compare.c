@@ -15,6 +15,7 @@
 #include "core/proc_stats.h"
 #include "gl/gl_device.h"
 #include "metrics/metrics.h"
+#include "output/fvvdp_export.h"
 
 /* Heat maps show the per-pixel RMS error over linear RGB; this error is full scale (white). */
 #define COMPARE_HEAT_SCALE 0.25f
@@ -221,6 +222,7 @@ typedef struct report_desc {
     int ref_cached;
     const char *out, *json_path;
     double seconds;
+    const double *jod;        /* per mode, FovVideoVDP's JOD (--fvvdp); NULL when it did not run */
 } report_desc;
 
 static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
@@ -271,9 +273,13 @@ static fs_status report(const report_desc *r)
                    mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
                    mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0));
         }
-    printf("\n%-12s %14s %10s\n", "mode", "frame ms (med)", "relative");
-    for (int m = 0; m < nm; m++)
-        printf("%-12s %14.2f %9.2fx\n", alpha_mode_name(r->runs[m].mode), med[m], med[m] / med[0]);
+    printf("\n%-12s %14s %10s%s\n", "mode", "frame ms (med)", "relative", r->jod ? "  FovVideoVDP JOD" : "");
+    for (int m = 0; m < nm; m++) {
+        printf("%-12s %14.2f %9.2fx", alpha_mode_name(r->runs[m].mode), med[m], med[m] / med[0]);
+        if (r->jod)
+            printf("  %16.4f", r->jod[m]);
+        printf("\n");
+    }
 
     char tmp[1300];
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", r->json_path, (long)getpid());
@@ -293,8 +299,11 @@ static fs_status report(const report_desc *r)
             stats_quantile(r->ref_err, r->frames, 0.5), r->ref_err[r->frames - 1], r->ref_cached);
     for (int m = 0; m < nm; m++) {
         const mode_run *mr = &r->runs[m];
-        fprintf(f, "    {\"mode\": \"%s\", \"frame_ms_median\": %.4f, \"relative_time\": %.4f, \"rings\": [",
+        fprintf(f, "    {\"mode\": \"%s\", \"frame_ms_median\": %.4f, \"relative_time\": %.4f, ",
                 alpha_mode_name(mr->mode), med[m], med[m] / med[0]);
+        if (r->jod && isfinite(r->jod[m]))
+            fprintf(f, "\"fvvdp_jod\": %.6f, ", r->jod[m]);
+        fprintf(f, "\"rings\": [");
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
             fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"rmse\": %.6f, "
@@ -367,6 +376,14 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         st = FS_ERR_NOMEM;
     if (csv)
         metrics_csv_header(csv);
+    /* --export-fvvdp: every mode's sequence and the reference's, for the user's FovVideoVDP. */
+    const char *seq_names[ALPHA_MODE_COUNT + 1];
+    for (int m = 0; m < nm; m++)
+        seq_names[m] = alpha_mode_name(runs[m].mode);
+    seq_names[nm] = "reference";
+    fvvdp_export *fx = NULL;
+    if (st == FS_OK && d->export_fvvdp)
+        fx = fvvdp_export_begin(out, seq_names, nm + 1, s.pl.width, s.pl.height, s.pl.hfov_deg, d->fps, &st);
     fov_layout ml = measure_layout(&s.pl);
     double *ref_err = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
     if (st == FS_OK && !ref_err)
@@ -431,6 +448,13 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
                     st = FS_ERR_IO;
                 }
         }
+        if (st == FS_OK && fx) {
+            const exr_image *seq[ALPHA_MODE_COUNT + 1];
+            for (int m = 0; m < nm; m++)
+                seq[m] = &runs[m].img;
+            seq[nm] = &ref;
+            st = fvvdp_export_frame(fx, i, &fr, seq);
+        }
         exr_image frame;
         if (st == FS_OK)
             st = build_frame(runs, nm, &ref, &mask, &frame);
@@ -473,10 +497,24 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     if (csv && st != FS_OK)
         unlink(csv_tmp);
     double el = time_now() - t0;
+    if (fx) {
+        fs_status fst = fvvdp_export_end(fx);
+        if (st == FS_OK)
+            st = fst;
+    }
+    double jod[ALPHA_MODE_COUNT + 1];
+    bool have_jod = false;
+    if (st == FS_OK && d->run_fvvdp) {
+        if (!fvvdp_available())
+            printf("FovVideoVDP: the fvvdp command is not installed (pip install pyfvvdp); its inputs are in %s/fvvdp/, "
+                   "run python3 %s/fvvdp/run_fvvdp.py once it is\n", out, out);
+        else
+            have_jod = fvvdp_run(out, seq_names, nm + 1, jod) == FS_OK;
+    }
     if (st == FS_OK)
         st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames, .layout = &ml,
                                    .ref = rf, .ref_err = ref_err, .ref_cached = ref_cached, .out = out,
-                                   .json_path = json_path, .seconds = el});
+                                   .json_path = json_path, .seconds = el, .jod = have_jod ? jod : NULL});
     else if (st == FS_ERR_INTERRUPTED)
         log_error("interrupted after %d complete frames in %s (no partial frame was left; metrics.csv was not written)",
                   done, out);

@@ -111,6 +111,34 @@ check "the EXR header says which reference" bash -c "exrheader '$T/refs/referenc
   --out "$T/refo" >"$T/refo.txt" 2>&1; rc=$?
 check "reference --ref-memory 1 exits 0 and reports the overflowed pixels" bash -c "[ $rc -eq 0 ] && grep -Eq '[1-9][0-9]* overflowed sub-sample pixels' '$T/refo.txt'"
 
+# ---- FovVideoVDP's inputs (--export-fvvdp, --fvvdp): the pursuit trace at the fixtures' size gives
+# the fixtures' fixation file; 16-bit RGB PNGs per sequence; a script that is valid Python.
+"$BIN" compare forest --modes traditional,hashed --width 256 --height 144 --frames 12 --supersample 1 \
+  --gaze builtin:pursuit_circle --fvvdp --cache "$T/cache" --out "$T/fx" --quiet >"$T/fx.txt" 2>&1; rc=$?
+check "compare --fvvdp exits 0" test $rc -eq 0
+check "fixation.csv equals the fixtures' (FovVideoVDP's pixel convention)" bash -c "diff <(cut -d, -f1-5 '$T/fx/fvvdp/fixation.csv') <(cut -d, -f1-5 '$FOVSIM_SHARED/fixtures/sequences/forest_256x144_12f/fixation.csv')"
+check "12 PNGs of 256x144, 16-bit RGB, per sequence" python3 -c "
+import struct, zlib
+for name in ('traditional', 'hashed', 'reference'):
+    for f in range(12):
+        b = open('$T/fx/fvvdp/%s/%s.%04d.png' % (name, name, f), 'rb').read()
+        assert b[:8] == b'\\x89PNG\\r\\n\\x1a\\n'
+        w, h, depth, colour = struct.unpack('>IIBB', b[16:26])
+        assert (w, h, depth, colour) == (256, 144, 16, 2), (w, h, depth, colour)
+        i, idat = 8, b''
+        while i < len(b):
+            n, t = struct.unpack('>I4s', b[i:i + 8])
+            idat += b[i + 8:i + 8 + n] if t == b'IDAT' else b''
+            i += 12 + n
+        assert len(zlib.decompress(idat)) == 144 * (1 + 256 * 6)
+"
+check "run_fvvdp.py is valid Python and display.json valid JSON" bash -c "python3 -m py_compile '$T/fx/fvvdp/run_fvvdp.py' && python3 -c \"import json; d = json.load(open('$T/fx/fvvdp/display.json')); assert d['tests'] == ['traditional', 'hashed'] and d['frames'] == 12\""
+if ! command -v fvvdp >/dev/null; then
+  check "--fvvdp without fvvdp says so in one line" bash -c "[ \$(grep -c 'fvvdp command is not installed' '$T/fx.txt') -eq 1 ]"
+fi
+"$BIN" render forest --export-fvvdp --frames 1 --out "$T/bad" >/dev/null 2>"$T/bad.err"; rc=$?
+check "render --export-fvvdp: exit 2, one line, nothing written" bash -c "[ $rc -eq 2 ] && [ \$(wc -l <'$T/bad.err') -eq 1 ] && [ ! -e '$T/bad' ]"
+
 # ---- bench --accuracy (tiny): the matrix's files, one CSV row per configuration, a PNG plot
 "$BIN" bench fence --accuracy --modes traditional,hashed --width 96 --height 54 --frames 3 --warmup 1 "${REF[@]}" \
   --out "$T/acc" --quiet >"$T/acc.txt" 2>&1; rc=$?
