@@ -876,6 +876,9 @@ fs_status run_bench_accuracy(const run_desc *d)
         CSV(",pareto_fragments");
         for (int k = 0; k < ml.count; k++)
             CSV(",coverage_ratio_ring%d", k);
+        CSV(",alpha_rmse");
+        for (int k = 0; k < ml.count; k++)
+            CSV(",alpha_rmse_ring%d", k);
         CSV("\n");
         MD("### Accuracy vs time: %s, %dx%d\n\n", s.sc.path, s.pl.width, s.pl.height);
         MD("- machine: %s (%ld cores online); renderer: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN), gl_device_renderer());
@@ -917,6 +920,8 @@ fs_status run_bench_accuracy(const run_desc *d)
                 CSV(",%.4f", r);
                 MD(" %.2f |", r);
             }
+            for (int k = 0; k <= ml.count; k++) /* the whole display, then each ring */
+                CSV(",%.6f", mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
             CSV("\n");
             MD("\n");
         }
