@@ -14,6 +14,7 @@
 #include "core/log.h"
 #include "core/proc_stats.h"
 #include "gl/gl_device.h"
+#include "metrics/flip.h"
 #include "metrics/metrics.h"
 #include "output/fvvdp_export.h"
 
@@ -31,6 +32,8 @@ typedef struct mode_run {
     /* Sums over frames, per measurement ring (+1: the whole display). */
     double ratio_sum[MAX_FOV_RINGS + 1], rmse_sum[MAX_FOV_RINGS + 1], psnr_sum[MAX_FOV_RINGS + 1];
     double alpha_rmse_sum[MAX_FOV_RINGS + 1]; /* against the band-limited reference */
+    double flip_sum[MAX_FOV_RINGS + 1];       /* mean LDR-FLIP */
+    float *flip;                              /* this frame's FLIP map against the reference */
     double flicker_sum[MAX_FOV_RINGS + 1];
     int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], flicker_n[MAX_FOV_RINGS + 1];
 } mode_run;
@@ -131,11 +134,15 @@ static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref,
         char ch[64];
         snprintf(ch, sizeof ch, "%s.error", name);
         float *e = exr_image_add_channel(&layers, ch);
-        ok = e != NULL;
+        snprintf(ch, sizeof ch, "%s.flip", name);
+        float *fl = e ? exr_image_add_channel(&layers, ch) : NULL;
+        ok = e && fl;
+        /* Row 1 shows the FLIP map (white = 1, the largest difference); the RMS error stays a layer. */
         for (size_t i = 0; i < n && ok; i++) {
             e[i] = pixel_error(pic, ref_rgb, i);
+            fl[i] = runs[m].flip[i];
             float rgb[3];
-            heat(e[i] / COMPARE_HEAT_SCALE, rgb);
+            heat(fl[i], rgb);
             for (int c = 0; c < 3; c++)
                 hr[(size_t)c * n + i] = rgb[c];
         }
@@ -166,8 +173,8 @@ static void frame_attrs(exr_image *img, const session *s, const frame_record *fr
     int o = snprintf(buf, sizeof buf, "%d columns x 2 rows of %dx%d tiles; row 0:", nm + 1, s->pl.width, s->pl.height);
     for (int m = 0; m < nm; m++)
         o += snprintf(buf + o, sizeof buf - (size_t)o, " %s |", alpha_mode_name(runs[m].mode));
-    o += snprintf(buf + o, sizeof buf - (size_t)o, " reference; row 1: the error heat map of each mode (RMS of "
-                  "linear RGB vs the reference, white = %.2f) | reference coverage", (double)COMPARE_HEAT_SCALE);
+    o += snprintf(buf + o, sizeof buf - (size_t)o, " reference; row 1: the LDR-FLIP map of each mode against the "
+                  "reference (white = 1) | reference coverage");
     exr_image_set_string(img, "fovsim:grid", buf);
     o = 0;
     for (int m = 0; m < nm; m++)
@@ -179,10 +186,19 @@ static void frame_attrs(exr_image *img, const session *s, const frame_record *fr
     exr_image_set_string(img, "fovsim:reference", buf);
     exr_image_set_string(img, "fovsim:layers",
                          "part 'layers': <mode>.R/G/B/A (linear premultiplied), <mode>.coverage, <mode>.error (RMS "
-                         "over RGB vs the reference), reference.R/G/B/A/coverage, ring.id (measurement ring)");
+                         "over RGB vs the reference), <mode>.flip (LDR-FLIP vs the reference), "
+                         "reference.R/G/B/A/coverage, ring.id (measurement ring)");
 }
 
 /* >>metrics */
+
+/* The LDR-FLIP map of img against ref (metrics/flip.h) at the display's pixels per degree at its
+ * centre (FLIP assumes one ppd for the whole image; a planar display has more towards its edges). */
+static fs_status flip_of(const metrics_view *img, const metrics_view *ref, const display_desc *d, float *out)
+{
+    const float *t[3] = {img->r, img->g, img->b}, *r[3] = {ref->r, ref->g, ref->b};
+    return flip_ldr(r, t, img->width, img->height, (double)fov_pixels_per_degree(d), out);
+}
 
 static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
 {
@@ -192,6 +208,7 @@ static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
             continue;
         mr->rmse_sum[k] += m->rmse;
         mr->alpha_rmse_sum[k] += m->alpha_rmse;
+        mr->flip_sum[k] += m->flip;
         mr->psnr_sum[k] += m->psnr;
         mr->err_n[k]++;
         if (m->ref_coverage > METRICS_EPS) {
@@ -260,17 +277,19 @@ static fs_status report(const report_desc *r)
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
            r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
     printf("measured in rings %s (eccentricity from each frame's gaze); means over frames\n\n", mrings);
-    printf("%-12s %-18s %10s %10s %10s %8s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "PSNR",
-           "flicker");
-    printf("%-12s %-18s %10s %10s %10s %8s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(dB)", "/ ref");
+    printf("%-12s %-18s %10s %10s %10s %8s %8s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "FLIP",
+           "PSNR", "flicker");
+    printf("%-12s %-18s %10s %10s %10s %8s %8s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(mean)",
+           "(dB)", "/ ref");
     for (int m = 0; m < nm; m++)
         for (int k = 0; k <= nr; k++) {
             const mode_run *mr = &r->runs[m];
             char label[48];
             ring_label(r->layout, k, label, sizeof label);
-            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.2f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "", label,
-                   mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
-                   mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
+            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "",
+                   label, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
+                   mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
+                   mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
                    mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0));
         }
     printf("\n%-12s %14s %10s%s\n", "mode", "frame ms (med)", "relative", r->jod ? "  FovVideoVDP JOD" : "");
@@ -307,9 +326,10 @@ static fs_status report(const report_desc *r)
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
             fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"rmse\": %.6f, "
-                    "\"alpha_rmse\": %.6f, \"psnr\": %.3f, \"flicker\": %.4f, \"frames_measured\": %d}",
+                    "\"alpha_rmse\": %.6f, \"flip\": %.6f, \"psnr\": %.3f, \"flicker\": %.4f, \"frames_measured\": %d}",
                     k ? "," : "", k < nr ? k : -1, outer, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0),
                     mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0),
+                    mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
                     mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
                     mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0), mr->err_n[k]);
         }
@@ -355,6 +375,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         if (st == FS_OK)
             runs[m].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &runs[m].pl}, &st);
         if (st == FS_OK && !(runs[m].frame_ms = calloc((size_t)frames, sizeof(double))))
+            st = FS_ERR_NOMEM;
+        if (st == FS_OK && !(runs[m].flip = malloc(sizeof(float) * (size_t)runs[m].pl.width * (size_t)runs[m].pl.height)))
             st = FS_ERR_NOMEM;
     }
     ref_progress rp = {0};
@@ -439,7 +461,9 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&runs[m].img), vp = view_of(&runs[m].prev);
             bool prev = runs[m].have_prev && have_prev_ref;
-            st = metrics_compute(&vi, &vr, &vb, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
+            st = flip_of(&vi, &vr, &dd, runs[m].flip);
+            if (st == FS_OK)
+                st = metrics_compute(&vi, &vr, &vb, runs[m].flip, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
             accumulate(&runs[m], rm, ml.count);
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
@@ -525,6 +549,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         exr_image_free(&runs[m].img);
         exr_image_free(&runs[m].prev);
         free(runs[m].frame_ms);
+        free(runs[m].flip);
         renderer_destroy(runs[m].r);
     }
     free(ref_err);
@@ -759,6 +784,9 @@ fs_status run_bench_accuracy(const run_desc *d)
     if (st == FS_OK && !band_buf)
         st = FS_ERR_NOMEM;
     float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
+    float *flip_map = st == FS_OK ? malloc(sizeof(float) * band_n) : NULL; /* each configuration's FLIP map */
+    if (st == FS_OK && !flip_map)
+        st = FS_ERR_NOMEM;
     bool have_prev_ref = false;
     for (int i = 0; i < n + warm && st == FS_OK; i++) {
         if (session_interrupted()) {
@@ -804,7 +832,9 @@ fs_status run_bench_accuracy(const run_desc *d)
                 st = metrics_band_limit(&vr, &disp, &mr->pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band,
                                         &vb);
             if (st == FS_OK)
-                st = metrics_compute(&vi, &vr, &vb, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
+                st = flip_of(&vi, &vr, &disp, flip_map);
+            if (st == FS_OK)
+                st = metrics_compute(&vi, &vr, &vb, flip_map, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
             accumulate(mr, rm, ml.count);
             exr_image_free(&mr->prev);
             mr->prev = mr->img;
@@ -879,6 +909,9 @@ fs_status run_bench_accuracy(const run_desc *d)
         CSV(",alpha_rmse");
         for (int k = 0; k < ml.count; k++)
             CSV(",alpha_rmse_ring%d", k);
+        CSV(",flip");
+        for (int k = 0; k < ml.count; k++)
+            CSV(",flip_ring%d", k);
         CSV("\n");
         MD("### Accuracy vs time: %s, %dx%d\n\n", s.sc.path, s.pl.width, s.pl.height);
         MD("- machine: %s (%ld cores online); renderer: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN), gl_device_renderer());
@@ -922,6 +955,8 @@ fs_status run_bench_accuracy(const run_desc *d)
             }
             for (int k = 0; k <= ml.count; k++) /* the whole display, then each ring */
                 CSV(",%.6f", mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
+            for (int k = 0; k <= ml.count; k++)
+                CSV(",%.6f", mean_or(mr->flip_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
             CSV("\n");
             MD("\n");
         }
@@ -973,6 +1008,7 @@ fs_status run_bench_accuracy(const run_desc *d)
     exr_image_free(&ref);
     exr_image_free(&prev_ref);
     free(band_buf);
+    free(flip_map);
     for (int c = 0; c < nc; c++) {
         exr_image_free(&cfg[c].run.img);
         exr_image_free(&cfg[c].run.prev);

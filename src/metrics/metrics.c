@@ -77,7 +77,7 @@ static double safe_ratio(double num, double den)
 
 typedef struct acc {
     long long pixels;
-    double cov, ref_cov, sq_err, band_sq_err, change, ref_change;
+    double cov, ref_cov, sq_err, band_sq_err, flip, change, ref_change;
 } acc;
 
 static bool same_size(const metrics_view *v, const ring_mask *m)
@@ -106,6 +106,7 @@ static void finish(const acc *a, bool has_prev, ring_metrics *o)
     const double mse = a->sq_err / (3.0 * n);
     o->rmse = sqrt(mse);
     o->alpha_rmse = sqrt(a->band_sq_err / (3.0 * n));
+    o->flip = a->flip / n;
     /* 10 log10(1 / mse) >= cap exactly when mse <= 10^(-cap / 10): no log of 0. */
     o->psnr = mse <= pow(10.0, -METRICS_PSNR_CAP_DB / 10.0) ? METRICS_PSNR_CAP_DB
                                                             : -10.0 * log10(mse);
@@ -119,7 +120,7 @@ static void finish(const acc *a, bool has_prev, ring_metrics *o)
 }
 
 fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
-                          const metrics_view *prev, const metrics_view *prev_ref,
+                          const float *flip, const metrics_view *prev, const metrics_view *prev_ref,
                           const ring_mask *mask, ring_metrics *out)
 {
     FS_ASSERT(mask && out);
@@ -150,6 +151,8 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, cons
         r->sq_err += (ir - fr) * (ir - fr) + (ig - fg) * (ig - fg) + (ib - fb) * (ib - fb);
         const double br = sample(band->r[i]), bg = sample(band->g[i]), bb = sample(band->b[i]);
         r->band_sq_err += (ir - br) * (ir - br) + (ig - bg) * (ig - bg) + (ib - bb) * (ib - bb);
+        if (flip)
+            r->flip += sample(flip[i]);
         if (has_prev) {
             r->change += (fabs(ir - sample(prev->r[i])) + fabs(ig - sample(prev->g[i])) +
                           fabs(ib - sample(prev->b[i]))) / 3.0;
@@ -166,6 +169,7 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, cons
         all->ref_cov += a[k].ref_cov;
         all->sq_err += a[k].sq_err;
         all->band_sq_err += a[k].band_sq_err;
+        all->flip += a[k].flip;
         all->change += a[k].change;
         all->ref_change += a[k].ref_change;
     }
@@ -267,7 +271,7 @@ fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, con
 bool metrics_csv_header(FILE *f)
 {
     FS_ASSERT(f);
-    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,psnr,change,"
+    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,"
           "ref_change,flicker,frame_ms\n",
           f);
     return !ferror(f);
@@ -301,8 +305,8 @@ bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
     fprintf(f, "%d,%.9g,", frame, (double)time);
     csv_field(f, mode);
     /* %.9g keeps 9 significant digits: more than the half-float inputs carry. */
-    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
-            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->psnr, m->change,
+    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
+            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->flip, m->psnr, m->change,
             m->ref_change, m->flicker, frame_ms);
     return !ferror(f);
 }

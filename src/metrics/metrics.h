@@ -91,6 +91,8 @@ typedef struct ring_metrics {
                               the part of the error the rings' resolution does not explain; equals
                               rmse when no band-limited reference is given */
     double psnr;           /* 10 log10(1 / MSE), peak 1.0, capped at METRICS_PSNR_CAP_DB */
+    double flip;           /* mean LDR-FLIP error (metrics/flip.h) over the ring's pixels; 0 when no
+                              FLIP map is given */
     double change;         /* mean over pixels of (|dR| + |dG| + |dB|) / 3, frame - previous */
     double ref_change;     /* the same for the reference */
     double flicker;        /* change / ref_change (see the header for ~0); 1 = as the reference */
@@ -99,11 +101,12 @@ typedef struct ring_metrics {
 
 /* Fills out[0 .. ring_count - 1] (per ring) and out[ring_count] (whole display). prev and
  * prev_ref may be NULL (first frame, after a cut): no change measured unless both are given.
- * band (may be NULL) is the band-limited reference, for alpha_rmse. Every view must have the
- * mask's size: FS_ERR_INTERNAL otherwise (a bug in the caller, out[] is then zeroed), else FS_OK.
- * Sums in double. */
+ * band (may be NULL) is the band-limited reference, for alpha_rmse; flip (may be NULL) the
+ * image's FLIP error map against the reference (the mask's size), for flip. Every view must have
+ * the mask's size: FS_ERR_INTERNAL otherwise (a bug in the caller, out[] is then zeroed), else
+ * FS_OK. Sums in double. */
 fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
-                          const metrics_view *prev, const metrics_view *prev_ref,
+                          const float *flip, const metrics_view *prev, const metrics_view *prev_ref,
                           const ring_mask *mask, ring_metrics *out);
 
 /* The band-limited reference: the reference as the rings of layout `l` would show it if each had
@@ -120,8 +123,8 @@ fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, con
                              metrics_view *band);
 
 /* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
- * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,psnr,change,
- * ref_change,flicker,frame_ms. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
+ * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,
+ * change,ref_change,flicker,frame_ms. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
  * not finite means "not measured" and is written as -1; a non-finite time as 0. Both return
  * false when the stream reports an error. */
 bool metrics_csv_header(FILE *f);

@@ -78,7 +78,7 @@ check "no NaN or Inf (oiiotool --stats)" bash -c "! oiiotool --stats '$F' 2>&1 |
 check "ffmpeg decodes the grid" bash -c "ffmpeg -v error -i '$F' -f null - "
 rows=$(($(wc -l <"$T/forest/metrics.csv") - 1))
 check "metrics.csv: 12 frames x 2 modes x (4 rings + all) rows ($rows)" test "$rows" -eq 120
-check "metrics.csv columns" bash -c "head -1 '$T/forest/metrics.csv' | grep -q '^frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,psnr,change,ref_change,flicker,frame_ms'"
+check "metrics.csv columns" bash -c "head -1 '$T/forest/metrics.csv' | grep -q '^frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,ref_change,flicker,frame_ms'"
 # alpha_rmse measures against the reference band-limited to each ring: the blur a coarse ring was
 # designed to have no longer counts, so it is below the full RMSE there (docs/metrics.md).
 check "summary.json: alpha_rmse below rmse in the coarse rings" python3 -c "
@@ -91,6 +91,13 @@ for m in s['modes']:
         if r['ring'] == 0:
             assert r['alpha_rmse'] <= 1.05 * r['rmse'], (m['mode'], r)
 "
+check "summary.json: FLIP per ring in (0, 1], layers hold <mode>.flip" bash -c "python3 -c \"
+import json
+s = json.load(open('$T/forest/summary.json'))
+for m in s['modes']:
+    for r in m['rings']:
+        assert 0 < r['flip'] <= 1, (m['mode'], r)
+\" && exrheader '$T/forest/compare.0005.exr' | grep -q 'hashed.flip'"
 check "summary table printed" bash -c "grep -q 'coverage' '$T/forest.txt' && grep -q 'frame ms' '$T/forest.txt'"
 
 # ---- the reference cache through the CLI: a second run reuses every frame, a changed display size does not
