@@ -148,11 +148,14 @@ void cli_print_help(command cmd)
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
-               "                      off/on, with coverage, RMSE and flicker against the reference, and\n"
-               "                      each configuration's CPU time, page faults and work counts; writes\n"
-               "                      DIR/accuracy.csv, accuracy.md, accuracy.png (RMSE vs frame time) and\n"
-               "                      accuracy-fragments.png (RMSE vs fragment-shader invocations per\n"
-               "                      pixel; not drawn without GL_ARB_pipeline_statistics_query), gnuplot\n");
+               "                      off/on, with coverage, RMSE, alpha RMSE, FLIP and flicker against the\n"
+               "                      reference, and each configuration's CPU time, page faults and work\n"
+               "                      counts; writes DIR/accuracy.csv, accuracy.md, accuracy.png (error vs\n"
+               "                      frame time) and accuracy-fragments.png (error vs fragment-shader\n"
+               "                      invocations per pixel; not drawn without\n"
+               "                      GL_ARB_pipeline_statistics_query), gnuplot\n"
+               "  --error E           bench --accuracy: the error plotted and on which the Pareto fronts\n"
+               "                      are taken: flip (default), alpha_rmse or rmse (docs/metrics.md)\n");
     if (cmd == CMD_REFERENCE || cmd == CMD_COMPARE || cmd == CMD_DEMO || cmd == CMD_BENCH)
         printf("  --reference KIND    exact (default): each sub-sample is the expectation of stochastic\n"
                "                      alpha testing, from per-pixel fragment lists composited front to\n"
@@ -307,7 +310,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
-                                                 "--reference", "--ref-memory", "--cache", "--script", "--record", "--split"};
+                                                 "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -336,6 +339,17 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         else if (!strcmp(opt, "--reference")) {
             ok = parse_choice(opt, val, "exact", "stochastic", &d->reference_kind);
             d->reference_set = true;
+        } else if (!strcmp(opt, "--error")) {
+            static const char *const names[3] = {"flip", "alpha_rmse", "rmse"};
+            ok = false;
+            for (int k = 0; k < 3; k++)
+                if (!strcmp(val, names[k])) {
+                    d->acc_error = k;
+                    ok = true;
+                }
+            if (!ok)
+                log_error("--error: expected flip, alpha_rmse or rmse, got '%s'", val);
+            d->acc_error_set = true;
         } else if (!strcmp(opt, "--ref-memory"))
             ok = parse_int(opt, val, 1, 1 << 20, &d->ref_memory_mb);
         else if (!strcmp(opt, "--samples")) {
@@ -515,6 +529,10 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if (d->bench_mode_count > 0 && d->cmd != CMD_BENCH && d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO) {
         log_error("--modes is an option of fovsim bench, compare and demo (render and plan take --alpha)");
+        return FS_ERR_USAGE;
+    }
+    if (d->acc_error_set && !(d->cmd == CMD_BENCH && d->accuracy)) {
+        log_error("--error is an option of fovsim bench --accuracy");
         return FS_ERR_USAGE;
     }
     if ((d->export_fvvdp || d->run_fvvdp) && d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO) {

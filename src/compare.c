@@ -663,29 +663,53 @@ static fs_status write_text_atomic(const char *path, const char *text)
     return FS_OK;
 }
 
-/* Plots RMSE (column 8 of DIR/accuracy.csv) against x_expr (a gnuplot column expression) into
- * DIR/STEM.png through DIR/STEM.gp: every configuration as a labelled point, the Pareto front (rows
- * with front_col == 1, sorted by sort_col) as a line. buf: scratch of 1 << 16 bytes. */
+/* Which error bench --accuracy plots and takes its Pareto fronts on (--error). */
+static const char *const k_error_names[3] = {"flip", "alpha_rmse", "rmse"};
+static const char *const k_error_labels[3] = {"FLIP vs reference (mean)",
+                                              "alpha RMSE vs band-limited reference (linear RGB)",
+                                              "RMSE vs reference (linear RGB)"};
+
+/* Plots the error (CSV column y_col) against x_expr (a gnuplot column expression) into
+ * DIR/STEM.png through DIR/STEM.gp. Colour = alpha mode, shape = ring layout, filled = TAA on,
+ * hollow = off; a legend names each (dummy series: one entry per mode, layout and TAA state, not
+ * one per point); the Pareto front (rows with front_col == 1, sorted by sort_col) is a line.
+ * buf: scratch of 1 << 16 bytes. */
 static fs_status plot_accuracy(const char *out, const char *stem, const char *title, const char *xlabel,
-                               const char *x_expr, int sort_col, int front_col, char *buf)
+                               const char *x_expr, int y_col, const char *ylabel, int sort_col, int front_col,
+                               const alpha_mode *modes, int mode_count, char *buf)
 {
+    static const int shape_filled[3] = {7, 5, 9}, shape_hollow[3] = {6, 4, 8}; /* circle, square, triangle */
+    static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"};
     char gp[1200], png[1200], pngtmp[1300];
     snprintf(gp, sizeof gp, "%s/%s.gp", out, stem);
     snprintf(png, sizeof png, "%s/%s.png", out, stem);
     snprintf(pngtmp, sizeof pngtmp, "%s/.%s.png.tmp.%ld", out, stem, (long)getpid());
+    size_t cap = 1 << 16;
     int o = 0;
-    o += snprintf(buf + o, (1 << 16) - (size_t)o,
-                  "set terminal pngcairo size 1100,750 noenhanced\nset output '%s'\nset datafile "
-                  "separator ','\nset title '%s'\nset xlabel '%s'\nset ylabel 'RMSE vs reference (linear RGB)'\n"
-                  "set grid\nset key top right\n", pngtmp, title, xlabel);
-    o += snprintf(buf + o, (1 << 16) - (size_t)o,
-                  "plot '%s/accuracy.csv' every ::1 using %s:8:(sprintf('%%s/%%s/%%s', stringcolumn(1), "
-                  "stringcolumn(2), stringcolumn(3))) with labels font ',7' offset 0,0.7 notitle, \\\n"
-                  "     '' every ::1 using %s:8 with points pt 7 ps 0.8 title 'configuration', \\\n"
-                  "     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' using %s:8 with "
-                  "linespoints lw 2 pt 6 ps 1.6 title 'Pareto front'\n", out, x_expr, x_expr, sort_col, sort_col, out,
-                  front_col, x_expr);
-    fs_status st = write_text_atomic(gp, buf);
+    o += snprintf(buf + o, cap - (size_t)o,
+                  "set terminal pngcairo size 1100,750 noenhanced\nset output '%s'\nset datafile separator ','\n"
+                  "set title '%s'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key outside right top\nplot ",
+                  pngtmp, title, xlabel, ylabel);
+    for (int m = 0; m < mode_count; m++) {
+        const char *name = alpha_mode_name(modes[m]), *col = colours[m % 7];
+        for (int l = 0; l < 3; l++)
+            for (int t = 0; t < 2; t++)
+                o += snprintf(buf + o, cap - (size_t)o,
+                              "'< awk -F, \"\\$1==\\\"%s\\\" && \\$2==\\\"%s\\\" && \\$3==\\\"%s\\\"\" %s/accuracy.csv' "
+                              "u %s:%d w p pt %d ps 1.4 lc rgb '%s' notitle, \\\n     ",
+                              name, k_layout_names[l], t ? "on" : "off", out, x_expr, y_col,
+                              t ? shape_filled[l] : shape_hollow[l], col);
+        o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt 7 ps 1.4 lc rgb '%s' t '%s', \\\n     ", col, name);
+    }
+    for (int l = 0; l < 3; l++)
+        o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt %d ps 1.4 lc rgb 'black' t 'rings %s', \\\n     ",
+                      shape_hollow[l], k_layout_names[l]);
+    o += snprintf(buf + o, cap - (size_t)o,
+                  "NaN w p pt 7 ps 1.4 lc rgb 'gray40' t 'TAA on (filled)', NaN w p pt 6 ps 1.4 lc rgb 'gray40' "
+                  "t 'TAA off (hollow)', \\\n     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' "
+                  "u %s:%d w l lw 2 lc rgb 'black' t 'Pareto front'\n",
+                  sort_col, sort_col, out, front_col, x_expr, y_col);
+    fs_status st = o < (int)cap - 1 ? write_text_atomic(gp, buf) : FS_ERR_INTERNAL;
     char cmd[2600];
     snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
     if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
@@ -885,7 +909,9 @@ fs_status run_bench_accuracy(const run_desc *d)
             }
             tx[c] = cfg[c].med;
             fx[c] = cfg[c].count_med[ACC_FS];
-            ey[c] = mean_or(cfg[c].run.rmse_sum[ml.count], cfg[c].run.err_n[ml.count], 0.0);
+            const mode_run *er = &cfg[c].run; /* the error of --error, over the whole display */
+            const double *esum = d->acc_error == 0 ? er->flip_sum : d->acc_error == 1 ? er->alpha_rmse_sum : er->rmse_sum;
+            ey[c] = mean_or(esum[ml.count], er->err_n[ml.count], 0.0);
         }
         pareto(tx, ey, nc, front);
         bool have_fs = nc > 0;
@@ -920,20 +946,21 @@ fs_status run_bench_accuracy(const run_desc *d)
         MD("- rings: default %s; aggressive %s; measured in the default rings\n", rings, aggr);
         MD("- reference: %s\n", reference_describe(rf));
         MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
-           "Pareto front of (time, RMSE)\n");
+           "Pareto front of (time, %s) (--error)\n", k_error_names[d->acc_error]);
         MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
            "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n\n");
-        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | flicker | CPU ms | frag./px |");
+        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | flicker | CPU ms | frag./px |",
+           d->acc_error == 2 ? "PSNR" : k_error_names[d->acc_error]);
         for (int k = 0; k < ml.count; k++)
             MD(" cov. ring %d |", k);
-        MD("\n|---|---|---|---|---|---|---|---|---|");
+        MD("\n|---|---|---|---|---|---|---|---|---|---|");
         for (int k = 0; k < ml.count; k++)
             MD("---|");
         MD("\n");
         for (int c = 0; c < nc; c++) {
             const mode_run *mr = &cfg[c].run;
             int all = ml.count;
-            double rmse = ey[c], psnr = mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
+            double rmse = mean_or(mr->rmse_sum[all], mr->err_n[all], 0.0), psnr = mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
                    fl = mean_or(mr->flicker_sum[all], mr->flicker_n[all], 0.0), sp = cfg[base].med / cfg[c].med;
             const double *cm = cfg[c].count_med;
             CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.4f,%d", alpha_mode_name(mr->mode),
@@ -941,9 +968,9 @@ fs_status run_bench_accuracy(const run_desc *d)
                 rmse, psnr, fl, front[c]);
             CSV(",%.4f,%.0f,%.0f,%.0f,%.0f,%d", cm[ACC_CPU], cm[ACC_FAULTS], cm[ACC_VS], cm[ACC_PRIMS], cm[ACC_FS],
                 front_fs[c]);
-            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.2f | %.2f |", alpha_mode_name(mr->mode),
+            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.2f | %.2f |", alpha_mode_name(mr->mode),
                front[c] ? " *" : "", k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med,
-               cfg[c].p10, cfg[c].p90, sp, rmse, fl, cm[ACC_CPU]);
+               cfg[c].p10, cfg[c].p90, sp, rmse, d->acc_error == 2 ? psnr : ey[c], fl, cm[ACC_CPU]);
             if (cm[ACC_FS] >= 0)
                 MD(" %.2f |", cm[ACC_FS] / ((double)s.pl.width * s.pl.height));
             else
@@ -976,10 +1003,14 @@ fs_status run_bench_accuracy(const run_desc *d)
             }
         }
         char title[600], x_expr[64];
+        /* The whole-display column of the chosen error in accuracy.csv: rmse is column 8; after the
+         * 17 fixed columns come N coverage ratios, alpha_rmse and its N rings, flip and its N. */
+        int y_col = d->acc_error == 2 ? 8 : d->acc_error == 1 ? 18 + ml.count : 19 + 2 * ml.count;
         if (st == FS_OK) {
             snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
                      gl_device_renderer());
-            st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", 4, 11, csv);
+            st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->acc_error],
+                               4, 11, modes, nmodes, csv);
         }
         /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
         snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
@@ -987,7 +1018,8 @@ fs_status run_bench_accuracy(const run_desc *d)
             snprintf(title, sizeof title, "accuracy vs fragment work: %s %dx%d", s.sc.path, s.pl.width, s.pl.height);
             snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s.pl.width * s.pl.height);
             st = plot_accuracy(out, "accuracy-fragments", title,
-                               "fragment-shader invocations per display pixel, median per frame", x_expr, 16, 17, csv);
+                               "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
+                               k_error_labels[d->acc_error], 16, 17, modes, nmodes, csv);
         } else if (st == FS_OK) {
             unlink(path); /* not one from an earlier run beside this run's CSV */
             log_warn("no GL_ARB_pipeline_statistics_query: fragment counts unknown, %s not drawn", path);
