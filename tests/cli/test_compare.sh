@@ -175,7 +175,7 @@ assert all(off[k] < on[k] for k in off), (off, on)  # TAA adds a full-screen res
 
 # ---- bad input: one line, exit 2, nothing created
 for args in "--modes traditional,bogus" "--samples 3" "--supersample 0" "--alpha hashed" "--cache $T/c --no-cache" \
-            "--reference exactly" "--ref-memory 0"; do
+            "--reference exactly" "--ref-memory 0" "--error bogus" "--error flip"; do
   # shellcheck disable=SC2086
   "$BIN" compare forest $args --out "$T/bad" >/dev/null 2>"$T/bad.err"; rc=$?
   check "compare $args: exit 2, one line, no output" bash -c "[ $rc -eq 2 ] && [ \$(wc -l <'$T/bad.err') -eq 1 ] && [ ! -e '$T/bad' ]"
