@@ -1,0 +1,163 @@
+/* test_warp.c: the previous frame warped into the current one (src/metrics/warp.c) on a
+ * synthetic static scene under pure camera motion, ray-cast here: a background plane whose colour
+ * is linear in world x and y (so bilinear sampling reproduces it exactly: the plane faces the
+ * camera) and a nearer square occluder. Where the point was visible in the previous frame the
+ * warp reproduces the current frame; what the occluder hid, and what was outside the previous
+ * view, is not warped. */
+#include <stdlib.h>
+
+#include "metrics/warp.h"
+#include "test.h"
+
+enum { W = 96, H = 64 };
+#define ZNEAR 0.5f
+#define ZFAR 50.0f
+#define OCC_Z 3.0f  /* the occluder: |x| < 1, |y| < 1 at z = 3 */
+
+typedef struct shot {
+    mat4 vp;
+    float r[W * H], g[W * H], b[W * H], cov[W * H], depth[W * H];
+    unsigned char occ[W * H]; /* 1 where the occluder is seen */
+} shot;
+
+static mat4 camera(float cx)
+{
+    mat4 proj = m4_perspective_hfov(60.0f * 3.14159265f / 180.0f, (float)W / H, ZNEAR, ZFAR);
+    return m4_mul(proj, m4_look_at(v3(cx, 0, 10), v3(cx, 0, 0), v3(0, 1, 0)));
+}
+
+/* World point where pixel (x, y)'s centre ray meets plane z = z0 (through the inverse view-proj). */
+static vec3 hit(const mat4 *inv, int x, int y, float z0)
+{
+    float nx = 2.0f * ((float)x + 0.5f) / W - 1.0f, ny = 1.0f - 2.0f * ((float)y + 0.5f) / H;
+    float a[4] = {nx, ny, -1.0f, 1.0f}, b[4] = {nx, ny, 1.0f, 1.0f}, pa[4] = {0}, pb[4] = {0};
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            pa[r] += inv->m[c * 4 + r] * a[c];
+            pb[r] += inv->m[c * 4 + r] * b[c];
+        }
+    vec3 A = v3(pa[0] / pa[3], pa[1] / pa[3], pa[2] / pa[3]), B = v3(pb[0] / pb[3], pb[1] / pb[3], pb[2] / pb[3]);
+    float t = (z0 - A.z) / (B.z - A.z);
+    return v3_add(A, v3_scale(v3_sub(B, A), t));
+}
+
+static float window_depth(const mat4 *vp, vec3 p)
+{
+    float clip[4] = {0};
+    float q[4] = {p.x, p.y, p.z, 1.0f};
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++)
+            clip[r] += vp->m[c * 4 + r] * q[c];
+    return 0.5f * (clip[2] / clip[3] + 1.0f);
+}
+
+static void render(shot *s, float cx)
+{
+    s->vp = camera(cx);
+    mat4 inv;
+    m4_invert(s->vp, &inv);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            int i = y * W + x;
+            vec3 o = hit(&inv, x, y, OCC_Z);
+            bool occ = fabsf(o.x) < 1.0f && fabsf(o.y) < 1.0f;
+            vec3 p = occ ? o : hit(&inv, x, y, 0.0f);
+            s->occ[i] = occ;
+            s->r[i] = occ ? 0.9f : 0.5f + 0.02f * p.x;
+            s->g[i] = occ ? 0.1f : 0.5f + 0.03f * p.y;
+            s->b[i] = occ ? 0.1f : 0.2f;
+            s->cov[i] = occ ? 1.0f : 0.4f;
+            s->depth[i] = window_depth(&s->vp, p);
+        }
+}
+
+TEST(warp_is_exact_for_a_static_scene_under_camera_motion)
+{
+    static shot prev, cur;
+    render(&prev, 0.0f);
+    render(&cur, 2.0f); /* the camera moves right: the scene moves left, the nearer occluder more */
+    static float wr[W * H], wg[W * H], wb[W * H], wc[W * H];
+    float *out[4] = {wr, wg, wb, wc};
+    static unsigned char valid[W * H];
+    metrics_view pv = {W, H, prev.r, prev.g, prev.b, prev.cov};
+    warp_desc wd = {.width = W, .height = H, .depth = cur.depth, .view_proj = cur.vp, .prev_view_proj = prev.vp,
+                    .prev_depth = prev.depth, .prev_znear = ZNEAR, .prev_zfar = ZFAR};
+    long n = warp_previous(&wd, &pv, out, valid);
+    CHECK(n > W * H / 2 && n < W * H);
+    mat4 inv_cur, inv_prev;
+    m4_invert(cur.vp, &inv_cur);
+    m4_invert(prev.vp, &inv_prev);
+    long exact = 0, checked = 0, hidden = 0, hidden_flagged = 0, outside = 0, outside_flagged = 0;
+    double worst = 0;
+    for (int y = 2; y < H - 2; y++)
+        for (int x = 2; x < W - 2; x++) {
+            int i = y * W + x;
+            /* Ground truth: where this pixel's surface point lies in the previous frame. */
+            vec3 p = cur.occ[i] ? hit(&inv_cur, x, y, OCC_Z) : hit(&inv_cur, x, y, 0.0f);
+            float clip[4] = {0}, q[4] = {p.x, p.y, p.z, 1.0f};
+            for (int r = 0; r < 4; r++)
+                for (int c = 0; c < 4; c++)
+                    clip[r] += prev.vp.m[c * 4 + r] * q[c];
+            float px = (clip[0] / clip[3] + 1.0f) * 0.5f * W - 0.5f, py = (1.0f - clip[1] / clip[3]) * 0.5f * H - 0.5f;
+            bool in_view = px >= 0.0f && px <= W - 1.0f && py >= 0.0f && py <= H - 1.0f;
+            int pi = (int)lrintf(py) * W + (int)lrintf(px);
+            /* Skip pixels next to an edge of the occluder (bilinear taps mix the two surfaces) or
+             * of the previous view. */
+            bool near_edge = !in_view || px < 1.0f || px > W - 2.0f || py < 1.0f || py > H - 2.0f;
+            bool all_occ = in_view; /* the occluder covers the whole neighbourhood there */
+            for (int dy = -2; dy <= 2 && in_view; dy++)
+                for (int dx = -2; dx <= 2; dx++) {
+                    int xx = (int)lrintf(px) + dx, yy = (int)lrintf(py) + dy;
+                    bool inside = xx >= 0 && yy >= 0 && xx < W && yy < H;
+                    if (inside && prev.occ[yy * W + xx] != cur.occ[i])
+                        near_edge = true;
+                    all_occ = all_occ && inside && prev.occ[yy * W + xx];
+                }
+            if (!in_view && (px < -2.0f || px > W + 1.0f)) {
+                outside++;
+                outside_flagged += !valid[i];
+            }
+            if (!cur.occ[i] && all_occ && prev.occ[pi]) {
+                hidden++; /* the occluder covered this background point in the previous frame */
+                hidden_flagged += !valid[i];
+            }
+            if (near_edge || !valid[i])
+                continue;
+            checked++;
+            double d = fmax(fabs(wr[i] - cur.r[i]), fmax(fabs(wg[i] - cur.g[i]), fabs(wc[i] - cur.cov[i])));
+            worst = fmax(worst, d);
+            exact += d < 1e-4;
+        }
+    fprintf(stderr, "warp: %ld valid; %ld checked, worst %.2g; %ld hidden before (%ld flagged); %ld from outside "
+                    "(%ld flagged)\n", n, checked, worst, hidden, hidden_flagged, outside, outside_flagged);
+    CHECK(checked > W * H / 3 && exact == checked);
+    CHECK(hidden > 20 && hidden_flagged == hidden);
+    CHECK(outside > 20 && outside_flagged == outside);
+}
+
+TEST(a_still_camera_warps_to_the_previous_frame_itself)
+{
+    static shot s;
+    render(&s, 0.3f);
+    static float wr[W * H], wg[W * H], wb[W * H], wc[W * H];
+    float *out[4] = {wr, wg, wb, wc};
+    static unsigned char valid[W * H];
+    metrics_view pv = {W, H, s.r, s.g, s.b, s.cov};
+    warp_desc wd = {.width = W, .height = H, .depth = s.depth, .view_proj = s.vp, .prev_view_proj = s.vp,
+                    .prev_depth = s.depth, .prev_znear = ZNEAR, .prev_zfar = ZFAR};
+    CHECK(warp_previous(&wd, &pv, out, valid) == W * H);
+    double worst = 0;
+    for (int i = 0; i < W * H; i++)
+        worst = fmax(worst, fabs(wr[i] - s.r[i]) + fabs(wc[i] - s.cov[i]));
+    CHECK(worst < 1e-4);
+    /* A singular view-projection is refused. */
+    wd.view_proj = (mat4){{0}};
+    CHECK(warp_previous(&wd, &pv, out, valid) == -1);
+}
+
+int main(void)
+{
+    RUN(warp_is_exact_for_a_static_scene_under_camera_motion);
+    RUN(a_still_camera_warps_to_the_previous_frame_itself);
+    return test_summary();
+}
