@@ -16,6 +16,7 @@
 #include "gl/gl_device.h"
 #include "metrics/flip.h"
 #include "metrics/metrics.h"
+#include "metrics/warp.h"
 #include "output/fvvdp_export.h"
 
 /* Heat maps show the per-pixel RMS error over linear RGB; this error is full scale (white). */
@@ -33,6 +34,8 @@ typedef struct mode_run {
     double ratio_sum[MAX_FOV_RINGS + 1], rmse_sum[MAX_FOV_RINGS + 1], psnr_sum[MAX_FOV_RINGS + 1];
     double alpha_rmse_sum[MAX_FOV_RINGS + 1]; /* against the band-limited reference */
     double flip_sum[MAX_FOV_RINGS + 1];       /* mean LDR-FLIP */
+    double te_sum[MAX_FOV_RINGS + 1];         /* motion-compensated temporal error */
+    int te_n[MAX_FOV_RINGS + 1];
     float *flip;                              /* this frame's FLIP map against the reference */
     double flicker_sum[MAX_FOV_RINGS + 1];
     int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], flicker_n[MAX_FOV_RINGS + 1];
@@ -219,6 +222,10 @@ static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
             mr->flicker_sum[k] += m->flicker;
             mr->flicker_n[k]++;
         }
+        if (m->temporal_error >= 0.0 && m->disoccluded < 1.0) {
+            mr->te_sum[k] += m->temporal_error;
+            mr->te_n[k]++;
+        }
     }
 }
 
@@ -277,19 +284,19 @@ static fs_status report(const report_desc *r)
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
            r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
     printf("measured in rings %s (eccentricity from each frame's gaze); means over frames\n\n", mrings);
-    printf("%-12s %-18s %10s %10s %10s %8s %8s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "FLIP",
-           "PSNR", "flicker");
-    printf("%-12s %-18s %10s %10s %10s %8s %8s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(mean)",
-           "(dB)", "/ ref");
+    printf("%-12s %-18s %10s %10s %10s %8s %8s %10s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "FLIP",
+           "PSNR", "temporal", "flicker");
+    printf("%-12s %-18s %10s %10s %10s %8s %8s %10s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(mean)",
+           "(dB)", "error", "/ ref");
     for (int m = 0; m < nm; m++)
         for (int k = 0; k <= nr; k++) {
             const mode_run *mr = &r->runs[m];
             char label[48];
             ring_label(r->layout, k, label, sizeof label);
-            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "",
+            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %10.4f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "",
                    label, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
                    mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
-                   mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
+                   mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), mean_or(mr->te_sum[k], mr->te_n[k], -1.0),
                    mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0));
         }
     printf("\n%-12s %14s %10s%s\n", "mode", "frame ms (med)", "relative", r->jod ? "  FovVideoVDP JOD" : "");
@@ -326,11 +333,12 @@ static fs_status report(const report_desc *r)
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
             fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"rmse\": %.6f, "
-                    "\"alpha_rmse\": %.6f, \"flip\": %.6f, \"psnr\": %.3f, \"flicker\": %.4f, \"frames_measured\": %d}",
+                    "\"alpha_rmse\": %.6f, \"flip\": %.6f, \"psnr\": %.3f, \"temporal_error\": %.6f, "
+                    "\"flicker\": %.4f, \"frames_measured\": %d}",
                     k ? "," : "", k < nr ? k : -1, outer, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0),
                     mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0),
                     mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
-                    mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0),
+                    mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), mean_or(mr->te_sum[k], mr->te_n[k], -1.0),
                     mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0), mr->err_n[k]);
         }
         fprintf(f, "]}%s\n", m + 1 < nm ? "," : "");
@@ -418,6 +426,24 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     if (st == FS_OK && !band_buf)
         st = FS_ERR_NOMEM;
     float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
+    /* The temporal error's warp (warp.h): a depth pass per frame (the traditional test, full
+     * resolution, no TAA) that method and reference share, this frame's and the previous one's. */
+    plan probe_pl;
+    renderer *probe = NULL;
+    if (st == FS_OK) {
+        plan_options po = {.width = s.pl.width, .height = s.pl.height, .frames = 1, .alpha_mode = ALPHA_MODE_TRADITIONAL};
+        st = plan_build(&s.sc, &po, &probe_pl);
+        if (st == FS_OK)
+            probe = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &probe_pl}, &st);
+    }
+    float *tbuf = st == FS_OK ? malloc(sizeof(float) * 10 * band_n) : NULL; /* 2 depths, 2 x 4 warped planes */
+    unsigned char *warp_valid = st == FS_OK ? malloc(band_n) : NULL;
+    if (st == FS_OK && (!tbuf || !warp_valid))
+        st = FS_ERR_NOMEM;
+    float *depth[2] = {tbuf, tbuf + band_n}; /* this frame's and the previous frame's */
+    float *const wref_p[4] = {tbuf + 2 * band_n, tbuf + 3 * band_n, tbuf + 4 * band_n, tbuf + 5 * band_n};
+    float *const wimg_p[4] = {tbuf + 6 * band_n, tbuf + 7 * band_n, tbuf + 8 * band_n, tbuf + 9 * band_n};
+    frame_record prev_fr = {0};
     bool have_prev_ref = false;
     session_catch_sigint();
     rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)", frames * passes,
@@ -457,6 +483,19 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
         if (st == FS_OK)
             st = metrics_band_limit(&vr, &dd, &s.pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band, &vb);
+        /* This frame's depth, and the previous frames warped into this one (one warp for all). */
+        frame_record fp = fr;
+        fov_layout off = fov_layout_off();
+        frame_record_set_gaze(&fp, &off, &dd, fr.gaze[0], fr.gaze[1]);
+        if (st == FS_OK)
+            st = renderer_draw(probe, &fp);
+        if (st == FS_OK)
+            st = renderer_read_depth(probe, depth[0]);
+        warp_desc wd = {.width = s.pl.width, .height = s.pl.height, .depth = depth[0], .view_proj = fr.view_proj,
+                        .prev_view_proj = prev_fr.view_proj, .prev_depth = depth[1], .prev_znear = prev_fr.znear,
+                        .prev_zfar = prev_fr.zfar};
+        metrics_view wrv = {s.pl.width, s.pl.height, wref_p[0], wref_p[1], wref_p[2], wref_p[3]};
+        bool warped = st == FS_OK && have_prev_ref && warp_previous(&wd, &vpr, wref_p, warp_valid) >= 0;
         for (int m = 0; m < nm && st == FS_OK; m++) {
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&runs[m].img), vp = view_of(&runs[m].prev);
@@ -464,6 +503,11 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             st = flip_of(&vi, &vr, &dd, runs[m].flip);
             if (st == FS_OK)
                 st = metrics_compute(&vi, &vr, &vb, runs[m].flip, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
+            if (st == FS_OK && prev && warped) {
+                metrics_view wiv = {s.pl.width, s.pl.height, wimg_p[0], wimg_p[1], wimg_p[2], wimg_p[3]};
+                warp_previous(&wd, &vp, wimg_p, warp_valid);
+                st = metrics_temporal(&vi, &wiv, &vr, &wrv, warp_valid, &mask, rm);
+            }
             accumulate(&runs[m], rm, ml.count);
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
@@ -501,6 +545,10 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         prev_ref = ref;
         memset(&ref, 0, sizeof ref);
         have_prev_ref = true;
+        prev_fr = fr;
+        float *t = depth[0];
+        depth[0] = depth[1];
+        depth[1] = t;
         progress_update(&rp.pr, (i + 1) * passes);
     }
     progress_end(&rp.pr);
@@ -552,6 +600,9 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         free(runs[m].flip);
         renderer_destroy(runs[m].r);
     }
+    renderer_destroy(probe);
+    free(tbuf);
+    free(warp_valid);
     free(ref_err);
     reference_destroy(rf);
     session_end(&s);

@@ -89,6 +89,7 @@ static bool same_size(const metrics_view *v, const ring_mask *m)
 static void finish(const acc *a, bool has_prev, ring_metrics *o)
 {
     memset(o, 0, sizeof *o);
+    o->temporal_error = o->disoccluded = -1.0; /* not measured unless metrics_temporal runs */
     o->pixels = a->pixels;
     o->has_prev = has_prev;
     if (a->pixels == 0) {
@@ -175,6 +176,46 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, cons
     }
     for (int k = 0; k <= rings; k++)
         finish(&a[k], has_prev, &out[k]);
+    return FS_OK;
+}
+
+// >>temporal error
+
+fs_status metrics_temporal(const metrics_view *img, const metrics_view *wprev, const metrics_view *ref,
+                           const metrics_view *wref, const unsigned char *valid, const ring_mask *mask,
+                           ring_metrics *out)
+{
+    const int rings = mask->ring_count;
+    if (!mask->ring || rings < 1 || rings > MAX_FOV_RINGS || !valid || !same_size(img, mask) ||
+        !same_size(wprev, mask) || !same_size(ref, mask) || !same_size(wref, mask)) {
+        log_error("METRICS: temporal error: images and ring mask differ in size");
+        return FS_ERR_INTERNAL;
+    }
+    double sq[MAX_FOV_RINGS + 1] = {0};
+    long long n[MAX_FOV_RINGS + 1] = {0}, warped[MAX_FOV_RINGS + 1] = {0};
+    const size_t np = (size_t)mask->width * (size_t)mask->height;
+    for (size_t i = 0; i < np; i++) {
+        int k = mask->ring[i] < rings ? mask->ring[i] : rings - 1;
+        n[k]++;
+        if (!valid[i])
+            continue;
+        warped[k]++;
+        const float *a[4] = {img->r, img->g, img->b}, *b[4] = {wprev->r, wprev->g, wprev->b};
+        const float *f[4] = {ref->r, ref->g, ref->b}, *g[4] = {wref->r, wref->g, wref->b};
+        for (int c = 0; c < 3; c++) {
+            double d = (sample(a[c][i]) - sample(b[c][i])) - (sample(f[c][i]) - sample(g[c][i]));
+            sq[k] += d * d;
+        }
+    }
+    for (int k = 0; k < rings; k++) {
+        sq[rings] += sq[k];
+        n[rings] += n[k];
+        warped[rings] += warped[k];
+    }
+    for (int k = 0; k <= rings; k++) {
+        out[k].temporal_error = warped[k] ? sqrt(sq[k] / (3.0 * (double)warped[k])) : 0.0;
+        out[k].disoccluded = n[k] ? 1.0 - (double)warped[k] / (double)n[k] : 1.0;
+    }
     return FS_OK;
 }
 
@@ -272,7 +313,7 @@ bool metrics_csv_header(FILE *f)
 {
     FS_ASSERT(f);
     fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,"
-          "ref_change,flicker,frame_ms\n",
+          "ref_change,flicker,temporal_error,disoccluded,frame_ms\n",
           f);
     return !ferror(f);
 }
@@ -305,8 +346,8 @@ bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
     fprintf(f, "%d,%.9g,", frame, (double)time);
     csv_field(f, mode);
     /* %.9g keeps 9 significant digits: more than the half-float inputs carry. */
-    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
+    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
             m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->flip, m->psnr, m->change,
-            m->ref_change, m->flicker, frame_ms);
+            m->ref_change, m->flicker, m->temporal_error, m->disoccluded, frame_ms);
     return !ferror(f);
 }

@@ -93,6 +93,8 @@ typedef struct ring_metrics {
     double psnr;           /* 10 log10(1 / MSE), peak 1.0, capped at METRICS_PSNR_CAP_DB */
     double flip;           /* mean LDR-FLIP error (metrics/flip.h) over the ring's pixels; 0 when no
                               FLIP map is given */
+    double temporal_error; /* metrics_temporal: motion-compensated; -1 when not measured */
+    double disoccluded;    /* metrics_temporal: share of pixels not warped; -1 when not measured */
     double change;         /* mean over pixels of (|dR| + |dG| + |dB|) / 3, frame - previous */
     double ref_change;     /* the same for the reference */
     double flicker;        /* change / ref_change (see the header for ~0); 1 = as the reference */
@@ -108,6 +110,17 @@ typedef struct ring_metrics {
 fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
                           const float *flip, const metrics_view *prev, const metrics_view *prev_ref,
                           const ring_mask *mask, ring_metrics *out);
+
+/* Motion-compensated temporal error of one frame (docs/metrics.md "Temporal error"), per ring
+ * (out[0 .. ring_count - 1]) and over the whole display (out[ring_count]):
+ *   temporal_error = sqrt(mean over warped pixels and R, G, B of ((I - W I') - (F - W F'))^2)
+ *   disoccluded    = share of the ring's pixels that were not warped (valid[i] == 0)
+ * img/ref: this frame's method and reference; wprev/wref: the previous frames warped into this one
+ * (warp_previous, with one warp for both). A ring with no warped pixel gets 0 and disoccluded 1.
+ * Fills only those two fields. FS_ERR_INTERNAL for mismatched sizes. */
+fs_status metrics_temporal(const metrics_view *img, const metrics_view *wprev, const metrics_view *ref,
+                           const metrics_view *wref, const unsigned char *valid, const ring_mask *mask,
+                           ring_metrics *out);
 
 /* The band-limited reference: the reference as the rings of layout `l` would show it if each had
  * drawn it exactly. Each ring's footprint rects[i] (the frame's ring_rect) is box-filtered down to

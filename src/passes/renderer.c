@@ -1428,6 +1428,18 @@ fs_status renderer_read_opaque(renderer *r, exr_image *img)
     return read_images(r, img, r->rt.color, r->rt.coverage, false);
 }
 
+fs_status renderer_read_depth(renderer *r, float *depth)
+{
+    FS_ASSERT(!r->pl.composite && !r->pl.msaa);
+    size_t n = (size_t)r->width * (size_t)r->height;
+    if (!r->read_row && !(r->read_row = malloc(sizeof(float) * 4 * (size_t)r->width)))
+        return FS_ERR_NOMEM;
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTextureImage(r->rt.depth, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(sizeof(float) * n), depth);
+    flip_rows(depth, r->read_row, r->width, r->height, 1);
+    return FS_OK;
+}
+
 void renderer_set_mip_bias(renderer *r, int ring, float bias)
 {
     FS_ASSERT(ring >= 0 && ring < r->pl.layout.count);

@@ -70,6 +70,9 @@ fs_status renderer_draw(renderer *r, const frame_record *fr);
  * each pixel's ABUFFER_FLAG_* (long lists and overflowed ones are not resolved there). */
 fs_status renderer_read(renderer *r, exr_image *img);
 #define RENDERER_LIST_FLAG_CHANNEL "list.flag"
+/* The last frame's window depth in [0, 1] (width * height floats, rows top first), for a plan
+ * without rings or MSAA (one display-sized target). */
+fs_status renderer_read_depth(renderer *r, float *depth);
 /* plan.list_resolve: the opaque pass alone (what the lists are composited over), R, G, B, A, coverage. */
 fs_status renderer_read_opaque(renderer *r, exr_image *img);
 /* With `on`, every later renderer_draw finishes the GPU after each pass and records its wall time

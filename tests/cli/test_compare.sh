@@ -78,7 +78,7 @@ check "no NaN or Inf (oiiotool --stats)" bash -c "! oiiotool --stats '$F' 2>&1 |
 check "ffmpeg decodes the grid" bash -c "ffmpeg -v error -i '$F' -f null - "
 rows=$(($(wc -l <"$T/forest/metrics.csv") - 1))
 check "metrics.csv: 12 frames x 2 modes x (4 rings + all) rows ($rows)" test "$rows" -eq 120
-check "metrics.csv columns" bash -c "head -1 '$T/forest/metrics.csv' | grep -q '^frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,ref_change,flicker,frame_ms'"
+check "metrics.csv columns" bash -c "head -1 '$T/forest/metrics.csv' | grep -q '^frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,ref_change,flicker,temporal_error,disoccluded,frame_ms'"
 # alpha_rmse measures against the reference band-limited to each ring: the blur a coarse ring was
 # designed to have no longer counts, so it is below the full RMSE there (docs/metrics.md).
 check "summary.json: alpha_rmse below rmse in the coarse rings" python3 -c "
@@ -117,6 +117,27 @@ check "the EXR header says which reference" bash -c "exrheader '$T/refs/referenc
 "$BIN" reference forest --width 320 --height 180 --frames 1 --ref-memory 1 --supersample 1 --samples 2 --no-cache \
   --out "$T/refo" >"$T/refo.txt" 2>&1; rc=$?
 check "reference --ref-memory 1 exits 0 and reports the overflowed pixels" bash -c "[ $rc -eq 0 ] && grep -Eq '[1-9][0-9]* overflowed sub-sample pixels' '$T/refo.txt'"
+
+# ---- the motion-compensated temporal error (docs/metrics.md): without TAA, stochastic alpha testing
+# shimmers more than hashed (Wyman & McGuire 2017, Fig. 9), and every value is finite and measured
+"$BIN" compare forest --modes stochastic,hashed --taa off --width 320 --height 180 --frames 12 --supersample 1 \
+  --gaze builtin:demo_tour --cache "$T/cache" --out "$T/te" --quiet >"$T/te.txt" 2>&1; rc=$?
+check "compare --taa off exits 0" test $rc -eq 0
+check "temporal error: stochastic above hashed without TAA, all finite" python3 -c "
+import json, math
+s = json.load(open('$T/te/summary.json'))
+te = {m['mode']: [r['temporal_error'] for r in m['rings']] for m in s['modes']}
+assert all(math.isfinite(v) and v >= 0 for vs in te.values() for v in vs), te
+assert te['stochastic'][-1] > 1.1 * te['hashed'][-1], te
+"
+# A still camera (the wind scene: only the trees sway): finite, no ratio dividing by ~0.
+"$BIN" compare wind --width 96 --height 54 --frames 4 --supersample 1 --cache "$T/cache" --out "$T/still" --quiet \
+  >"$T/still.txt" 2>&1; rc=$?
+check "still camera: temporal error finite and measured" bash -c "[ $rc -eq 0 ] && python3 -c \"
+import json, math
+s = json.load(open('$T/still/summary.json'))
+assert all(math.isfinite(r['temporal_error']) and r['temporal_error'] >= 0 for m in s['modes'] for r in m['rings'])
+\""
 
 # ---- FovVideoVDP's inputs (--export-fvvdp, --fvvdp): the pursuit trace at the fixtures' size gives
 # the fixtures' fixation file; 16-bit RGB PNGs per sequence; a script that is valid Python.

@@ -567,6 +567,7 @@ TEST(csv_rows)
         return;
     ring_metrics m = {.pixels = 9849, .coverage = 0.25, .ref_coverage = 0.5,
                       .coverage_ratio = 0.5, .rmse = 0.125, .alpha_rmse = 0.0625, .flip = 0.25, .psnr = 18.0617997,
+                      .temporal_error = 0.03125, .disoccluded = 0.125,
                       .change = 0.01, .ref_change = 0.02, .flicker = 0.5, .has_prev = 1};
     CHECK(metrics_csv_header(f));
     CHECK(metrics_csv_row(f, 3, 0.125f, "hashed", 0, &m, 12.5));
@@ -574,9 +575,9 @@ TEST(csv_rows)
     fclose(f);
     const char *want =
         "frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,"
-        "ref_change,flicker,frame_ms\n"
-        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.01,0.02,0.5,12.500\n"
-        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.01,0.02,0.5,-1.000\n";
+        "ref_change,flicker,temporal_error,disoccluded,frame_ms\n"
+        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.01,0.02,0.5,0.03125,0.125,12.500\n"
+        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.01,0.02,0.5,0.03125,0.125,-1.000\n";
     CHECK(buf && strcmp(buf, want) == 0);
     if (buf && strcmp(buf, want) != 0)
         fprintf(stderr, "  got:\n%s", buf);

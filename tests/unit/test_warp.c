@@ -155,9 +155,52 @@ TEST(a_still_camera_warps_to_the_previous_frame_itself)
     CHECK(warp_previous(&wd, &pv, out, valid) == -1);
 }
 
+TEST(a_frozen_image_scores_worse_than_the_method_it_froze)
+{
+    /* The camera dollies sideways; the method that draws the reference exactly has temporal error
+     * 0 (its change is the reference's change), the same method frozen at the previous frame has
+     * the reference's whole change as error. The flicker ratio would have scored the frozen one 0,
+     * the best. A still camera (the same frame twice) gives finite values. */
+    static shot prev, cur;
+    render(&prev, 0.0f);
+    render(&cur, 0.5f);
+    display_desc d = {W, H, 60.0f};
+    fov_layout off = fov_layout_off();
+    ring_mask m;
+    CHECK(ring_mask_build(&d, &off, W / 2.0f, H / 2.0f, &m) == FS_OK);
+    static float wr[W * H], wg[W * H], wb[W * H], wc[W * H], fr_[W * H], fg[W * H], fb[W * H], fc[W * H];
+    float *wref[4] = {wr, wg, wb, wc}, *wfroz[4] = {fr_, fg, fb, fc};
+    static unsigned char valid[W * H];
+    metrics_view vprev = {W, H, prev.r, prev.g, prev.b, prev.cov}, vcur = {W, H, cur.r, cur.g, cur.b, cur.cov};
+    warp_desc wd = {.width = W, .height = H, .depth = cur.depth, .view_proj = cur.vp, .prev_view_proj = prev.vp,
+                    .prev_depth = prev.depth, .prev_znear = ZNEAR, .prev_zfar = ZFAR};
+    CHECK(warp_previous(&wd, &vprev, wref, valid) > 0);
+    metrics_view wrv = {W, H, wr, wg, wb, wc};
+    ring_metrics exact[2], frozen[2];
+    /* Exact: the method is the reference in both frames. */
+    CHECK(metrics_temporal(&vcur, &wrv, &vcur, &wrv, valid, &m, exact) == FS_OK);
+    /* Frozen: the method shows the previous frame again now; its warped previous is that warped. */
+    CHECK(warp_previous(&wd, &vprev, wfroz, valid) > 0);
+    metrics_view wfv = {W, H, fr_, fg, fb, fc};
+    CHECK(metrics_temporal(&vprev, &wfv, &vcur, &wrv, valid, &m, frozen) == FS_OK);
+    fprintf(stderr, "temporal error: exact %.5f, frozen %.5f, disoccluded %.3f\n", exact[1].temporal_error,
+            frozen[1].temporal_error, exact[1].disoccluded);
+    CHECK(exact[1].temporal_error == 0.0);
+    CHECK(frozen[1].temporal_error > 0.01);
+    CHECK(exact[1].disoccluded > 0.0 && exact[1].disoccluded < 0.5);
+    /* Still camera, static scene: finite, and zero for a method that does not change. */
+    wd.view_proj = wd.prev_view_proj = prev.vp;
+    wd.depth = wd.prev_depth = prev.depth;
+    CHECK(warp_previous(&wd, &vprev, wref, valid) == W * H);
+    CHECK(metrics_temporal(&vprev, &wrv, &vprev, &wrv, valid, &m, exact) == FS_OK);
+    CHECK(isfinite(exact[1].temporal_error) && exact[1].temporal_error < 1e-6 && exact[1].disoccluded == 0.0);
+    ring_mask_free(&m);
+}
+
 int main(void)
 {
     RUN(warp_is_exact_for_a_static_scene_under_camera_motion);
     RUN(a_still_camera_warps_to_the_previous_frame_itself);
+    RUN(a_frozen_image_scores_worse_than_the_method_it_froze);
     return test_summary();
 }
