@@ -148,7 +148,7 @@ void cli_print_help(command cmd)
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
-               "                      off/on, with coverage, RMSE, alpha RMSE, FLIP and flicker against the\n"
+               "                      off/on, with coverage, RMSE, alpha RMSE, FLIP and temporal error vs the\n"
                "                      reference, and each configuration's CPU time, page faults and work\n"
                "                      counts; writes DIR/accuracy.csv, accuracy.md, accuracy.png (error vs\n"
                "                      frame time) and accuracy-fragments.png (error vs fragment-shader\n"

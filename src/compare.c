@@ -37,8 +37,8 @@ typedef struct mode_run {
     double te_sum[MAX_FOV_RINGS + 1];         /* motion-compensated temporal error */
     int te_n[MAX_FOV_RINGS + 1];
     float *flip;                              /* this frame's FLIP map against the reference */
-    double flicker_sum[MAX_FOV_RINGS + 1];
-    int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], flicker_n[MAX_FOV_RINGS + 1];
+    double still_sum[MAX_FOV_RINGS + 1]; /* static-view flicker: change on frames with a still camera */
+    int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], still_n[MAX_FOV_RINGS + 1];
 } mode_run;
 
 /* The rings metrics are reported in: the run's own layout when it is foveated, else the acuity
@@ -203,7 +203,8 @@ static fs_status flip_of(const metrics_view *img, const metrics_view *ref, const
     return flip_ldr(r, t, img->width, img->height, (double)fov_pixels_per_degree(d), out);
 }
 
-static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
+/* still: the camera did not move since the previous frame (the static-view flicker counts). */
+static void accumulate(mode_run *mr, const ring_metrics *rm, int count, bool still)
 {
     for (int k = 0; k <= count; k++) {
         const ring_metrics *m = &rm[k];
@@ -218,9 +219,9 @@ static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
             mr->ratio_sum[k] += m->coverage_ratio;
             mr->ratio_n[k]++;
         }
-        if (m->has_prev) {
-            mr->flicker_sum[k] += m->flicker;
-            mr->flicker_n[k]++;
+        if (m->has_prev && still) {
+            mr->still_sum[k] += m->change;
+            mr->still_n[k]++;
         }
         if (m->temporal_error >= 0.0 && m->disoccluded < 1.0) {
             mr->te_sum[k] += m->temporal_error;
@@ -232,6 +233,102 @@ static void accumulate(mode_run *mr, const ring_metrics *rm, int count)
 static double mean_or(double sum, int n, double none)
 {
     return n > 0 ? sum / n : none;
+}
+
+
+/* The motion-compensated temporal error's per-frame state (docs/metrics.md "Temporal error"): a
+ * depth pass that method and reference share (the traditional test at full resolution, no TAA),
+ * this frame's and the previous frame's depth, and the previous reference warped into this frame. */
+typedef struct temporal {
+    plan pl;
+    renderer *probe;
+    int width, height;
+    float *buf;              /* 2 depths, 4 warped reference planes, 4 warped method planes */
+    unsigned char *valid;
+    float *depth[2];         /* this frame's, the previous frame's */
+    warp_desc wd;            /* this frame's warp */
+    frame_record prev;       /* the previous frame (valid when have_prev) */
+    bool have_prev, warped;  /* a previous frame exists; this frame's reference was warped */
+} temporal;
+
+static fs_status temporal_begin(temporal *t, const session *s)
+{
+    memset(t, 0, sizeof *t);
+    t->width = s->pl.width;
+    t->height = s->pl.height;
+    size_t n = (size_t)t->width * (size_t)t->height;
+    plan_options po = {.width = t->width, .height = t->height, .frames = 1, .alpha_mode = ALPHA_MODE_TRADITIONAL};
+    fs_status st = plan_build(&s->sc, &po, &t->pl);
+    if (st == FS_OK)
+        t->probe = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &t->pl}, &st);
+    if (st == FS_OK && (!(t->buf = malloc(sizeof(float) * 10 * n)) || !(t->valid = malloc(n))))
+        st = FS_ERR_NOMEM;
+    if (st == FS_OK) {
+        t->depth[0] = t->buf;
+        t->depth[1] = t->buf + n;
+    }
+    return st;
+}
+
+static metrics_view temporal_view(const temporal *t, int k)
+{
+    size_t n = (size_t)t->width * (size_t)t->height;
+    float *p = t->buf + (size_t)(2 + 4 * k) * n; /* k = 0: the warped reference, 1: the warped method */
+    return (metrics_view){t->width, t->height, p, p + n, p + 2 * n, p + 3 * n};
+}
+
+/* This frame's depth, and the previous reference (NULL: none, e.g. after a cut) warped into it. */
+static fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref)
+{
+    display_desc dd = {t->width, t->height, fr->hfov_deg};
+    frame_record fp = *fr;
+    fov_layout off = fov_layout_off();
+    frame_record_set_gaze(&fp, &off, &dd, fr->gaze[0], fr->gaze[1]);
+    fs_status st = renderer_draw(t->probe, &fp);
+    if (st == FS_OK)
+        st = renderer_read_depth(t->probe, t->depth[0]);
+    t->wd = (warp_desc){.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
+                        .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
+                        .prev_zfar = t->prev.zfar};
+    metrics_view wr = temporal_view(t, 0);
+    float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
+    t->warped = st == FS_OK && t->have_prev && prev_ref && warp_previous(&t->wd, prev_ref, out, t->valid) >= 0;
+    return st;
+}
+
+/* One method's temporal error into rm (left unmeasured without a warped previous frame). */
+static fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
+                                  const metrics_view *ref, const ring_mask *mask, ring_metrics *rm)
+{
+    if (!t->warped || !prev_img)
+        return FS_OK;
+    metrics_view wi = temporal_view(t, 1), wr = temporal_view(t, 0);
+    float *const out[4] = {(float *)wi.r, (float *)wi.g, (float *)wi.b, (float *)wi.coverage};
+    warp_previous(&t->wd, prev_img, out, t->valid);
+    return metrics_temporal(img, &wi, ref, &wr, t->valid, mask, rm);
+}
+
+/* Whether the camera has not moved since the previous frame (the static-view flicker counts). */
+static bool temporal_still(const temporal *t, const frame_record *fr)
+{
+    return t->have_prev && !fr->cut && memcmp(&t->prev.view_proj, &fr->view_proj, sizeof fr->view_proj) == 0;
+}
+
+/* This frame becomes the previous one. */
+static void temporal_next(temporal *t, const frame_record *fr)
+{
+    t->prev = *fr;
+    t->have_prev = true;
+    float *d = t->depth[0];
+    t->depth[0] = t->depth[1];
+    t->depth[1] = d;
+}
+
+static void temporal_end(temporal *t)
+{
+    renderer_destroy(t->probe);
+    free(t->buf);
+    free(t->valid);
 }
 
 /* >>report */
@@ -285,19 +382,19 @@ static fs_status report(const report_desc *r)
            r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
     printf("measured in rings %s (eccentricity from each frame's gaze); means over frames\n\n", mrings);
     printf("%-12s %-18s %10s %10s %10s %8s %8s %10s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "FLIP",
-           "PSNR", "temporal", "flicker");
+           "PSNR", "temporal", "static");
     printf("%-12s %-18s %10s %10s %10s %8s %8s %10s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(mean)",
-           "(dB)", "error", "/ ref");
+           "(dB)", "error", "flicker");
     for (int m = 0; m < nm; m++)
         for (int k = 0; k <= nr; k++) {
             const mode_run *mr = &r->runs[m];
             char label[48];
             ring_label(r->layout, k, label, sizeof label);
-            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %10.4f %9.2f\n", k == 0 ? alpha_mode_name(mr->mode) : "",
+            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %10.4f %9.4f\n", k == 0 ? alpha_mode_name(mr->mode) : "",
                    label, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
                    mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
                    mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), mean_or(mr->te_sum[k], mr->te_n[k], -1.0),
-                   mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0));
+                   mean_or(mr->still_sum[k], mr->still_n[k], -1.0));
         }
     printf("\n%-12s %14s %10s%s\n", "mode", "frame ms (med)", "relative", r->jod ? "  FovVideoVDP JOD" : "");
     for (int m = 0; m < nm; m++) {
@@ -334,12 +431,12 @@ static fs_status report(const report_desc *r)
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
             fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"rmse\": %.6f, "
                     "\"alpha_rmse\": %.6f, \"flip\": %.6f, \"psnr\": %.3f, \"temporal_error\": %.6f, "
-                    "\"flicker\": %.4f, \"frames_measured\": %d}",
+                    "\"static_flicker\": %.6f, \"frames_measured\": %d}",
                     k ? "," : "", k < nr ? k : -1, outer, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0),
                     mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0),
                     mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
                     mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), mean_or(mr->te_sum[k], mr->te_n[k], -1.0),
-                    mean_or(mr->flicker_sum[k], mr->flicker_n[k], 0.0), mr->err_n[k]);
+                    mean_or(mr->still_sum[k], mr->still_n[k], -1.0), mr->err_n[k]);
         }
         fprintf(f, "]}%s\n", m + 1 < nm ? "," : "");
     }
@@ -426,24 +523,9 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     if (st == FS_OK && !band_buf)
         st = FS_ERR_NOMEM;
     float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
-    /* The temporal error's warp (warp.h): a depth pass per frame (the traditional test, full
-     * resolution, no TAA) that method and reference share, this frame's and the previous one's. */
-    plan probe_pl;
-    renderer *probe = NULL;
-    if (st == FS_OK) {
-        plan_options po = {.width = s.pl.width, .height = s.pl.height, .frames = 1, .alpha_mode = ALPHA_MODE_TRADITIONAL};
-        st = plan_build(&s.sc, &po, &probe_pl);
-        if (st == FS_OK)
-            probe = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &probe_pl}, &st);
-    }
-    float *tbuf = st == FS_OK ? malloc(sizeof(float) * 10 * band_n) : NULL; /* 2 depths, 2 x 4 warped planes */
-    unsigned char *warp_valid = st == FS_OK ? malloc(band_n) : NULL;
-    if (st == FS_OK && (!tbuf || !warp_valid))
-        st = FS_ERR_NOMEM;
-    float *depth[2] = {tbuf, tbuf + band_n}; /* this frame's and the previous frame's */
-    float *const wref_p[4] = {tbuf + 2 * band_n, tbuf + 3 * band_n, tbuf + 4 * band_n, tbuf + 5 * band_n};
-    float *const wimg_p[4] = {tbuf + 6 * band_n, tbuf + 7 * band_n, tbuf + 8 * band_n, tbuf + 9 * band_n};
-    frame_record prev_fr = {0};
+    temporal te = {0};
+    if (st == FS_OK)
+        st = temporal_begin(&te, &s);
     bool have_prev_ref = false;
     session_catch_sigint();
     rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)", frames * passes,
@@ -483,35 +565,23 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
         if (st == FS_OK)
             st = metrics_band_limit(&vr, &dd, &s.pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band, &vb);
-        /* This frame's depth, and the previous frames warped into this one (one warp for all). */
-        frame_record fp = fr;
-        fov_layout off = fov_layout_off();
-        frame_record_set_gaze(&fp, &off, &dd, fr.gaze[0], fr.gaze[1]);
+        /* This frame's depth, and the previous reference warped into this frame (one warp for all). */
         if (st == FS_OK)
-            st = renderer_draw(probe, &fp);
-        if (st == FS_OK)
-            st = renderer_read_depth(probe, depth[0]);
-        warp_desc wd = {.width = s.pl.width, .height = s.pl.height, .depth = depth[0], .view_proj = fr.view_proj,
-                        .prev_view_proj = prev_fr.view_proj, .prev_depth = depth[1], .prev_znear = prev_fr.znear,
-                        .prev_zfar = prev_fr.zfar};
-        metrics_view wrv = {s.pl.width, s.pl.height, wref_p[0], wref_p[1], wref_p[2], wref_p[3]};
-        bool warped = st == FS_OK && have_prev_ref && warp_previous(&wd, &vpr, wref_p, warp_valid) >= 0;
+            st = temporal_frame(&te, &fr, have_prev_ref ? &vpr : NULL);
+        bool still = temporal_still(&te, &fr);
         for (int m = 0; m < nm && st == FS_OK; m++) {
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&runs[m].img), vp = view_of(&runs[m].prev);
             bool prev = runs[m].have_prev && have_prev_ref;
             st = flip_of(&vi, &vr, &dd, runs[m].flip);
             if (st == FS_OK)
-                st = metrics_compute(&vi, &vr, &vb, runs[m].flip, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
-            if (st == FS_OK && prev && warped) {
-                metrics_view wiv = {s.pl.width, s.pl.height, wimg_p[0], wimg_p[1], wimg_p[2], wimg_p[3]};
-                warp_previous(&wd, &vp, wimg_p, warp_valid);
-                st = metrics_temporal(&vi, &wiv, &vr, &wrv, warp_valid, &mask, rm);
-            }
-            accumulate(&runs[m], rm, ml.count);
+                st = metrics_compute(&vi, &vr, &vb, runs[m].flip, prev ? &vp : NULL, &mask, rm);
+            if (st == FS_OK)
+                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask, rm);
+            accumulate(&runs[m], rm, ml.count, still);
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
-                                     runs[m].frame_ms[i])) {
+                                     still, runs[m].frame_ms[i])) {
                     log_error("%s: cannot write: %s", csv_tmp, strerror(errno));
                     st = FS_ERR_IO;
                 }
@@ -545,10 +615,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         prev_ref = ref;
         memset(&ref, 0, sizeof ref);
         have_prev_ref = true;
-        prev_fr = fr;
-        float *t = depth[0];
-        depth[0] = depth[1];
-        depth[1] = t;
+        temporal_next(&te, &fr);
         progress_update(&rp.pr, (i + 1) * passes);
     }
     progress_end(&rp.pr);
@@ -600,9 +667,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         free(runs[m].flip);
         renderer_destroy(runs[m].r);
     }
-    renderer_destroy(probe);
-    free(tbuf);
-    free(warp_valid);
+    temporal_end(&te);
     free(ref_err);
     reference_destroy(rf);
     session_end(&s);
@@ -862,6 +927,9 @@ fs_status run_bench_accuracy(const run_desc *d)
     float *flip_map = st == FS_OK ? malloc(sizeof(float) * band_n) : NULL; /* each configuration's FLIP map */
     if (st == FS_OK && !flip_map)
         st = FS_ERR_NOMEM;
+    temporal te = {0};
+    if (st == FS_OK)
+        st = temporal_begin(&te, &s);
     bool have_prev_ref = false;
     for (int i = 0; i < n + warm && st == FS_OK; i++) {
         if (session_interrupted()) {
@@ -879,6 +947,8 @@ fs_status run_bench_accuracy(const run_desc *d)
                 st = ring_mask_build(&disp, &ml, base.gaze_px[0], base.gaze_px[1], &mask);
         }
         metrics_view vr = view_of(&ref), vpr = view_of(&prev_ref);
+        if (measured && st == FS_OK) /* this frame's depth and the previous reference warped into it */
+            st = temporal_frame(&te, &base, have_prev_ref && !base.cut ? &vpr : NULL);
         for (int c = 0; c < nc && st == FS_OK; c++) {
             mode_run *mr = &cfg[c].run;
             frame_record fr = base;
@@ -909,8 +979,10 @@ fs_status run_bench_accuracy(const run_desc *d)
             if (st == FS_OK)
                 st = flip_of(&vi, &vr, &disp, flip_map);
             if (st == FS_OK)
-                st = metrics_compute(&vi, &vr, &vb, flip_map, prev ? &vp : NULL, prev ? &vpr : NULL, &mask, rm);
-            accumulate(mr, rm, ml.count);
+                st = metrics_compute(&vi, &vr, &vb, flip_map, prev ? &vp : NULL, &mask, rm);
+            if (st == FS_OK)
+                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask, rm);
+            accumulate(mr, rm, ml.count, measured && temporal_still(&te, &base));
             exr_image_free(&mr->prev);
             mr->prev = mr->img;
             memset(&mr->img, 0, sizeof mr->img);
@@ -918,6 +990,7 @@ fs_status run_bench_accuracy(const run_desc *d)
         }
         ring_mask_free(&mask);
         if (measured) {
+            temporal_next(&te, &base);
             exr_image_free(&prev_ref);
             prev_ref = ref;
             memset(&ref, 0, sizeof ref);
@@ -977,7 +1050,7 @@ fs_status run_bench_accuracy(const run_desc *d)
         int oc = 0, om = 0;
 #define CSV(...) oc += snprintf(csv + oc, (1 << 16) - (size_t)oc, __VA_ARGS__)
 #define MD(...) om += snprintf(md + om, (1 << 16) - (size_t)om, __VA_ARGS__)
-        CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,flicker,pareto");
+        CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,temporal_error,pareto");
         for (int q = 0; q < ACC_COUNTS; q++)
             CSV(",%s", k_acc_count_columns[q]);
         CSV(",pareto_fragments");
@@ -1000,7 +1073,7 @@ fs_status run_bench_accuracy(const run_desc *d)
            "Pareto front of (time, %s) (--error)\n", k_error_names[d->acc_error]);
         MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
            "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n\n");
-        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | flicker | CPU ms | frag./px |",
+        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
            d->acc_error == 2 ? "PSNR" : k_error_names[d->acc_error]);
         for (int k = 0; k < ml.count; k++)
             MD(" cov. ring %d |", k);
@@ -1012,14 +1085,14 @@ fs_status run_bench_accuracy(const run_desc *d)
             const mode_run *mr = &cfg[c].run;
             int all = ml.count;
             double rmse = mean_or(mr->rmse_sum[all], mr->err_n[all], 0.0), psnr = mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
-                   fl = mean_or(mr->flicker_sum[all], mr->flicker_n[all], 0.0), sp = cfg[base].med / cfg[c].med;
+                   fl = mean_or(mr->te_sum[all], mr->te_n[all], -1.0), sp = cfg[base].med / cfg[c].med;
             const double *cm = cfg[c].count_med;
-            CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.4f,%d", alpha_mode_name(mr->mode),
+            CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.6f,%d", alpha_mode_name(mr->mode),
                 k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med, cfg[c].p10, cfg[c].p90, sp,
                 rmse, psnr, fl, front[c]);
             CSV(",%.4f,%.0f,%.0f,%.0f,%.0f,%d", cm[ACC_CPU], cm[ACC_FAULTS], cm[ACC_VS], cm[ACC_PRIMS], cm[ACC_FS],
                 front_fs[c]);
-            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.2f | %.2f |", alpha_mode_name(mr->mode),
+            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.4f | %.2f |", alpha_mode_name(mr->mode),
                front[c] ? " *" : "", k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med,
                cfg[c].p10, cfg[c].p90, sp, rmse, d->acc_error == 2 ? psnr : ey[c], fl, cm[ACC_CPU]);
             if (cm[ACC_FS] >= 0)
@@ -1092,6 +1165,7 @@ fs_status run_bench_accuracy(const run_desc *d)
     exr_image_free(&prev_ref);
     free(band_buf);
     free(flip_map);
+    temporal_end(&te);
     for (int c = 0; c < nc; c++) {
         exr_image_free(&cfg[c].run.img);
         exr_image_free(&cfg[c].run.prev);

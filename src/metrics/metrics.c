@@ -77,7 +77,7 @@ static double safe_ratio(double num, double den)
 
 typedef struct acc {
     long long pixels;
-    double cov, ref_cov, sq_err, band_sq_err, flip, change, ref_change;
+    double cov, ref_cov, sq_err, band_sq_err, flip, change;
 } acc;
 
 static bool same_size(const metrics_view *v, const ring_mask *m)
@@ -95,7 +95,6 @@ static void finish(const acc *a, bool has_prev, ring_metrics *o)
     if (a->pixels == 0) {
         o->coverage_ratio = 1.0;
         o->psnr = METRICS_PSNR_CAP_DB;
-        o->flicker = 1.0;
         return;
     }
     const double n = (double)a->pixels;
@@ -111,27 +110,22 @@ static void finish(const acc *a, bool has_prev, ring_metrics *o)
     /* 10 log10(1 / mse) >= cap exactly when mse <= 10^(-cap / 10): no log of 0. */
     o->psnr = mse <= pow(10.0, -METRICS_PSNR_CAP_DB / 10.0) ? METRICS_PSNR_CAP_DB
                                                             : -10.0 * log10(mse);
-    if (has_prev) {
+    if (has_prev)
         o->change = a->change / n;
-        o->ref_change = a->ref_change / n;
-        o->flicker = safe_ratio(o->change, o->ref_change);
-    } else {
-        o->flicker = 1.0;
-    }
 }
 
 fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
-                          const float *flip, const metrics_view *prev, const metrics_view *prev_ref,
-                          const ring_mask *mask, ring_metrics *out)
+                          const float *flip, const metrics_view *prev, const ring_mask *mask,
+                          ring_metrics *out)
 {
     FS_ASSERT(mask && out);
     const int rings = mask->ring_count;
-    const bool has_prev = prev && prev_ref;
+    const bool has_prev = prev != NULL;
     if (!band)
         band = ref;
     bool ok = mask->ring && rings >= 1 && rings <= MAX_FOV_RINGS && same_size(img, mask) &&
               same_size(ref, mask) && same_size(band, mask) &&
-              (!has_prev || (same_size(prev, mask) && same_size(prev_ref, mask)));
+              (!has_prev || same_size(prev, mask));
     if (!ok) {
         if (rings >= 1 && rings <= MAX_FOV_RINGS)
             memset(out, 0, (size_t)(rings + 1) * sizeof *out);
@@ -157,9 +151,6 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, cons
         if (has_prev) {
             r->change += (fabs(ir - sample(prev->r[i])) + fabs(ig - sample(prev->g[i])) +
                           fabs(ib - sample(prev->b[i]))) / 3.0;
-            r->ref_change += (fabs(fr - sample(prev_ref->r[i])) +
-                              fabs(fg - sample(prev_ref->g[i])) +
-                              fabs(fb - sample(prev_ref->b[i]))) / 3.0;
         }
     }
     /* The whole display: the sums of the rings (every pixel is in exactly one). */
@@ -172,7 +163,6 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, cons
         all->band_sq_err += a[k].band_sq_err;
         all->flip += a[k].flip;
         all->change += a[k].change;
-        all->ref_change += a[k].ref_change;
     }
     for (int k = 0; k <= rings; k++)
         finish(&a[k], has_prev, &out[k]);
@@ -312,8 +302,8 @@ fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, con
 bool metrics_csv_header(FILE *f)
 {
     FS_ASSERT(f);
-    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,"
-          "ref_change,flicker,temporal_error,disoccluded,frame_ms\n",
+    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,"
+          "temporal_error,disoccluded,static_flicker,frame_ms\n",
           f);
     return !ferror(f);
 }
@@ -336,7 +326,7 @@ static void csv_field(FILE *f, const char *s)
 }
 
 bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
-                     const ring_metrics *m, double frame_ms)
+                     const ring_metrics *m, bool still, double frame_ms)
 {
     FS_ASSERT(f && mode && m);
     if (!isfinite(time))
@@ -346,8 +336,8 @@ bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
     fprintf(f, "%d,%.9g,", frame, (double)time);
     csv_field(f, mode);
     /* %.9g keeps 9 significant digits: more than the half-float inputs carry. */
-    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
-            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->flip, m->psnr, m->change,
-            m->ref_change, m->flicker, m->temporal_error, m->disoccluded, frame_ms);
+    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
+            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->flip, m->psnr,
+            m->temporal_error, m->disoccluded, still && m->has_prev ? m->change : -1.0, frame_ms);
     return !ferror(f);
 }

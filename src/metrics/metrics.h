@@ -2,30 +2,30 @@
  * over the whole display (DESIGN.md "Ground truth and metrics"; formulas in docs/metrics.md).
  *
  * Per ring and for the whole display: mean coverage of the method and of the reference and their
- * ratio (peripheral coverage preservation), RMSE and PSNR of linear RGB against the reference, and
- * flicker: the method's mean frame-to-frame change relative to the reference's own.
+ * ratio (peripheral coverage preservation), RMSE and PSNR of linear RGB against the reference (and
+ * against the band-limited reference: alpha_rmse), mean FLIP, the method's mean frame-to-frame
+ * change, and (metrics_temporal) the motion-compensated temporal error.
  *
  * Usage:
  *   ring_mask m;  ring_mask_build(&display, &layout, gx_px, gy_px, &m);   (per gaze)
  *   ring_metrics out[MAX_FOV_RINGS + 1];
- *   metrics_compute(&img, &ref, prev_or_NULL, prev_ref_or_NULL, &m, out);
+ *   metrics_compute(&img, &ref, band_or_NULL, flip_or_NULL, prev_or_NULL, &m, out);
  *   metrics_csv_header(f);  metrics_csv_row(f, frame, time, "hashed", ring_or_-1, &out[k], ms);
  *   ring_mask_free(&m);
  *
  * Every number it produces is finite (they end up in CSV and JSON):
  *   - a non-finite or huge input sample counts as the EXR file would store it: NaN as 0, and
  *     values clamped to +-65504 (no half rounding otherwise);
- *   - ratios of two means (coverage_ratio, flicker) are 1 when both are below METRICS_EPS (nothing
- *     to preserve and nothing added: no difference) and otherwise num / max(den, METRICS_EPS), a
- *     large number when only the reference is ~0 (bloat or flicker out of nothing);
+ *   - the ratio of two means (coverage_ratio) is 1 when both are below METRICS_EPS (nothing to
+ *     preserve and nothing added: no difference) and otherwise num / max(den, METRICS_EPS), a
+ *     large number when only the reference is ~0 (bloat out of nothing);
  *   - PSNR is capped at METRICS_PSNR_CAP_DB (identical images);
  *   - a ring with no display pixels for this gaze (pixels == 0) reports the neutral values
  *     (means 0, ratios 1, rmse 0, psnr at the cap): skip it by its pixel count;
- *   - without a previous frame (first frame, after a cut) change and ref_change are 0, flicker 1
- *     and has_prev 0.
+ *   - without a previous frame (first frame, after a cut) change is 0 and has_prev 0.
  *
  * What it does NOT do: GL, reading EXR files, choosing frames or modes, aggregating frames into a
- * summary (the caller does, skipping rows with pixels == 0 and flicker rows with has_prev == 0).
+ * summary (the caller does, skipping rows with pixels == 0 and change rows with has_prev == 0).
  */
 #ifndef FOVSIM_METRICS_H
 #define FOVSIM_METRICS_H
@@ -95,21 +95,20 @@ typedef struct ring_metrics {
                               FLIP map is given */
     double temporal_error; /* metrics_temporal: motion-compensated; -1 when not measured */
     double disoccluded;    /* metrics_temporal: share of pixels not warped; -1 when not measured */
-    double change;         /* mean over pixels of (|dR| + |dG| + |dB|) / 3, frame - previous */
-    double ref_change;     /* the same for the reference */
-    double flicker;        /* change / ref_change (see the header for ~0); 1 = as the reference */
+    double change;         /* mean over pixels of (|dR| + |dG| + |dB|) / 3, frame - previous, not
+                              motion-compensated: the static-view flicker when the camera is still */
     int has_prev;          /* 1 when previous frames were given (change is measured) */
 } ring_metrics;
 
-/* Fills out[0 .. ring_count - 1] (per ring) and out[ring_count] (whole display). prev and
- * prev_ref may be NULL (first frame, after a cut): no change measured unless both are given.
+/* Fills out[0 .. ring_count - 1] (per ring) and out[ring_count] (whole display). prev may be
+ * NULL (first frame, after a cut): no change measured.
  * band (may be NULL) is the band-limited reference, for alpha_rmse; flip (may be NULL) the
  * image's FLIP error map against the reference (the mask's size), for flip. Every view must have
  * the mask's size: FS_ERR_INTERNAL otherwise (a bug in the caller, out[] is then zeroed), else
  * FS_OK. Sums in double. */
 fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, const metrics_view *band,
-                          const float *flip, const metrics_view *prev, const metrics_view *prev_ref,
-                          const ring_mask *mask, ring_metrics *out);
+                          const float *flip, const metrics_view *prev, const ring_mask *mask,
+                          ring_metrics *out);
 
 /* Motion-compensated temporal error of one frame (docs/metrics.md "Temporal error"), per ring
  * (out[0 .. ring_count - 1]) and over the whole display (out[ring_count]):
@@ -137,12 +136,13 @@ fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, con
 
 /* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
  * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,
- * change,ref_change,flicker,frame_ms. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
+ * temporal_error,disoccluded,static_flicker,frame_ms; static_flicker is `change` on frames with a
+ * still camera (the caller says: still) and -1 otherwise. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
  * not finite means "not measured" and is written as -1; a non-finite time as 0. Both return
  * false when the stream reports an error. */
 bool metrics_csv_header(FILE *f);
 bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
-                     const ring_metrics *m, double frame_ms);
+                     const ring_metrics *m, bool still, double frame_ms);
 
 #ifdef __cplusplus
 }

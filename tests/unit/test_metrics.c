@@ -1,4 +1,4 @@
-/* test_metrics.c: src/metrics (ring masks, coverage ratio, RMSE/PSNR, flicker, CSV) on synthetic
+/* test_metrics.c: src/metrics (ring masks, coverage ratio, RMSE/PSNR, change, CSV) on synthetic
  * images with known answers, and the hard cases: NaN/Inf inputs, 1x1 images, rings off screen,
  * gaze outside the display. */
 #include <stdbool.h>
@@ -68,8 +68,8 @@ static long long count_ring(const ring_mask *m, int ring)
 static bool all_finite(const ring_metrics *m)
 {
     return isfinite(m->coverage) && isfinite(m->ref_coverage) && isfinite(m->coverage_ratio) &&
-           isfinite(m->rmse) && isfinite(m->psnr) && isfinite(m->change) &&
-           isfinite(m->ref_change) && isfinite(m->flicker);
+           isfinite(m->rmse) && isfinite(m->psnr) && isfinite(m->change) && isfinite(m->alpha_rmse) &&
+           isfinite(m->flip);
 }
 
 /* A one-ring mask ("off" layout) of w x h: every pixel in ring 0. */
@@ -204,7 +204,7 @@ TEST(rmse_psnr_known_values)
      * (0.375 - 0.25 is exact in float.) */
     frame_init(&img, 7, 5, 0.375f, 0.625f, 1.125f, 1.0f);
     frame_init(&ref, 7, 5, 0.25f, 0.5f, 1.0f, 1.0f);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].pixels == 35 && o[1].pixels == 35);
     CHECK_NEAR(o[0].rmse, 0.125, 1e-15);
     CHECK_NEAR(o[0].psnr, 10.0 * log10(64.0), 1e-12);
@@ -216,19 +216,19 @@ TEST(rmse_psnr_known_values)
         img.g[i] = ref.g[i];
         img.b[i] = ref.b[i];
     }
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK_NEAR(o[0].rmse, sqrt(0.25 / 3.0), 1e-15);
     CHECK_NEAR(o[0].psnr, 10.0 * log10(3.0 / 0.25), 1e-12);
 
     /* Identical images: RMSE 0, PSNR at the cap (not Inf). */
-    CHECK(metrics_compute(&ref.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&ref.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].rmse == 0.0);
     CHECK(o[0].psnr == METRICS_PSNR_CAP_DB);
     /* Just above the cap's MSE (1e-10) the formula takes over, continuous with the cap. */
     for (int i = 0; i < 35; i++)
         img.r[i] = ref.r[i];
     img.r[0] = ref.r[0] + 0.001f; /* MSE = 1e-6 / 105 ~ 9.5e-9: 80.2 dB */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     double d0 = (double)(ref.r[0] + 0.001f) - (double)ref.r[0];
     CHECK_NEAR(o[0].psnr, -10.0 * log10(d0 * d0 / 105.0), 1e-9);
     CHECK(o[0].psnr < METRICS_PSNR_CAP_DB);
@@ -252,7 +252,7 @@ TEST(error_per_ring)
         if (m.ring[i] == 0)
             img.g[i] = 0.75f;
     ring_metrics o[3];
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     long long n0 = count_ring(&m, 0);
     CHECK(n0 > 0 && o[0].pixels == n0 && o[1].pixels == 64 * 36 - n0 && o[2].pixels == 64 * 36);
     CHECK_NEAR(o[0].rmse, sqrt(0.0625 / 3.0), 1e-15);
@@ -273,64 +273,55 @@ TEST(coverage_ratio)
     frame_init(&img, 8, 4, 0.1f, 0.2f, 0.3f, 0.5f);
     frame_init(&ref, 8, 4, 0.1f, 0.2f, 0.3f, 1.0f);
     /* Half the reference's coverage (erosion). */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].coverage == 0.5 && o[0].ref_coverage == 1.0);
     CHECK(o[0].coverage_ratio == 0.5);
     /* Twice the reference's coverage (bloat): the other direction. */
-    CHECK(metrics_compute(&ref.v, &img.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&ref.v, &img.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].coverage_ratio == 2.0);
     /* Both empty: nothing to preserve, nothing added -> 1. */
     for (int i = 0; i < 32; i++)
         img.cov[i] = ref.cov[i] = 0.0f;
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].coverage_ratio == 1.0);
     /* Empty reference, covered method: num / METRICS_EPS, large and finite. */
     img.cov[0] = 1.0f; /* mean 1/32 */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK_NEAR(o[0].coverage_ratio, (1.0 / 32.0) / METRICS_EPS, 1e-6);
     /* A tiny but real reference stays a plain ratio. */
     ref.cov[1] = 3.2e-4f; /* mean 1e-5 */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK_NEAR(o[0].coverage_ratio, (1.0 / 32.0) / ((double)3.2e-4f / 32.0), 1e-6);
     frame_free(&img);
     frame_free(&ref);
     ring_mask_free(&m);
 }
 
-// >>flicker
+// >>change
 
-TEST(flicker_ratio_and_no_previous)
+TEST(change_and_no_previous)
 {
+    /* The method's mean frame-to-frame change (not motion-compensated): the static-view flicker
+     * on frames with a still camera. The flicker ratio it once fed (change over the reference's
+     * change) is gone: it scored a frozen image best. */
     ring_mask m = whole_mask(6, 6);
     ring_metrics o[2];
-    frame img, ref, prev, prev_ref;
+    frame img, ref, prev;
     frame_init(&img, 6, 6, 0.5f, 0.5f, 0.5f, 1.0f);
     frame_init(&ref, 6, 6, 0.5f, 0.5f, 0.5f, 1.0f);
-    frame_init(&prev, 6, 6, 0.375f, 0.5f, 0.5f, 1.0f);   /* R changed by 0.125 */
-    frame_init(&prev_ref, 6, 6, 0.25f, 0.75f, 0.25f, 1.0f); /* every channel by 0.25 */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &prev.v, &prev_ref.v, &m, o) == FS_OK);
+    frame_init(&prev, 6, 6, 0.375f, 0.5f, 0.5f, 1.0f); /* R changed by 0.125 */
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &prev.v, &m, o) == FS_OK);
     CHECK(o[0].has_prev == 1);
     CHECK_NEAR(o[0].change, 0.125 / 3.0, 1e-15);
-    CHECK_NEAR(o[0].ref_change, 0.25, 1e-15);
-    CHECK_NEAR(o[0].flicker, (0.125 / 3.0) / 0.25, 1e-15);
-
-    /* No previous frame (first frame, after a cut), or only one of the two. */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
-    CHECK(o[0].has_prev == 0 && o[0].change == 0.0 && o[0].ref_change == 0.0);
-    CHECK(o[0].flicker == 1.0);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &prev.v, NULL, &m, o) == FS_OK);
-    CHECK(o[0].has_prev == 0 && o[0].change == 0.0 && o[0].flicker == 1.0);
-
-    /* A still reference: both still -> 1; the method alone moving -> change / METRICS_EPS. */
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &img.v, &ref.v, &m, o) == FS_OK);
-    CHECK(o[0].change == 0.0 && o[0].ref_change == 0.0 && o[0].flicker == 1.0);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &prev.v, &ref.v, &m, o) == FS_OK);
-    CHECK_NEAR(o[0].flicker, (0.125 / 3.0) / METRICS_EPS, 1e-6);
-    CHECK(isfinite(o[0].flicker));
+    /* No previous frame (first frame, after a cut). */
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(o[0].has_prev == 0 && o[0].change == 0.0);
+    /* Unchanged: 0. */
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &img.v, &m, o) == FS_OK);
+    CHECK(o[0].has_prev == 1 && o[0].change == 0.0);
     frame_free(&img);
     frame_free(&ref);
     frame_free(&prev);
-    frame_free(&prev_ref);
     ring_mask_free(&m);
 }
 
@@ -342,18 +333,16 @@ TEST(non_finite_inputs)
 {
     ring_mask m = whole_mask(1, 1);
     ring_metrics o[2];
-    frame img, ref, prev, prev_ref;
+    frame img, ref, prev;
     frame_init(&img, 1, 1, NAN, 0.5f, 0.5f, NAN);
     frame_init(&ref, 1, 1, 0.5f, 0.5f, 0.5f, 1.0f);
     frame_init(&prev, 1, 1, 0.5f, INFINITY, 0.5f, 1.0f);
-    frame_init(&prev_ref, 1, 1, 0.5f, 0.5f, -INFINITY, 1.0f);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &prev.v, &prev_ref.v, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, &prev.v, &m, o) == FS_OK);
     for (int k = 0; k < 2; k++)
         CHECK(all_finite(&o[k]));
     CHECK_NEAR(o[0].rmse, sqrt(0.25 / 3.0), 1e-15);  /* NaN R -> 0 against 0.5 */
     CHECK(o[0].coverage == 0.0 && o[0].coverage_ratio == 0.0);
     CHECK_NEAR(o[0].change, (0.5 + (65504.0 - 0.5) + 0.0) / 3.0, 1e-9);
-    CHECK_NEAR(o[0].ref_change, (65504.0 + 0.5) / 3.0, 1e-9);
 
     /* Everything broken at once, in a larger frame with rings. */
     display_desc d = {16, 9, 90.0f};
@@ -364,7 +353,7 @@ TEST(non_finite_inputs)
     frame_init(&a, 16, 9, INFINITY, -INFINITY, NAN, INFINITY);
     frame_init(&b, 16, 9, NAN, NAN, 1e30f, -1e30f);
     ring_metrics r[3];
-    CHECK(metrics_compute(&a.v, &b.v, NULL, NULL, &b.v, &a.v, &rm, r) == FS_OK);
+    CHECK(metrics_compute(&a.v, &b.v, NULL, NULL, &b.v, &rm, r) == FS_OK);
     for (int k = 0; k < 3; k++)
         CHECK(all_finite(&r[k]));
     frame_free(&a);
@@ -373,7 +362,6 @@ TEST(non_finite_inputs)
     frame_free(&img);
     frame_free(&ref);
     frame_free(&prev);
-    frame_free(&prev_ref);
     ring_mask_free(&m);
 }
 
@@ -390,12 +378,12 @@ TEST(one_pixel_and_empty_ring)
     frame_init(&img, 1, 1, 0.25f, 0.25f, 0.25f, 0.25f);
     frame_init(&ref, 1, 1, 0.5f, 0.5f, 0.5f, 1.0f);
     ring_metrics o[3];
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[0].pixels == 1 && o[1].pixels == 0 && o[2].pixels == 1);
     CHECK_NEAR(o[0].rmse, 0.25, 1e-15);
     CHECK(o[0].coverage_ratio == 0.25);
     CHECK(o[1].coverage == 0.0 && o[1].coverage_ratio == 1.0 && o[1].rmse == 0.0 &&
-          o[1].psnr == METRICS_PSNR_CAP_DB && o[1].flicker == 1.0);
+          o[1].psnr == METRICS_PSNR_CAP_DB && o[1].change == 0.0);
     CHECK(o[2].rmse == o[0].rmse && o[2].coverage_ratio == o[0].coverage_ratio);
     for (int k = 0; k < 3; k++)
         CHECK(all_finite(&o[k]));
@@ -419,11 +407,11 @@ TEST(size_mismatch_refused)
     frame_init(&ref, 4, 3, 0, 0, 0, 0);
     ring_metrics o[2];
     log_set_quiet_errors(true);
-    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
-    CHECK(metrics_compute(&img.v, &img.v, NULL, NULL, &ref.v, &img.v, &m, o) == FS_ERR_INTERNAL);
+    CHECK(metrics_compute(&img.v, &ref.v, NULL, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
+    CHECK(metrics_compute(&img.v, &img.v, NULL, NULL, &ref.v, &m, o) == FS_ERR_INTERNAL);
     metrics_view no_cov = img.v;
     no_cov.coverage = NULL;
-    CHECK(metrics_compute(&no_cov, &img.v, NULL, NULL, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
+    CHECK(metrics_compute(&no_cov, &img.v, NULL, NULL, NULL, &m, o) == FS_ERR_INTERNAL);
     log_set_quiet_errors(false);
     CHECK(o[0].pixels == 0 && o[1].pixels == 0);
     frame_free(&img);
@@ -512,12 +500,12 @@ TEST(band_limited_reference_scores_zero_alpha_error)
     ring_mask m;
     CHECK(ring_mask_build(&b.d, &b.l, b.gx, b.gy, &m) == FS_OK);
     ring_metrics o[MAX_FOV_RINGS + 1];
-    CHECK(metrics_compute(&band, &ref.v, &band, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&band, &ref.v, &band, NULL, NULL, &m, o) == FS_OK);
     for (int k = 0; k <= b.l.count; k++)
         CHECK(o[k].pixels == 0 || o[k].alpha_rmse < 1e-9);
     CHECK(o[2].pixels > 0 && o[2].rmse > 0.3);
     /* Without a band-limited reference, alpha_rmse is rmse. */
-    CHECK(metrics_compute(&band, &ref.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&band, &ref.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[2].alpha_rmse == o[2].rmse);
     /* One full-resolution ring: the band-limited reference is the reference. */
     fov_layout off = fov_layout_off();
@@ -544,11 +532,11 @@ TEST(flip_map_is_averaged_per_ring)
     for (int i = 0; i < W * H; i++)
         sum += map[i] = (float)m.ring[i];
     ring_metrics o[MAX_FOV_RINGS + 1];
-    CHECK(metrics_compute(&img.v, &img.v, NULL, map, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &img.v, NULL, map, NULL, &m, o) == FS_OK);
     for (int k = 0; k < b.l.count; k++)
         CHECK(o[k].pixels == 0 || o[k].flip == (double)k);
     CHECK_NEAR(o[b.l.count].flip, sum / (W * H), 1e-12);
-    CHECK(metrics_compute(&img.v, &img.v, NULL, NULL, NULL, NULL, &m, o) == FS_OK);
+    CHECK(metrics_compute(&img.v, &img.v, NULL, NULL, NULL, &m, o) == FS_OK);
     CHECK(o[b.l.count].flip == 0.0);
     free(map);
     ring_mask_free(&m);
@@ -568,16 +556,16 @@ TEST(csv_rows)
     ring_metrics m = {.pixels = 9849, .coverage = 0.25, .ref_coverage = 0.5,
                       .coverage_ratio = 0.5, .rmse = 0.125, .alpha_rmse = 0.0625, .flip = 0.25, .psnr = 18.0617997,
                       .temporal_error = 0.03125, .disoccluded = 0.125,
-                      .change = 0.01, .ref_change = 0.02, .flicker = 0.5, .has_prev = 1};
+                      .change = 0.01, .has_prev = 1};
     CHECK(metrics_csv_header(f));
-    CHECK(metrics_csv_row(f, 3, 0.125f, "hashed", 0, &m, 12.5));
-    CHECK(metrics_csv_row(f, 4, NAN, "a,\"b\"", -1, &m, NAN));
+    CHECK(metrics_csv_row(f, 3, 0.125f, "hashed", 0, &m, true, 12.5));   /* still camera: change */
+    CHECK(metrics_csv_row(f, 4, NAN, "a,\"b\"", -1, &m, false, NAN)); /* moving: -1 */
     fclose(f);
     const char *want =
-        "frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,change,"
-        "ref_change,flicker,temporal_error,disoccluded,frame_ms\n"
-        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.01,0.02,0.5,0.03125,0.125,12.500\n"
-        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.01,0.02,0.5,0.03125,0.125,-1.000\n";
+        "frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,"
+        "temporal_error,disoccluded,static_flicker,frame_ms\n"
+        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.03125,0.125,0.01,12.500\n"
+        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.03125,0.125,-1,-1.000\n";
     CHECK(buf && strcmp(buf, want) == 0);
     if (buf && strcmp(buf, want) != 0)
         fprintf(stderr, "  got:\n%s", buf);
@@ -593,7 +581,7 @@ int main(void)
     RUN(rmse_psnr_known_values);
     RUN(error_per_ring);
     RUN(coverage_ratio);
-    RUN(flicker_ratio_and_no_previous);
+    RUN(change_and_no_previous);
     RUN(non_finite_inputs);
     RUN(one_pixel_and_empty_ring);
     RUN(size_mismatch_refused);
