@@ -155,7 +155,8 @@ void cli_print_help(command cmd)
                "                      invocations per pixel; not drawn without\n"
                "                      GL_ARB_pipeline_statistics_query), gnuplot\n"
                "  --error E           bench --accuracy: the error plotted and on which the Pareto fronts\n"
-               "                      are taken: flip (default), alpha_rmse or rmse (docs/metrics.md)\n");
+               "                      are taken: flip (default), alpha_rmse, rmse or temporal_error\n"
+               "                      (docs/metrics.md)\n");
     if (cmd == CMD_REFERENCE || cmd == CMD_COMPARE || cmd == CMD_DEMO || cmd == CMD_BENCH)
         printf("  --reference KIND    exact (default): each sub-sample is the expectation of stochastic\n"
                "                      alpha testing, from per-pixel fragment lists composited front to\n"
@@ -340,15 +341,15 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = parse_choice(opt, val, "exact", "stochastic", &d->reference_kind);
             d->reference_set = true;
         } else if (!strcmp(opt, "--error")) {
-            static const char *const names[3] = {"flip", "alpha_rmse", "rmse"};
+            static const char *const names[4] = {"flip", "alpha_rmse", "rmse", "temporal_error"};
             ok = false;
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 4; k++)
                 if (!strcmp(val, names[k])) {
                     d->acc_error = k;
                     ok = true;
                 }
             if (!ok)
-                log_error("--error: expected flip, alpha_rmse or rmse, got '%s'", val);
+                log_error("--error: expected flip, alpha_rmse, rmse or temporal_error, got '%s'", val);
             d->acc_error_set = true;
         } else if (!strcmp(opt, "--ref-memory"))
             ok = parse_int(opt, val, 1, 1 << 20, &d->ref_memory_mb);

@@ -75,7 +75,8 @@ typedef struct run_desc {
     bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
     bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */
     bool export_fvvdp;       /* compare/demo: --export-fvvdp, FovVideoVDP's inputs in DIR/fvvdp/ */
-    int acc_error;           /* bench --accuracy --error: 0 flip (default), 1 alpha_rmse, 2 rmse */
+    int acc_error;           /* bench --accuracy --error: 0 flip (default), 1 alpha_rmse, 2 rmse,
+                              * 3 temporal_error */
     bool acc_error_set;
     bool run_fvvdp;          /* compare/demo: --fvvdp, export and run the user's FovVideoVDP */
     const char *script;      /* view: --script FILE, scripted input events (docs/viewer.md) */

@@ -296,16 +296,29 @@ static fs_status temporal_frame(temporal *t, const frame_record *fr, const metri
     return st;
 }
 
-/* One method's temporal error into rm (left unmeasured without a warped previous frame). */
+/* One method's temporal error into rm (left unmeasured without a warped previous frame). noise2:
+ * the reference's own frame-to-frame noise to subtract from tE (a stochastic reference's e_t^2 +
+ * e_{t-1}^2 from its error estimate; 0 for the exact one, and when both frames reuse one reference). */
 static fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
-                                  const metrics_view *ref, const ring_mask *mask, ring_metrics *rm)
+                                  const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm)
 {
     if (!t->warped || !prev_img)
         return FS_OK;
     metrics_view wi = temporal_view(t, 1), wr = temporal_view(t, 0);
     float *const out[4] = {(float *)wi.r, (float *)wi.g, (float *)wi.b, (float *)wi.coverage};
     warp_previous(&t->wd, prev_img, out, t->valid);
-    return metrics_temporal(img, &wi, ref, &wr, t->valid, mask, rm);
+    fs_status st = metrics_temporal(img, &wi, ref, &wr, t->valid, mask, rm);
+    for (int k = 0; k <= mask->ring_count && st == FS_OK && noise2 > 0.0; k++) {
+        double te2 = rm[k].temporal_error * rm[k].temporal_error - noise2;
+        rm[k].temporal_error = te2 > 0.0 ? sqrt(te2) : 0.0;
+    }
+    return st;
+}
+
+/* The noise a reference adds to the temporal error between two frames (temporal_measure). */
+static double reference_noise2(const reference *rf, bool still, double e_now, double e_prev)
+{
+    return reference_get_kind(rf) == REFERENCE_STOCHASTIC && !still ? e_now * e_now + e_prev * e_prev : 0.0;
 }
 
 /* Whether the camera has not moved since the previous frame (the static-view flicker counts). */
@@ -577,7 +590,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             if (st == FS_OK)
                 st = metrics_compute(&vi, &vr, &vb, runs[m].flip, prev ? &vp : NULL, &mask, rm);
             if (st == FS_OK)
-                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask, rm);
+                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask,
+                                      reference_noise2(rf, still, ri.error, i > 0 ? ref_err[i - 1] : 0.0), rm);
             accumulate(&runs[m], rm, ml.count, still);
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
@@ -780,10 +794,11 @@ static fs_status write_text_atomic(const char *path, const char *text)
 }
 
 /* Which error bench --accuracy plots and takes its Pareto fronts on (--error). */
-static const char *const k_error_names[3] = {"flip", "alpha_rmse", "rmse"};
-static const char *const k_error_labels[3] = {"FLIP vs reference (mean)",
+static const char *const k_error_names[4] = {"flip", "alpha_rmse", "rmse", "temporal_error"};
+static const char *const k_error_labels[4] = {"FLIP vs reference (mean)",
                                               "alpha RMSE vs band-limited reference (linear RGB)",
-                                              "RMSE vs reference (linear RGB)"};
+                                              "RMSE vs reference (linear RGB)",
+                                              "temporal error, motion-compensated (linear RGB)"};
 
 /* Plots the error (CSV column y_col) against x_expr (a gnuplot column expression) into
  * DIR/STEM.png through DIR/STEM.gp. Colour = alpha mode, shape = ring layout, filled = TAA on,
@@ -928,6 +943,7 @@ fs_status run_bench_accuracy(const run_desc *d)
     if (st == FS_OK && !flip_map)
         st = FS_ERR_NOMEM;
     temporal te = {0};
+    double prev_err = 0.0; /* the previous measured frame's reference error estimate */
     if (st == FS_OK)
         st = temporal_begin(&te, &s);
     bool have_prev_ref = false;
@@ -981,7 +997,8 @@ fs_status run_bench_accuracy(const run_desc *d)
             if (st == FS_OK)
                 st = metrics_compute(&vi, &vr, &vb, flip_map, prev ? &vp : NULL, &mask, rm);
             if (st == FS_OK)
-                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask, rm);
+                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask,
+                                      reference_noise2(rf, temporal_still(&te, &base), ri.error, prev_err), rm);
             accumulate(mr, rm, ml.count, measured && temporal_still(&te, &base));
             exr_image_free(&mr->prev);
             mr->prev = mr->img;
@@ -991,6 +1008,7 @@ fs_status run_bench_accuracy(const run_desc *d)
         ring_mask_free(&mask);
         if (measured) {
             temporal_next(&te, &base);
+            prev_err = ri.error;
             exr_image_free(&prev_ref);
             prev_ref = ref;
             memset(&ref, 0, sizeof ref);
@@ -1034,8 +1052,14 @@ fs_status run_bench_accuracy(const run_desc *d)
             tx[c] = cfg[c].med;
             fx[c] = cfg[c].count_med[ACC_FS];
             const mode_run *er = &cfg[c].run; /* the error of --error, over the whole display */
-            const double *esum = d->acc_error == 0 ? er->flip_sum : d->acc_error == 1 ? er->alpha_rmse_sum : er->rmse_sum;
-            ey[c] = mean_or(esum[ml.count], er->err_n[ml.count], 0.0);
+            if (d->acc_error == 3) {
+                ey[c] = mean_or(er->te_sum[ml.count], er->te_n[ml.count], 0.0);
+            } else {
+                const double *esum = d->acc_error == 0   ? er->flip_sum
+                                     : d->acc_error == 1 ? er->alpha_rmse_sum
+                                                         : er->rmse_sum;
+                ey[c] = mean_or(esum[ml.count], er->err_n[ml.count], 0.0);
+            }
         }
         pareto(tx, ey, nc, front);
         bool have_fs = nc > 0;
@@ -1127,9 +1151,13 @@ fs_status run_bench_accuracy(const run_desc *d)
             }
         }
         char title[600], x_expr[64];
-        /* The whole-display column of the chosen error in accuracy.csv: rmse is column 8; after the
-         * 17 fixed columns come N coverage ratios, alpha_rmse and its N rings, flip and its N. */
-        int y_col = d->acc_error == 2 ? 8 : d->acc_error == 1 ? 18 + ml.count : 19 + 2 * ml.count;
+        /* The whole-display column of the chosen error in accuracy.csv: rmse is column 8,
+         * temporal_error 10; after the 17 fixed columns come N coverage ratios, alpha_rmse and its
+         * N rings, flip and its N. */
+        int y_col = d->acc_error == 3   ? 10
+                    : d->acc_error == 2 ? 8
+                    : d->acc_error == 1 ? 18 + ml.count
+                                        : 19 + 2 * ml.count;
         if (st == FS_OK) {
             snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
                      gl_device_renderer());

@@ -130,6 +130,18 @@ te = {m['mode']: [r['temporal_error'] for r in m['rings']] for m in s['modes']}
 assert all(math.isfinite(v) and v >= 0 for vs in te.values() for v in vs), te
 assert te['stochastic'][-1] > 1.1 * te['hashed'][-1], te
 "
+# Against a stochastic reference its noise (e_t^2 + e_{t-1}^2) is subtracted: still finite, >= 0.
+"$BIN" compare fence --width 96 --height 54 --frames 4 --supersample 1 --reference stochastic --samples 4 \
+  --cache "$T/cache" --out "$T/tes" --quiet >"$T/tes.txt" 2>&1; rc=$?
+check "temporal error against a stochastic reference: finite, not negative" bash -c "[ $rc -eq 0 ] && python3 -c \"
+import json, math
+s = json.load(open('$T/tes/summary.json'))
+assert all(math.isfinite(r['temporal_error']) and r['temporal_error'] >= 0 for m in s['modes'] for r in m['rings'])
+\""
+# bench --accuracy can plot the temporal error
+"$BIN" bench fence --accuracy --modes traditional,hashed --width 64 --height 36 --frames 3 --warmup 1 --supersample 1 \
+  --error temporal_error --cache "$T/cache" --out "$T/acc_te" --quiet >/dev/null 2>&1; rc=$?
+check "bench --accuracy --error temporal_error draws its plot" bash -c "[ $rc -eq 0 ] && grep -q 'temporal error' '$T/acc_te/accuracy.gp'"
 # A still camera (the wind scene: only the trees sway): finite, no ratio dividing by ~0.
 "$BIN" compare wind --width 96 --height 54 --frames 4 --supersample 1 --cache "$T/cache" --out "$T/still" --quiet \
   >"$T/still.txt" 2>&1; rc=$?
