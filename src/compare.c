@@ -403,11 +403,15 @@ static fs_status report(const report_desc *r)
             const mode_run *mr = &r->runs[m];
             char label[48];
             ring_label(r->layout, k, label, sizeof label);
-            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %10.4f %9.4f\n", k == 0 ? alpha_mode_name(mr->mode) : "",
+            /* -1: not measured (no frame with a warped previous one; no frame with a still camera) */
+            double te = mean_or(mr->te_sum[k], mr->te_n[k], -1.0), sf = mean_or(mr->still_sum[k], mr->still_n[k], -1.0);
+            char tes[32], sfs[32];
+            snprintf(tes, sizeof tes, te < 0.0 ? "n/a" : "%.4f", te);
+            snprintf(sfs, sizeof sfs, sf < 0.0 ? "n/a" : "%.4f", sf);
+            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %10s %9s\n", k == 0 ? alpha_mode_name(mr->mode) : "",
                    label, mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
                    mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
-                   mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), mean_or(mr->te_sum[k], mr->te_n[k], -1.0),
-                   mean_or(mr->still_sum[k], mr->still_n[k], -1.0));
+                   mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), tes, sfs);
         }
     printf("\n%-12s %14s %10s%s\n", "mode", "frame ms (med)", "relative", r->jod ? "  FovVideoVDP JOD" : "");
     for (int m = 0; m < nm; m++) {
