@@ -19,9 +19,6 @@
 #include "metrics/warp.h"
 #include "output/fvvdp_export.h"
 
-/* Heat maps show the per-pixel RMS error over linear RGB; this error is full scale (white). */
-#define COMPARE_HEAT_SCALE 0.25f
-
 /* One alpha mode's renderer and what it measured. */
 typedef struct mode_run {
     alpha_mode mode;
@@ -243,10 +240,11 @@ typedef struct temporal {
     plan pl;
     renderer *probe;
     int width, height;
-    float *buf;              /* 2 depths, 4 warped reference planes, 4 warped method planes */
+    float *buf;              /* 2 depths, 4 warped reference planes, 4 warped method planes, the
+                              * warp's positions (2 per pixel) */
+    float *coords;
     unsigned char *valid;
     float *depth[2];         /* this frame's, the previous frame's */
-    warp_desc wd;            /* this frame's warp */
     frame_record prev;       /* the previous frame (valid when have_prev) */
     bool have_prev, warped;  /* a previous frame exists; this frame's reference was warped */
 } temporal;
@@ -261,11 +259,12 @@ static fs_status temporal_begin(temporal *t, const session *s)
     fs_status st = plan_build(&s->sc, &po, &t->pl);
     if (st == FS_OK)
         t->probe = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &t->pl}, &st);
-    if (st == FS_OK && (!(t->buf = malloc(sizeof(float) * 10 * n)) || !(t->valid = malloc(n))))
+    if (st == FS_OK && (!(t->buf = malloc(sizeof(float) * 12 * n)) || !(t->valid = malloc(n))))
         st = FS_ERR_NOMEM;
     if (st == FS_OK) {
         t->depth[0] = t->buf;
         t->depth[1] = t->buf + n;
+        t->coords = t->buf + 10 * n;
     }
     return st;
 }
@@ -287,12 +286,15 @@ static fs_status temporal_frame(temporal *t, const frame_record *fr, const metri
     fs_status st = renderer_draw(t->probe, &fp);
     if (st == FS_OK)
         st = renderer_read_depth(t->probe, t->depth[0]);
-    t->wd = (warp_desc){.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
-                        .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
-                        .prev_zfar = t->prev.zfar};
-    metrics_view wr = temporal_view(t, 0);
-    float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
-    t->warped = st == FS_OK && t->have_prev && prev_ref && warp_previous(&t->wd, prev_ref, out, t->valid) >= 0;
+    warp_desc wd = {.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
+                    .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
+                    .prev_zfar = t->prev.zfar};
+    t->warped = st == FS_OK && t->have_prev && prev_ref && warp_build(&wd, t->coords, t->valid) >= 0;
+    if (t->warped) {
+        metrics_view wr = temporal_view(t, 0);
+        float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
+        warp_apply(t->coords, t->valid, prev_ref, out);
+    }
     return st;
 }
 
@@ -306,7 +308,7 @@ static fs_status temporal_measure(temporal *t, const metrics_view *img, const me
         return FS_OK;
     metrics_view wi = temporal_view(t, 1), wr = temporal_view(t, 0);
     float *const out[4] = {(float *)wi.r, (float *)wi.g, (float *)wi.b, (float *)wi.coverage};
-    warp_previous(&t->wd, prev_img, out, t->valid);
+    warp_apply(t->coords, t->valid, prev_img, out); /* the frame's warp, built once in temporal_frame */
     fs_status st = metrics_temporal(img, &wi, ref, &wr, t->valid, mask, rm);
     for (int k = 0; k <= mask->ring_count && st == FS_OK && noise2 > 0.0; k++) {
         double te2 = rm[k].temporal_error * rm[k].temporal_error - noise2;
@@ -937,12 +939,13 @@ fs_status run_bench_accuracy(const run_desc *d)
     progress pr = progress_begin("accuracy frame", n + warm, d->quiet);
     rp.pr.enabled = false; /* one progress line: frames */
     exr_image ref = {0}, prev_ref = {0};
-    /* The band-limited reference of the frame (metrics_band_limit): R, G, B, coverage planes. */
+    /* The band-limited reference of the frame for each ring layout (metrics_band_limit): R, G, B,
+     * coverage planes; made once per frame and layout, shared by that layout's configurations. */
     size_t band_n = (size_t)s.pl.width * (size_t)s.pl.height;
-    float *band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * band_n) : NULL;
+    float *band_buf = st == FS_OK ? malloc(sizeof(float) * 12 * band_n) : NULL;
     if (st == FS_OK && !band_buf)
         st = FS_ERR_NOMEM;
-    float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
+    metrics_view bands[3] = {{0}};
     float *flip_map = st == FS_OK ? malloc(sizeof(float) * band_n) : NULL; /* each configuration's FLIP map */
     if (st == FS_OK && !flip_map)
         st = FS_ERR_NOMEM;
@@ -961,6 +964,7 @@ fs_status run_bench_accuracy(const run_desc *d)
         display_desc disp = {s.pl.width, s.pl.height, base.hfov_deg};
         reference_info ri;
         ring_mask mask = {0};
+        bool band_done[3] = {false, false, false};
         if (measured) {
             st = reference_frame(rf, &base, &ref, &ri);
             if (st == FS_OK)
@@ -992,10 +996,15 @@ fs_status run_bench_accuracy(const run_desc *d)
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = view_of(&mr->img), vp = view_of(&mr->prev);
             bool prev = mr->have_prev && have_prev_ref && !fr.cut;
-            metrics_view vb;
-            if (st == FS_OK)
-                st = metrics_band_limit(&vr, &disp, &mr->pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band,
-                                        &vb);
+            int l = cfg[c].layout;
+            if (st == FS_OK && !band_done[l]) {
+                float *b = band_buf + (size_t)(4 * l) * band_n;
+                float *const planes[4] = {b, b + band_n, b + 2 * band_n, b + 3 * band_n};
+                st = metrics_band_limit(&vr, &disp, &mr->pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], planes,
+                                        &bands[l]);
+                band_done[l] = true;
+            }
+            metrics_view vb = bands[l];
             if (st == FS_OK)
                 st = flip_of(&vi, &vr, &disp, flip_map);
             if (st == FS_OK)

@@ -2,6 +2,7 @@
 #include "metrics/warp.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "passes/taa_math.h"
 
@@ -24,13 +25,12 @@ static float bilinear(const float *p, int w, int h, float x, float y)
     return a + fy * (b - a);
 }
 
-long warp_previous(const warp_desc *w, const metrics_view *prev, float *const out[4], unsigned char *valid)
+long warp_build(const warp_desc *w, float *coords, unsigned char *valid)
 {
     mat4 inv;
     if (!m4_invert(w->view_proj, &inv))
         return -1;
     const float tol = w->depth_tolerance > 0.0f ? w->depth_tolerance : WARP_DEPTH_TOLERANCE_DEFAULT;
-    const float *src[4] = {prev->r, prev->g, prev->b, prev->coverage};
     long n_valid = 0;
     for (int y = 0; y < w->height; y++)
         for (int x = 0; x < w->width; x++) {
@@ -53,9 +53,28 @@ long warp_previous(const warp_desc *w, const metrics_view *prev, float *const ou
                 ok = !(ls < lh * (1.0f - tol));
             }
             valid[i] = (unsigned char)ok;
+            coords[2 * i] = px;
+            coords[2 * i + 1] = py;
             n_valid += ok;
-            for (int c = 0; c < 4; c++)
-                out[c][i] = ok ? bilinear(src[c], w->width, w->height, px, py) : 0.0f;
         }
     return n_valid;
+}
+
+void warp_apply(const float *coords, const unsigned char *valid, const metrics_view *prev, float *const out[4])
+{
+    const float *src[4] = {prev->r, prev->g, prev->b, prev->coverage};
+    size_t n = (size_t)prev->width * (size_t)prev->height;
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 4; c++)
+            out[c][i] = valid[i] ? bilinear(src[c], prev->width, prev->height, coords[2 * i], coords[2 * i + 1]) : 0.0f;
+}
+
+long warp_previous(const warp_desc *w, const metrics_view *prev, float *const out[4], unsigned char *valid)
+{
+    float *coords = malloc(sizeof(float) * 2 * (size_t)w->width * (size_t)w->height);
+    long n = coords ? warp_build(w, coords, valid) : -1;
+    if (n >= 0)
+        warp_apply(coords, valid, prev, out);
+    free(coords);
+    return n;
 }

@@ -29,9 +29,14 @@ typedef struct warp_desc {
 
 #define WARP_DEPTH_TOLERANCE_DEFAULT 0.02f
 
-/* Warps `prev` (R, G, B, coverage) into out[4] (width * height each) and writes valid[] (1 where
- * warped, 0 where not: those pixels hold 0). Returns the number of valid pixels, or -1 when the
- * current view-projection cannot be inverted (FS_ERR_USAGE: nothing is written). */
+/* The warp of one frame, computed once for every image warped with it: coords (2 floats per pixel)
+ * gets each pixel's position in the previous frame, valid[] 1 where it is warped and 0 where not.
+ * Returns the number of valid pixels, or -1 when the current view-projection cannot be inverted
+ * (nothing is written). */
+long warp_build(const warp_desc *w, float *coords, unsigned char *valid);
+/* Samples `prev` (R, G, B, coverage) at warp_build's positions into out[4] (0 where not valid). */
+void warp_apply(const float *coords, const unsigned char *valid, const metrics_view *prev, float *const out[4]);
+/* warp_build and warp_apply in one call, for a single image: -1 also when out of memory. */
 long warp_previous(const warp_desc *w, const metrics_view *prev, float *const out[4], unsigned char *valid);
 
 #endif

@@ -153,7 +153,8 @@ struct renderer {
     uint32_t list_draw_order;              /* instances drawn so far in this pass (draw_order.glsl) */
     int list_phase;                        /* the list pass draws MASK (0), then BLEND (1) materials */
     uint64_t list_initial;                 /* renderer_desc.list_nodes, or 4 per pixel */
-    GLuint list_prog, list_u_stored;       /* the resolve (plan.list_resolve), its u_capacity */
+    GLuint list_prog;                      /* the resolve (plan.list_resolve) */
+    GLint list_u_capacity;
     GLuint list_fbo, list_color, list_coverage; /* its output: RGBA32F, RG32F (coverage, flag) */
     uint32_t *list_head_buf;               /* renderer_read_lists' scratch */
     void *list_node_buf;
@@ -638,7 +639,7 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = taa_create(&r->pl.taa_pass, &r->taa);
     if (st == FS_OK && r->pl.list_resolve) {
         st = build_pass_program(&r->pl.list_resolve_pass, &r->list_prog);
-        r->list_u_stored = (GLuint)glGetUniformLocation(r->list_prog, "u_capacity");
+        r->list_u_capacity = glGetUniformLocation(r->list_prog, "u_capacity");
     }
     if (st == FS_OK)
         st = upload_scene(r);
@@ -1035,7 +1036,7 @@ static void draw_lists(renderer *r, const gpu_program *pg, const plan_pass *ps)
 static void list_resolve(renderer *r)
 {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    glProgramUniform1ui(r->list_prog, (GLint)r->list_u_stored, (GLuint)r->list_capacity);
+    glProgramUniform1ui(r->list_prog, r->list_u_capacity, (GLuint)r->list_capacity);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ABUFFER_COUNTER_BINDING, r->list_counter);
     glBindFramebuffer(GL_FRAMEBUFFER, r->list_fbo);
     glViewport(0, 0, r->width, r->height);
