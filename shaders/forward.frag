@@ -61,21 +61,19 @@ void main()
     vec3 albedo = tex.rgb / max(tex.a, PREMUL_ALPHA_EPS) * u_base_color.rgb * v_color.rgb;
 
 #ifdef PASS_MASK
-    // The LOD actually sampled (mip bias included) and the footprint's anisotropy, for the
-    // hashed fade-in and mip scaling (seed 000 §5.5.1, seed 002).
-    float lod = 0.0, aniso = 1.0;
-#if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C || ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE || defined(A2C_SHARPEN)
+    // The mip level the trilinear lookup reads (mip bias included), for the hashed fade-in and mip
+    // scaling (seed 000 §5.5.1, seed 002).
+    float lod = 0.0;
+#if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE || defined(A2C_SHARPEN)
     if (u_has_base_tex) {
-        vec2 size = vec2(textureSize(u_base_tex, 0));
 #if ALPHA_MODE == ALPHA_MODE_ID_HASHED
-        // The hashed test needs only the fade level lod + log2(aniso): computed from the uv
-        // derivatives in one log2 (alpha_texture_fade_level, the GL spec's isotropic lod; the
-        // sampler has no bias or anisotropic filtering of its own), passed as `lod` with aniso 1.
+        vec2 size = vec2(textureSize(u_base_tex, 0));
+        // From the uv derivatives in one log2 (alpha_texture_fade_level, the GL spec's isotropic
+        // lod; the sampler has no bias or anisotropic filtering of its own): cheaper than
+        // textureQueryLod on llvmpipe.
         lod = alpha_texture_fade_level(dFdx(v_uv), dFdy(v_uv), size, u_mip_scale);
 #else
         lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
-        float lx = length(dFdx(v_uv) * size), ly = length(dFdy(v_uv) * size);
-        aniso = clamp(max(lx, ly) / max(min(lx, ly), 1e-20), 1.0, ALPHA_MAX_ANISO);
 #endif
     }
 #endif
@@ -86,7 +84,7 @@ void main()
     alpha *= 1.0 + lod * ALPHA_MIPSCALE_PER_LOD;
     alpha = clamp((alpha - u_alpha_cutoff) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
 #endif
-    if (!alpha_test(alpha, u_alpha_cutoff, v_object_pos, lod, aniso))
+    if (!alpha_test(alpha, u_alpha_cutoff, v_object_pos, lod))
         discard;
 #endif
 

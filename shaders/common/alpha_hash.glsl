@@ -242,24 +242,18 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
 
 // >>fade
 
-// C twin: alpha_hashed_fade_level (the x of seed 000 Eq. 3 with the anisotropy term).
-float alpha_hashed_fade_level(float lod, float aniso_ratio)
-{
-    float r = alpha_hash_clamp(aniso_ratio, 1.0, float(ALPHA_MAX_ANISO), 1.0);
-    precise float x = lod + log2(r);
-    return x;
-}
-
-// C twin: alpha_hashed_fade_at (seed 000 Eq. 2-3 around the material cutoff, at level x;
-// straight-line: b = clamp(x / n, 0, 1)^2, NaN -> 1).
-float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fade_n)
+// C twin: alpha_hashed_fade (seed 000 Eq. 2-3 around the material cutoff, at the mip level the
+// trilinear lookup reads; straight-line: b = clamp(lod / n, 0, 1)^2, NaN -> 1). No anisotropy term:
+// the paper's log2(anisotropy) is for anisotropic filters, which read finer levels than a trilinear
+// one (docs/hashed-alpha.md "The fade and anisotropy").
+float alpha_hashed_fade(float cutoff, float threshold, float lod, float fade_n)
 {
     const float tmin = float(ALPHA_THRESHOLD_MIN);
     float c = alpha_hash_clamp(cutoff, tmin, 1.0, 0.5);
     float t = alpha_hash_clamp(threshold, tmin, 1.0, c);
     if (alpha_hash_is_nan(fade_n) || fade_n <= 0.0)
         return t;
-    precise float q = level / fade_n;
+    precise float q = lod / fade_n;
     float qc = alpha_hash_clamp(q, 0.0, 1.0, 1.0);
     precise float b = qc * qc;
     // c and t are in [tmin, 1] and b in [0, 1], so f is never NaN: a plain clamp (rounding only).
@@ -267,47 +261,36 @@ float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fad
     return clamp(f, tmin, 1.0);
 }
 
-// C twin: alpha_hashed_fade (seed 000 Eq. 2-3 around the material cutoff).
-float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
-{
-    return alpha_hashed_fade_at(cutoff, threshold, alpha_hashed_fade_level(lod, aniso_ratio), fade_n);
-}
-
-// C twin: alpha_texture_lod (the GL spec's isotropic LOD; the forward shader uses textureQueryLod).
-float alpha_texture_lod(vec2 duv_dx, vec2 duv_dy, vec2 tex_size, out float aniso_ratio)
+// C twin: alpha_texture_lod (the GL spec's isotropic LOD, log2 of the footprint's long axis; the
+// forward shader uses textureQueryLod).
+float alpha_texture_lod(vec2 duv_dx, vec2 duv_dy, vec2 tex_size)
 {
     precise vec2 tx = duv_dx * tex_size, ty = duv_dy * tex_size;
     precise float px2 = tx.x * tx.x + tx.y * tx.y, py2 = ty.x * ty.x + ty.y * ty.y;
     float px = sqrt(px2), py = sqrt(py2);
-    float ratio = 1.0, lod = 0.0;
+    float lod = 0.0;
     if (!alpha_hash_is_nan(px) && !alpha_hash_is_nan(py)) {
-        float pmax = max(px, py), pmin = min(px, py);
+        float pmax = max(px, py);
         if (pmax > 0.0) {
             const float lim = float(ALPHA_HASH_LOG2_CLAMP);
-            ratio = alpha_hash_clamp(pmax / pmin, 1.0, float(ALPHA_MAX_ANISO), 1.0);
             lod = pmax >= ldexp(1.0, 60) ? lim : alpha_hash_clamp(log2(pmax), -lim, lim, 0.0);
         }
     }
-    aniso_ratio = ratio;
     return lod;
 }
 
-// C twin: alpha_texture_fade_level. The fade level of alpha_hashed_fade_level, lod + log2(ratio),
-// for the GL spec's isotropic lod of a lookup with bias b, lod = max(log2(pmax) + b, 0), and
-// ratio = clamp(pmax / pmin, 1, ALPHA_MAX_ANISO), with one log2 of squared lengths and no
-// textureQueryLod: max(log2(pmax) + b, 0) + log2(ratio) = 0.5 log2(ratio^2 max(pmax^2 4^b, 1)).
-// mip_scale = 2^b. NaN squared lengths count as 0; v is kept <= 2^120, so the level is in [0, 60].
+// C twin: alpha_texture_fade_level. The level a trilinear lookup with bias b reads,
+// max(log2(pmax) + b, 0) = 0.5 log2(max(pmax^2 4^b, 1)): one log2 of squared lengths and no
+// textureQueryLod. mip_scale = 2^b. NaN squared lengths count as 0; v is kept <= 2^120, so the
+// level is in [0, 60].
 float alpha_texture_fade_level(vec2 duv_dx, vec2 duv_dy, vec2 tex_size, float mip_scale)
 {
     precise vec2 tx = duv_dx * tex_size, ty = duv_dy * tex_size;
     precise float px2 = tx.x * tx.x + tx.y * tx.y, py2 = ty.x * ty.x + ty.y * ty.y;
     const float big = uintBitsToFloat(0x7b800000u); // 2^120
-    float a = min(alpha_hash_nan_to_zero(px2), big), b = min(alpha_hash_nan_to_zero(py2), big);
-    float p2max = max(a, b), p2min = min(a, b);
-    precise float q = p2max / max(p2min, uintBitsToFloat(0x00800000u));
-    float r2 = clamp(q, 1.0, float(ALPHA_MAX_ANISO) * float(ALPHA_MAX_ANISO));
+    float p2max = max(min(alpha_hash_nan_to_zero(px2), big), min(alpha_hash_nan_to_zero(py2), big));
     precise float s2 = mip_scale * mip_scale;
-    precise float v = r2 * max(p2max * s2, 1.0);
+    precise float v = max(p2max * s2, 1.0);
     precise float level = 0.5 * log2(min(v, big));
     return level;
 }

@@ -13,11 +13,10 @@ uniform float u_fade_n;      // fade-in length in mip levels; <= 0: no fade
 uniform uint u_frame;        // frame index: stochastic thresholds change every frame
 
 // True when a fragment of opacity `alpha` survives the test. `obj` is the object-space position
-// (anchored to the whole instance), `lod` the mip level actually sampled (bias included), `aniso`
-// the footprint's anisotropy (>= 1). (HASHED needs only lod + log2(aniso): forward.frag passes that
-// fade level as `lod`, with aniso 1.) Must be called in uniform control flow (derivatives).
+// (anchored to the whole instance), `lod` the mip level the trilinear lookup reads (bias included,
+// >= 0). Must be called in uniform control flow (derivatives).
 // HASHED_A2C also writes gl_SampleMask; A2C leaves coverage to GL_SAMPLE_ALPHA_TO_COVERAGE.
-bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
+bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
 {
 #if ALPHA_MODE == ALPHA_MODE_ID_TRADITIONAL || ALPHA_MODE == ALPHA_MODE_ID_CASTANO
     // glTF MASK: "rendered fully opaque if alpha >= alphaCutoff". Castano differs only in its
@@ -38,18 +37,17 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod, float aniso)
     // the answer: thresholds lie in (0, 1], so alpha 0 never passes and alpha 1 always does. Most
     // texels of foliage at fine mips are exactly 0 or 1, and whole SIMD groups skip the hashing.
     // Where the fade-in has not started (b = 0: magnified or mip-0 texels), alpha_hashed_fade
-    // returns the cutoff whatever the hash: the traditional test, without hashing. The fade level
-    // is computed once, for this test and for the fade. One branch for the three cases: llvmpipe
+    // returns the cutoff whatever the hash: the traditional test, without hashing. One branch for
+    // the three cases: llvmpipe
     // evaluates both sides anyway, and one branch costs it less mask bookkeeping than three returns.
     vec3 dx = dFdx(obj), dy = dFdy(obj);
-    float level = alpha_hashed_fade_level(lod, aniso);
-    if (alpha <= 0.0 || alpha >= 1.0 || (u_fade_n > 0.0 && level <= 0.0))
+    if (alpha <= 0.0 || alpha >= 1.0 || (u_fade_n > 0.0 && lod <= 0.0))
         return alpha >= 1.0 || (alpha > 0.0 && alpha >= max(cutoff, float(ALPHA_THRESHOLD_MIN)));
     float t = alpha_hashed_threshold(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso);
 #ifdef TAA_HASH_OFFSET
     t = alpha_hashed_frame_offset(t, u_frame);
 #endif
-    return alpha >= alpha_hashed_fade_at(cutoff, t, level, u_fade_n);
+    return alpha >= alpha_hashed_fade(cutoff, t, lod, u_fade_n);
 #elif ALPHA_MODE == ALPHA_MODE_ID_MIPSCALE
     // Seed 002: scale alpha up with the mip level so coarse mips keep their coverage.
     return alpha * (1.0 + max(lod, 0.0) * ALPHA_MIPSCALE_PER_LOD) >= cutoff;

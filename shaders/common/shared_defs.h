@@ -56,8 +56,7 @@
 #define ALPHA_FADE_N_DEFAULT 6.0    /* n of seed 000 Eq. 3: mip levels until the noise is full */
 #define ALPHA_THRESHOLD_MIN 1.0e-6  /* smallest threshold: alpha = 0 never passes */
 #define ALPHA_HASH_LOG2_CLAMP 60.0  /* log2(pixScale) and LODs are clamped to [-60, 60] */
-#define ALPHA_MAX_ANISO 16.0        /* largest anisotropy ratio (as GL's max anisotropy) */
-#define ALPHA_MAX_ANISO_LOG2 4      /* log2(ALPHA_MAX_ANISO): per-axis refinement levels */
+#define ALPHA_MAX_ANISO_LOG2 4      /* anisotropic hash: at most 2^4 = 16 x finer cells per axis */
 #define ALPHA_A2C_MAX_SAMPLES 16    /* hashed A2C: n is a power of two <= this */
 /* With TAA, hashed thresholds shift by frame * this (mod 1), a low-discrepancy sequence: each pixel
  * cycles through thresholds spread evenly over (0, 1], which TAA averages (docs/hashed-alpha.md). */

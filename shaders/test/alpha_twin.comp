@@ -9,7 +9,7 @@ struct twin_in {
     vec4 obj;  // xyz object position, w hash_scale
     vec4 dx;   // xyz dFdx(obj)
     vec4 dy;   // xyz dFdy(obj)
-    vec4 p0;   // fade: cutoff, lod, aniso_ratio, fade_n
+    vec4 p0;   // fade: cutoff, lod, (unused), fade_n
     vec4 p1;   // lod: duv_dx.xy, duv_dy.xy
     vec4 p2;   // lod: tex_size.xy; a2c: xi1, xi2
     vec4 p3;   // a2c: alpha, chi; cdf: x, lerp_factor
@@ -20,11 +20,11 @@ struct twin_in {
 
 struct twin_out {
     vec4 r0;   // alpha_hashed_threshold, alpha_hash_pcg(obj), alpha_hash_sine(obj), alpha_stochastic_threshold
-    vec4 r1;   // alpha_hashed_fade, alpha_texture_lod, its aniso_ratio, alpha_hash_cdf
+    vec4 r1;   // alpha_hashed_fade, alpha_texture_lod, alpha_texture_fade_level(p1.xy, p1.zw, p2.xy, p4.y),
+               // alpha_hash_cdf
     vec4 r2;   // alpha_hash_log2_scale, alpha_hashed_a2c_threshold, alpha_hash_sine2(obj.xy), sin(obj.x)
     uvec4 r3;  // alpha_hashed_a2c_mask, alpha_hash_pcg3d(u0.zw, u1.x)
-    vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), alpha_hashed_fade_level, alpha_hashed_fade_at,
-               // alpha_texture_fade_level(p1.xy, p1.zw, p2.xy, p4.y)
+    vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), (unused)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -44,18 +44,15 @@ void main()
     r.r0.y = alpha_hash_pcg(a.obj.xyz);
     r.r0.z = alpha_hash_sine(a.obj.xyz);
     r.r0.w = alpha_stochastic_threshold(a.u0.z, a.u0.w, a.u1.x, a.u1.y);
-    r.r1.x = alpha_hashed_fade(a.p0.x, a.p4.x, a.p0.y, a.p0.z, a.p0.w);
-    float ratio;
-    r.r1.y = alpha_texture_lod(a.p1.xy, a.p1.zw, a.p2.xy, ratio);
-    r.r1.z = ratio;
+    r.r1.x = alpha_hashed_fade(a.p0.x, a.p4.x, a.p0.y, a.p0.w);
+    r.r1.y = alpha_texture_lod(a.p1.xy, a.p1.zw, a.p2.xy);
+    r.r1.z = alpha_texture_fade_level(a.p1.xy, a.p1.zw, a.p2.xy, a.p4.y);
     r.r1.w = alpha_hash_cdf(a.p3.z, a.p3.w);
     r.r2 = vec4(alpha_hash_log2_scale(a.dx.xyz, a.dy.xyz, a.obj.w),
                 alpha_hashed_a2c_threshold(int(a.u1.w), int(a.u1.z), a.p2.z, a.p2.w, a.p3.y),
                 alpha_hash_sine2(a.obj.xy), sin(a.obj.x));
     r.r3 = uvec4(alpha_hashed_a2c_mask(a.p3.x, int(a.u1.z), a.p2.z, a.p2.w, a.p3.y),
                  alpha_hash_pcg3d(uvec3(a.u0.z, a.u0.w, a.u1.x)));
-    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), alpha_hashed_fade_level(a.p0.y, a.p0.z),
-                alpha_hashed_fade_at(a.p0.x, a.p4.x, a.p0.y, a.p0.w),
-                alpha_texture_fade_level(a.p1.xy, a.p1.zw, a.p2.xy, a.p4.y));
+    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), 0.0, 0.0, 0.0);
     tout[i] = r;
 }

@@ -238,13 +238,7 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
 
 /* >>fade */
 
-float alpha_hashed_fade_level(float lod, float aniso_ratio)
-{
-    float r = clamp_nan(aniso_ratio, 1.0f, (float)ALPHA_MAX_ANISO, 1.0f);
-    return lod + log2f(r);
-}
-
-float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fade_n)
+float alpha_hashed_fade(float cutoff, float threshold, float lod, float fade_n)
 {
     const float tmin = (float)ALPHA_THRESHOLD_MIN;
     float c = clamp_nan(cutoff, tmin, 1.0f, 0.5f);
@@ -252,34 +246,26 @@ float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fad
     if (is_nan_bits(fade_n) || fade_n <= 0.0f)
         return t;
     /* b = clamp(x / n, 0, 1)^2, straight-line: x <= 0 -> 0, x >= n -> 1, NaN -> 1 (full noise). */
-    float q = clamp_nan(level / fade_n, 0.0f, 1.0f, 1.0f);
+    float q = clamp_nan(lod / fade_n, 0.0f, 1.0f, 1.0f);
     float b = q * q;
     /* c and t are in [tmin, 1] and b in [0, 1]: never NaN, a plain clamp (rounding only). */
     float f = c + (t - c) * b;
     return f < tmin ? tmin : f > 1.0f ? 1.0f : f;
 }
 
-float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n)
-{
-    return alpha_hashed_fade_at(cutoff, threshold, alpha_hashed_fade_level(lod, aniso_ratio), fade_n);
-}
-
-float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float *aniso_ratio)
+float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const float tex_size[2])
 {
     float tx0 = duv_dx[0] * tex_size[0], tx1 = duv_dx[1] * tex_size[1];
     float ty0 = duv_dy[0] * tex_size[0], ty1 = duv_dy[1] * tex_size[1];
     float px = sqrtf(tx0 * tx0 + tx1 * tx1), py = sqrtf(ty0 * ty0 + ty1 * ty1);
-    float ratio = 1.0f, lod = 0.0f;
+    float lod = 0.0f;
     if (!is_nan_bits(px) && !is_nan_bits(py)) {
-        float pmax = maxf(px, py), pmin = minf(px, py);
+        float pmax = maxf(px, py);
         if (pmax > 0.0f) {
             const float lim = (float)ALPHA_HASH_LOG2_CLAMP;
-            ratio = clamp_nan(pmax / pmin, 1.0f, (float)ALPHA_MAX_ANISO, 1.0f);
             lod = pmax >= 0x1p60f ? lim : clamp_nan(log2f(pmax), -lim, lim, 0.0f);
         }
     }
-    if (aniso_ratio)
-        *aniso_ratio = ratio;
     return lod;
 }
 
@@ -289,14 +275,10 @@ float alpha_texture_fade_level(const float duv_dx[2], const float duv_dy[2], con
     float ty0 = duv_dy[0] * tex_size[0], ty1 = duv_dy[1] * tex_size[1];
     float px2 = tx0 * tx0 + tx1 * tx1, py2 = ty0 * ty0 + ty1 * ty1;
     const float big = 0x1p120f;
-    float a = minf(nan_to_zero(px2), big), b = minf(nan_to_zero(py2), big);
-    float p2max = maxf(a, b), p2min = minf(a, b);
-    /* max(log2(pmax) + bias, 0) + log2(ratio) = 0.5 log2(ratio^2 max(pmax^2 4^bias, 1)) */
-    float q = p2max / maxf(p2min, FLT_MIN);
-    const float r2max = (float)ALPHA_MAX_ANISO * (float)ALPHA_MAX_ANISO;
-    float r2 = q < 1.0f ? 1.0f : q > r2max ? r2max : q;
+    float p2max = maxf(minf(nan_to_zero(px2), big), minf(nan_to_zero(py2), big));
+    /* max(log2(pmax) + bias, 0) = 0.5 log2(max(pmax^2 4^bias, 1)) */
     float s2 = mip_scale * mip_scale;
-    float v = r2 * maxf(p2max * s2, 1.0f);
+    float v = maxf(p2max * s2, 1.0f);
     return 0.5f * log2f(minf(v, big));
 }
 

@@ -11,13 +11,13 @@
  *   alpha_hashed_threshold                seed 000 Listing 1: pixel-scale, log2-interpolated,
  *                                         CDF-corrected threshold in (0, 1]
  *   alpha_hashed_fade                     seed 000 §5.5.1 fade-in around the material cutoff
- *   alpha_texture_lod                     the LOD and anisotropy of a texture footprint
+ *   alpha_texture_lod                     the LOD of a texture footprint (trilinear)
  *   alpha_stochastic_threshold            seed 000 §4: uniform in (0, 1], new per pixel and frame
  *   alpha_hashed_a2c_threshold / _mask    seed 000 §6: per-sample thresholds of hashed A2C
  *
  * Usage (what the forward shader does per fragment):
  *   float t = alpha_hashed_threshold(obj, dFdx(obj), dFdy(obj), 1.0f, ALPHA_HASH_PCG, false);
- *   t = alpha_hashed_fade(cutoff, t, lod, aniso, ALPHA_FADE_N_DEFAULT);
+ *   t = alpha_hashed_fade(cutoff, t, lod, ALPHA_FADE_N_DEFAULT);
  *   pass = alpha >= t;
  *
  * Guarantees: every threshold is finite and in [ALPHA_THRESHOLD_MIN, 1] for every input, NaN and
@@ -75,44 +75,38 @@ float alpha_hash_log2_scale(vec3 dx, vec3 dy, float hash_scale);
 /* Seed 000 Listing 1: the hashed threshold in [ALPHA_THRESHOLD_MIN, 1]. `obj` is the object-space
  * position (anchored to the whole instance), dx/dy its screen derivatives (dFdx/dFdy), hash_scale
  * the noise cell size in pixels (default 1), hash_kind ALPHA_HASH_*. `anisotropic` refines the
- * noise cells per object axis by a power of two (at most ALPHA_MAX_ANISO) where the footprint along
+ * noise cells per object axis by a power of two (at most 2^ALPHA_MAX_ANISO_LOG2) where the footprint along
  * that axis is shorter than the longest one (docs/hashed-alpha.md). Non-finite obj components hash
  * as 0. GLSL twin: alpha_hashed_threshold. */
 float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic);
 
-/* Seed 000 Eq. 2-3 with the material cutoff c in place of 0.5: c + (threshold - c) b(x),
- * b(x) = clamp(x / fade_n, 0, 1)^2, x = lod + log2(clamp(aniso_ratio, 1, ALPHA_MAX_ANISO)).
- * fade_n <= 0 (or NaN) disables the fade: returns the threshold. NaN lod -> b = 1 (full noise);
- * NaN threshold -> the cutoff; cutoff clamped to [ALPHA_THRESHOLD_MIN, 1] (NaN -> 0.5).
- * Result in [ALPHA_THRESHOLD_MIN, 1]. GLSL twin: alpha_hashed_fade. */
-float alpha_hashed_fade(float cutoff, float threshold, float lod, float aniso_ratio, float fade_n);
-
-/* The two halves of alpha_hashed_fade, which is alpha_hashed_fade_at(cutoff, threshold,
- * alpha_hashed_fade_level(lod, aniso_ratio), fade_n). The forward shader computes the level once,
- * for its b = 0 early-out and for the fade. level = lod + log2(clamp(aniso_ratio, 1,
- * ALPHA_MAX_ANISO)) (NaN ratio -> 1); alpha_hashed_fade_at takes the x of Eq. 3 directly.
- * GLSL twins: alpha_hashed_fade_level, alpha_hashed_fade_at. */
-float alpha_hashed_fade_level(float lod, float aniso_ratio);
-float alpha_hashed_fade_at(float cutoff, float threshold, float level, float fade_n);
+/* Seed 000 Eq. 2-3 with the material cutoff c in place of 0.5: c + (threshold - c) b(lod),
+ * b(x) = clamp(x / fade_n, 0, 1)^2, where lod is the mip level the alpha lookup reads (mip bias
+ * included, clamped at 0: alpha_texture_fade_level). There is no anisotropy term: the paper adds
+ * log2(anisotropy) to x because an anisotropic filter reads finer levels than the footprint's long
+ * axis, but fovsim's sampler is trilinear, whose level already follows the long axis
+ * (docs/hashed-alpha.md "The fade and anisotropy"). fade_n <= 0 (or NaN) disables the fade:
+ * returns the threshold. NaN lod -> b = 1 (full noise); NaN threshold -> the cutoff; cutoff clamped
+ * to [ALPHA_THRESHOLD_MIN, 1] (NaN -> 0.5). Result in [ALPHA_THRESHOLD_MIN, 1].
+ * GLSL twin: alpha_hashed_fade. */
+float alpha_hashed_fade(float cutoff, float threshold, float lod, float fade_n);
 
 /* Threshold t in (0, 1] shifted by frame * ALPHA_FRAME_OFFSET_STEP modulo 1, kept in (0, 1]: the
  * per-frame variation TAA averages (used only when TAA is on). A uniform t stays uniform.
  * GLSL twin: alpha_hashed_frame_offset in alpha_hash.glsl. */
 float alpha_hashed_frame_offset(float t, uint32_t frame);
 
-/* The LOD a trilinear lookup selects, log2(max(|duv_dx * size|, |duv_dy * size|)) (the GL spec's
- * isotropic approximation; not clamped to the mip range; clamped to [-60, 60]), and in
- * *aniso_ratio the footprint's major / minor axis clamped to [1, ALPHA_MAX_ANISO]. Zero or NaN
- * derivatives -> lod 0, ratio 1. aniso_ratio may be NULL. GLSL twin: alpha_texture_lod (the forward
+/* The LOD a trilinear lookup selects, log2(pmax), pmax = max(|duv_dx * size|, |duv_dy * size|)
+ * (the GL spec's isotropic approximation: the footprint's long axis; not clamped to the mip range;
+ * clamped to [-60, 60]). Zero or NaN derivatives -> 0. GLSL twin: alpha_texture_lod (the forward
  * shader itself uses textureQueryLod). */
-float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float *aniso_ratio);
+float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const float tex_size[2]);
 
-/* The fade level lod + log2(ratio) of alpha_hashed_fade_level for a lookup with mip bias b, with the
- * lod and ratio of alpha_texture_lod (lod = max(log2(pmax) + b, 0), ratio = clamp(pmax / pmin, 1,
- * ALPHA_MAX_ANISO)), as one log2: 0.5 log2(ratio^2 max(pmax^2 4^b, 1)); mip_scale = 2^b. What the
- * forward shader's hashed test uses instead of textureQueryLod (docs/hashed-alpha.md "Cost").
+/* The level a trilinear lookup with mip bias b reads, max(alpha_texture_lod + b, 0), as one log2:
+ * 0.5 log2(max(pmax^2 4^b, 1)); mip_scale = 2^b. The x of alpha_hashed_fade, which the forward
+ * shader's hashed test computes instead of calling textureQueryLod (docs/hashed-alpha.md "Cost").
  * NaN squared lengths count as 0 and squared lengths are kept <= 2^120: for a finite mip_scale the
- * result is in [0, 60] (zero derivatives give 0, as lod 0 and ratio 1 do).
+ * result is in [0, 60] (zero derivatives give 0).
  * GLSL twin: alpha_texture_fade_level. */
 float alpha_texture_fade_level(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float mip_scale);
 

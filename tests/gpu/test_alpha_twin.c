@@ -117,7 +117,6 @@ static void make_input(int i, twin_in *in)
     bool h = g == G_HARD;
     in->p0[0] = h ? hard() : rngf(0, 1);
     in->p0[1] = h ? hard() : rngf(-2, 10);
-    in->p0[2] = h ? hard() : rngf(0.5, 20);
     const float fade_ns[] = {6.0f, 0.0f, 3.0f, 6.0f};
     in->p0[3] = h ? hard() : fade_ns[rng_u64() % 4];
     in->p4[0] = h ? hard() : 1.0f - rngf(0, 1);
@@ -154,10 +153,9 @@ static void run_cpu(const twin_in *a, twin_out *r)
     r->r0[1] = alpha_hash_pcg(obj);
     r->r0[2] = alpha_hash_sine(obj);
     r->r0[3] = alpha_stochastic_threshold(a->u0[2], a->u0[3], a->u1[0], a->u1[1]);
-    r->r1[0] = alpha_hashed_fade(a->p0[0], a->p4[0], a->p0[1], a->p0[2], a->p0[3]);
-    float ratio;
-    r->r1[1] = alpha_texture_lod(&a->p1[0], &a->p1[2], &a->p2[0], &ratio);
-    r->r1[2] = ratio;
+    r->r1[0] = alpha_hashed_fade(a->p0[0], a->p4[0], a->p0[1], a->p0[3]);
+    r->r1[1] = alpha_texture_lod(&a->p1[0], &a->p1[2], &a->p2[0]);
+    r->r1[2] = alpha_texture_fade_level(&a->p1[0], &a->p1[2], &a->p2[0], a->p4[1]);
     r->r1[3] = alpha_hash_cdf(a->p3[2], a->p3[3]);
     r->r2[0] = alpha_hash_log2_scale(dx, dy, a->obj[3]);
     r->r2[1] = alpha_hashed_a2c_threshold((int)a->u1[3], (int)a->u1[2], a->p2[2], a->p2[3], a->p3[1]);
@@ -169,9 +167,6 @@ static void run_cpu(const twin_in *a, twin_out *r)
     r->r3[2] = h.y;
     r->r3[3] = h.z;
     r->r4[0] = alpha_hashed_frame_offset(a->p4[0], a->u1[0]);
-    r->r4[1] = alpha_hashed_fade_level(a->p0[1], a->p0[2]);
-    r->r4[2] = alpha_hashed_fade_at(a->p0[0], a->p4[0], a->p0[1], a->p0[3]);
-    r->r4[3] = alpha_texture_fade_level(&a->p1[0], &a->p1[2], &a->p2[0], a->p4[1]);
 }
 
 /* >>gpu */
@@ -228,11 +223,10 @@ TEST(gpu_thresholds_are_always_in_range)
         const twin_out *g = &gpu[i];
         bool ok = in_range(g->r0[0]) && in_range(g->r1[0]) && g->r0[3] > 0.0f && g->r0[3] <= 1.0f &&
                   g->r0[1] >= 0.0f && g->r0[1] < 1.0f && g->r0[2] >= 0.0f && g->r0[2] < 1.0f && isfinite(g->r1[1]) &&
-                  g->r1[2] >= 1.0f && g->r1[2] <= (float)ALPHA_MAX_ANISO && g->r1[3] >= 0.0f && g->r1[3] <= 1.0f &&
-                  isfinite(g->r2[0]) && g->r2[1] > 0.0f && g->r2[1] <= 1.0f && in_range(g->r4[2]) &&
-                  g->r4[3] >= 0.0f && g->r4[3] <= 60.0f;
+                  g->r1[2] >= 0.0f && g->r1[2] <= 60.0f && g->r1[3] >= 0.0f && g->r1[3] <= 1.0f &&
+                  isfinite(g->r2[0]) && g->r2[1] > 0.0f && g->r2[1] <= 1.0f;
         if (!ok && bad < 5)
-            fprintf(stderr, "  out of range at %d (%s): threshold %g fade %g stochastic %g pcg %g sine %g lod %g ratio %g "
+            fprintf(stderr, "  out of range at %d (%s): threshold %g fade %g stochastic %g pcg %g sine %g lod %g level %g "
                             "cdf %g log2 %g a2c %g\n", i, group_name[i / GROUP], g->r0[0], g->r1[0], g->r0[3], g->r0[1],
                     g->r0[2], g->r1[1], g->r1[2], g->r1[3], g->r2[0], g->r2[1]);
         bad += !ok;
@@ -246,11 +240,8 @@ static float f_threshold(const twin_out *o) { return o->r0[0]; }
 static float f_sine(const twin_out *o) { return o->r0[2]; }
 static float f_frame_offset(const twin_out *o) { return o->r4[0]; }
 static float f_fade(const twin_out *o) { return o->r1[0]; }
-static float f_fade_level(const twin_out *o) { return o->r4[1]; }
-static float f_fade_at(const twin_out *o) { return o->r4[2]; }
-static float f_tex_fade_level(const twin_out *o) { return o->r4[3]; }
+static float f_tex_fade_level(const twin_out *o) { return o->r1[2]; }
 static float f_lod(const twin_out *o) { return o->r1[1]; }
-static float f_ratio(const twin_out *o) { return o->r1[2]; }
 static float f_cdf(const twin_out *o) { return o->r1[3]; }
 static float f_log2(const twin_out *o) { return o->r2[0]; }
 
@@ -301,9 +292,7 @@ TEST(cdf_fade_lod_agree)
         double tol;
         bool rel;
     } fields[] = {{"cdf", f_cdf, 1e-5, false},   {"fade", f_fade, 1e-5, false},
-                  {"fade level", f_fade_level, 1e-5, true}, {"fade at", f_fade_at, 1e-5, false},
-                  {"tex level", f_tex_fade_level, 1e-5, true},
-                  {"lod", f_lod, 1e-5, true},    {"aniso ratio", f_ratio, 1e-5, true},
+                  {"tex level", f_tex_fade_level, 1e-5, true}, {"lod", f_lod, 1e-5, true},
                   {"log2 scale", f_log2, 1e-5, true}, {"frame offset", f_frame_offset, 1e-6, false}};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++)
         for (int g = 0; g < GROUPS; g++) {

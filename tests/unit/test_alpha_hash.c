@@ -303,8 +303,7 @@ TEST(alpha_zero_never_passes_alpha_one_always_does)
         float t = alpha_hashed_threshold(obj, dx, dy, rngf(0.2, 2), i & 1, (i >> 1) & 1);
         float cutoff = (i % 7 == 0) ? 0.0f : (i % 7 == 1) ? 1.0f : rngf(0, 1);
         float lod = rngf(-4, 12);
-        float ratio = rngf(0, 20);
-        float f = alpha_hashed_fade(cutoff, t, lod, ratio, (i % 5 == 0) ? 0.0f : 6.0f);
+        float f = alpha_hashed_fade(cutoff, t, lod, (i % 5 == 0) ? 0.0f : 6.0f);
         float s = alpha_stochastic_threshold((uint32_t)i, (uint32_t)(i * 7), (uint32_t)(i >> 3), 0u);
         uint32_t nsamp = 1u << (i % 5);
         uint32_t all = nsamp == 32u ? 0xffffffffu : (1u << nsamp) - 1u;
@@ -744,24 +743,20 @@ TEST(fade_ramp_is_quadratic_in_lod)
 {
     const float n = (float)ALPHA_FADE_N_DEFAULT;
     /* b(x) = (x / n)^2: with cutoff 0.5 and threshold 1, the result is 0.5 + 0.5 b. */
-    CHECK(alpha_hashed_fade(0.5f, 1.0f, 0.0f, 1.0f, n) == 0.5f);
-    CHECK(alpha_hashed_fade(0.5f, 1.0f, -3.0f, 1.0f, n) == 0.5f);
-    CHECK(alpha_hashed_fade(0.5f, 1.0f, n, 1.0f, n) == 1.0f);
-    CHECK(alpha_hashed_fade(0.5f, 1.0f, 40.0f, 1.0f, n) == 1.0f);
+    CHECK(alpha_hashed_fade(0.5f, 1.0f, 0.0f, n) == 0.5f);
+    CHECK(alpha_hashed_fade(0.5f, 1.0f, -3.0f, n) == 0.5f);
+    CHECK(alpha_hashed_fade(0.5f, 1.0f, n, n) == 1.0f);
+    CHECK(alpha_hashed_fade(0.5f, 1.0f, 40.0f, n) == 1.0f);
     for (int k = 1; k < 60; k++) {
         float lod = (float)k / 10.0f;
         double b = (lod / n) * (lod / n);
-        CHECK_NEAR(alpha_hashed_fade(0.5f, 1.0f, lod, 1.0f, n), 0.5 + 0.5 * b, 1e-6);
-        CHECK_NEAR(alpha_hashed_fade(0.3f, 0.1f, lod, 1.0f, n), 0.3 - 0.2 * b, 1e-6);
+        CHECK_NEAR(alpha_hashed_fade(0.5f, 1.0f, lod, n), 0.5 + 0.5 * b, 1e-6);
+        CHECK_NEAR(alpha_hashed_fade(0.3f, 0.1f, lod, n), 0.3 - 0.2 * b, 1e-6);
     }
-    /* Anisotropy ratio 4 shifts x by log2(4) = 2; ratios clamp to [1, 16]. */
-    CHECK(alpha_hashed_fade(0.5f, 0.9f, 1.0f, 4.0f, n) == alpha_hashed_fade(0.5f, 0.9f, 3.0f, 1.0f, n));
-    CHECK(alpha_hashed_fade(0.5f, 0.9f, 0.5f, 64.0f, n) == alpha_hashed_fade(0.5f, 0.9f, 4.5f, 1.0f, n));
-    CHECK(alpha_hashed_fade(0.5f, 0.9f, 2.0f, 0.25f, n) == alpha_hashed_fade(0.5f, 0.9f, 2.0f, 1.0f, n));
     /* fade_n <= 0 disables the fade. */
-    CHECK(alpha_hashed_fade(0.5f, 0.123f, 0.0f, 1.0f, 0.0f) == 0.123f);
-    CHECK(alpha_hashed_fade(0.5f, 0.123f, 0.0f, 1.0f, -2.0f) == 0.123f);
-    CHECK(alpha_hashed_fade(0.5f, 0.123f, 0.0f, 1.0f, NAN) == 0.123f);
+    CHECK(alpha_hashed_fade(0.5f, 0.123f, 0.0f, 0.0f) == 0.123f);
+    CHECK(alpha_hashed_fade(0.5f, 0.123f, 0.0f, -2.0f) == 0.123f);
+    CHECK(alpha_hashed_fade(0.5f, 0.123f, 0.0f, NAN) == 0.123f);
     /* Hard cases: cutoff 0 or 1, NaN everywhere: always in (0, 1]. */
     const float v[] = {0.0f, -0.0f, 1.0f, 0.5f, 1e-7f, 2.0f, -1.0f, NAN, INFINITY, -INFINITY, 1e30f};
     int bad = 0;
@@ -769,69 +764,63 @@ TEST(fade_ramp_is_quadratic_in_lod)
         for (size_t b = 0; b < 11; b++)
             for (size_t c = 0; c < 11; c++)
                 for (size_t d = 0; d < 11; d++)
-                    bad += !in_unit(alpha_hashed_fade(v[a], v[b], v[c], v[d], (a + b) % 3 ? 6.0f : v[(c + d) % 11]));
+                    bad += !in_unit(alpha_hashed_fade(v[a], v[b], v[c], (a + b + d) % 3 ? 6.0f : v[(c + d) % 11]));
     CHECK(bad == 0);
     /* Cutoff 0 still rejects alpha 0: the cutoff is kept >= ALPHA_THRESHOLD_MIN. */
-    CHECK(alpha_hashed_fade(0.0f, 0.5f, 0.0f, 1.0f, n) > 0.0f);
-    CHECK(alpha_hashed_fade(0.5f, NAN, 6.0f, 1.0f, n) == 0.5f);
+    CHECK(alpha_hashed_fade(0.0f, 0.5f, 0.0f, n) > 0.0f);
+    CHECK(alpha_hashed_fade(0.5f, NAN, 6.0f, n) == 0.5f);
 }
 
 /* >>lod */
 
-TEST(texture_lod_and_anisotropy)
+TEST(texture_lod_follows_the_long_axis)
 {
     const float size[2] = {256, 128};
-    float r;
     /* One texel per pixel: lod 0. */
-    float lod = alpha_texture_lod((float[2]){1.0f / 256, 0}, (float[2]){0, 1.0f / 128}, size, &r);
+    float lod = alpha_texture_lod((float[2]){1.0f / 256, 0}, (float[2]){0, 1.0f / 128}, size);
     CHECK_NEAR(lod, 0.0, 1e-6);
-    CHECK(r == 1.0f);
     /* 4 texels per pixel: lod 2. */
-    lod = alpha_texture_lod((float[2]){4.0f / 256, 0}, (float[2]){0, 4.0f / 128}, size, &r);
+    lod = alpha_texture_lod((float[2]){4.0f / 256, 0}, (float[2]){0, 4.0f / 128}, size);
     CHECK_NEAR(lod, 2.0, 1e-6);
-    CHECK(r == 1.0f);
-    /* 8 x 2 texels: the longer axis decides the lod (3), ratio 4. */
-    lod = alpha_texture_lod((float[2]){8.0f / 256, 0}, (float[2]){0, 2.0f / 128}, size, &r);
+    /* 8 x 2 texels: the longer axis decides the lod (3). */
+    lod = alpha_texture_lod((float[2]){8.0f / 256, 0}, (float[2]){0, 2.0f / 128}, size);
     CHECK_NEAR(lod, 3.0, 1e-6);
-    CHECK_NEAR(r, 4.0, 1e-6);
-    /* Ratio clamps to 16; a diagonal footprint uses the length. */
-    lod = alpha_texture_lod((float[2]){1000.0f / 256, 0}, (float[2]){0, 1.0f / 128}, size, &r);
-    CHECK(r == 16.0f);
-    lod = alpha_texture_lod((float[2]){3.0f / 256, 4.0f / 128}, (float[2]){0, 0}, size, &r);
+    /* A diagonal footprint uses the length; a line footprint (minor axis 0) its length too. */
+    lod = alpha_texture_lod((float[2]){3.0f / 256, 4.0f / 128}, (float[2]){0, 0}, size);
     CHECK_NEAR(lod, log2(5.0), 1e-6);
-    CHECK(r == 16.0f); /* a line footprint (minor axis 0) */
-    /* Degenerate: zero and NaN -> lod 0, ratio 1; infinite -> the clamp. */
-    lod = alpha_texture_lod((float[2]){0, 0}, (float[2]){0, 0}, size, &r);
-    CHECK(lod == 0.0f && r == 1.0f);
-    lod = alpha_texture_lod((float[2]){NAN, 0}, (float[2]){0, 1}, size, &r);
-    CHECK(lod == 0.0f && r == 1.0f);
-    lod = alpha_texture_lod((float[2]){1, 0}, (float[2]){0, 1}, (float[2]){NAN, 4}, &r);
-    CHECK(lod == 0.0f && r == 1.0f);
-    lod = alpha_texture_lod((float[2]){INFINITY, 0}, (float[2]){0, INFINITY}, size, &r);
-    CHECK(lod == (float)ALPHA_HASH_LOG2_CLAMP && r == 1.0f);
-    lod = alpha_texture_lod((float[2]){1e-40f, 0}, (float[2]){0, 1e-40f}, size, NULL);
-    CHECK(isfinite(lod));
+    /* Degenerate: zero and NaN -> lod 0; infinite -> the clamp. */
+    CHECK(alpha_texture_lod((float[2]){0, 0}, (float[2]){0, 0}, size) == 0.0f);
+    CHECK(alpha_texture_lod((float[2]){NAN, 0}, (float[2]){0, 1}, size) == 0.0f);
+    CHECK(alpha_texture_lod((float[2]){1, 0}, (float[2]){0, 1}, (float[2]){NAN, 4}) == 0.0f);
+    CHECK(alpha_texture_lod((float[2]){INFINITY, 0}, (float[2]){0, INFINITY}, size) == (float)ALPHA_HASH_LOG2_CLAMP);
+    CHECK(isfinite(alpha_texture_lod((float[2]){1e-40f, 0}, (float[2]){0, 1e-40f}, size)));
 }
 
 /* The forward shader's hashed test takes the fade level from the uv derivatives in one log2
- * (alpha_texture_fade_level): the same as alpha_texture_lod's lod, biased and clamped at 0 as the
- * sampler does, plus log2 of its ratio (alpha_hashed_fade_level); finite and in [0, 60] always. */
-TEST(texture_fade_level_is_lod_plus_log2_ratio)
+ * (alpha_texture_fade_level): the level the trilinear lookup reads, alpha_texture_lod's lod biased
+ * and clamped at 0 as the sampler does, and nothing more for anisotropy (issue 16: the level
+ * already follows the footprint's long axis; adding log2(pmax / pmin) completed the fade up to 4
+ * levels early on grazing surfaces). Finite and in [0, 60] always. */
+TEST(texture_fade_level_is_the_trilinear_level)
 {
     const float size[2] = {256, 128};
+    /* Grazing footprints: 8 x 2 and 16 x 1 texels read levels 3 and 4 (not 3 + 2 and 4 + 4). */
+    CHECK_NEAR(alpha_texture_fade_level((float[2]){8.0f / 256, 0}, (float[2]){0, 2.0f / 128}, size, 1.0f), 3.0, 1e-6);
+    CHECK_NEAR(alpha_texture_fade_level((float[2]){0, 1.0f / 128}, (float[2]){16.0f / 256, 0}, size, 1.0f), 4.0, 1e-6);
+    /* ... and with a mip bias of -1, levels 2 and 3. */
+    CHECK_NEAR(alpha_texture_fade_level((float[2]){8.0f / 256, 0}, (float[2]){0, 2.0f / 128}, size, 0.5f), 2.0, 1e-6);
+    CHECK_NEAR(alpha_texture_fade_level((float[2]){0, 1.0f / 128}, (float[2]){16.0f / 256, 0}, size, 0.5f), 3.0, 1e-6);
     double worst = 0;
     for (int i = 0; i < 100000; i++) {
         float dx[2] = {rngf(-0.05, 0.05), rngf(-0.05, 0.05)}, dy[2] = {rngf(-0.05, 0.05), rngf(-0.05, 0.05)};
-        if (i % 7 == 0) /* a line footprint: ratio clamped to 16 */
+        if (i % 7 == 0) /* a line footprint */
             dy[0] = dy[1] = 0.0f;
         float bias = (float)(i % 5) * 0.5f - 1.0f;
-        float r;
-        float lod = alpha_texture_lod(dx, dy, size, &r);
-        float ref = alpha_hashed_fade_level(fmaxf(lod + bias, 0.0f), r);
+        float ref = fmaxf(alpha_texture_lod(dx, dy, size) + bias, 0.0f);
         float got = alpha_texture_fade_level(dx, dy, size, exp2f(bias));
         worst = fmax(worst, fabs((double)got - ref));
     }
-    fprintf(stderr, "  texture fade level vs lod + log2(ratio): largest difference %.3g\n", worst);
+    fprintf(stderr, "  texture fade level vs max(lod + bias, 0): largest difference %.3g\n", worst);
     CHECK(worst < 1e-5);
     const float v[] = {0.0f, -0.0f, 1e-40f, 1e-20f, 0.01f, 1.0f, 1e20f, 3e38f, NAN, INFINITY, -INFINITY};
     const float scales[] = {1.0f, 0.0f, 0.5f, 2.0f, 1e-30f, 1e19f};
@@ -945,8 +934,8 @@ int main(void)
     RUN(stochastic_is_uniform_and_new_every_frame);
     RUN(hashed_a2c_thresholds_and_masks);
     RUN(fade_ramp_is_quadratic_in_lod);
-    RUN(texture_lod_and_anisotropy);
-    RUN(texture_fade_level_is_lod_plus_log2_ratio);
+    RUN(texture_lod_follows_the_long_axis);
+    RUN(texture_fade_level_is_the_trilinear_level);
     RUN(report_cpu_cost_per_threshold);
     RUN(frame_offset_keeps_thresholds_in_range_and_uniform);
     return test_summary();
