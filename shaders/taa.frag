@@ -185,8 +185,13 @@ void main()
         hist = fetch_history(prev, prev_layer, prev_size, hist_cov);
         // Sparse stochastic coverage: where the nine samples all missed (or all hit) a surface the
         // history covers partly, widen the coverage range by what they can miss, and the colour
-        // box by a quarter of that (docs/taa.md).
+        // box by a quarter of that (docs/taa.md). Only where alpha tests are noise in time (the
+        // plan's TAA_SPARSE_COVERAGE): deterministic samples would only gain ghosts from it.
+#ifdef TAA_SPARSE_COVERAGE
         float m = taa_sparse_margin(hist_cov, box.coverage.x, box.coverage.y, u_sparse);
+#else
+        const float m = 0.0;
+#endif
         vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), box.mean, box.sigma, u_gamma, float(TAA_SPARSE_COLOR) * m);
         hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, box.alpha.x - m, box.alpha.y + m));
         hist_cov = clamp(hist_cov, box.coverage.x - m, box.coverage.y + m);

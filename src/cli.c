@@ -111,6 +111,8 @@ void cli_print_help(command cmd)
            "  --fade-n N          hashed: mip levels over which noise fades in (default 6; earlier for\n"
            "                      textures the traditional test erodes sooner)\n"
            "  --no-fade           hashed: no fade-in, noise at every distance\n"
+           "  --no-hash-offset    hashed with TAA: thresholds stay put instead of moving by a\n"
+           "                      golden-ratio offset each frame (docs/hashed-alpha.md)\n"
            "  --a2c-sharpen       a2c: mip-level alpha scaling and fwidth sharpening (Golus)\n"
            "  --taa on|off        temporal antialiasing per ring (default on for more than one frame)\n"
            "  --taa-blend W       weight of the current frame in the history (default 0.1)\n"
@@ -292,6 +294,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                      : !strcmp(opt, "--debug-channels") ? &d->debug_channels
                      : !strcmp(opt, "--hash-aniso")     ? &d->hash_aniso
                      : !strcmp(opt, "--no-fade")        ? &d->no_fade
+                     : !strcmp(opt, "--no-hash-offset") ? &d->no_hash_offset
                      : !strcmp(opt, "--a2c-sharpen")    ? &d->a2c_sharpen
                      : !strcmp(opt, "--no-cache")       ? &d->no_cache
                      : !strcmp(opt, "--accuracy")       ? &d->accuracy

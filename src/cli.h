@@ -51,6 +51,7 @@ typedef struct run_desc {
     int hash_kind;           /* --hash pcg|sine, -1 = default */
     bool hash_aniso;         /* --hash-aniso */
     bool no_fade;            /* --no-fade */
+    bool no_hash_offset;     /* --no-hash-offset */
     bool a2c_sharpen;        /* --a2c-sharpen */
     int taa;                 /* --taa on|off: 1 / 0; -1 = the scene's, else on (for more than one frame) */
     float taa_blend;         /* --taa-blend, 0 = default 0.1 */

@@ -53,7 +53,7 @@ int session_frame_count(const run_desc *d, const scene *sc)
 static alpha_params run_alpha_params(const run_desc *d)
 {
     alpha_params a = {.hash_scale = d->hash_scale, .anisotropic = d->hash_aniso, .no_fade = d->no_fade,
-                      .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen};
+                      .no_frame_offset = d->no_hash_offset, .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen};
     a.hash_kind = d->hash_kind >= 0 ? d->hash_kind : ALPHA_HASH_DEFAULT;
     return alpha_params_defaults(&a);
 }

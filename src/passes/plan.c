@@ -64,6 +64,15 @@ static void add_define(plan_pass *ps, const char *name, int value)
     qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
 }
 
+/* The pass has this define ("NAME VALUE"). */
+static bool has_define_str(const plan_pass *ps, const char *define)
+{
+    for (int i = 0; i < ps->define_count; i++)
+        if (!strcmp(ps->defines[i], define))
+            return true;
+    return false;
+}
+
 static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
 {
     plan_pass *ps = (plan_pass *)plan_find(p, kind, mode);
@@ -144,6 +153,20 @@ static bool has_stochastic_mask(const plan *p)
     return false;
 }
 
+/* Some alpha-tested pass's samples change from frame to frame at a fixed view: stochastic tests,
+ * and hashed ones whose thresholds move by the per-frame offset (TAA_HASH_OFFSET). What the TAA's
+ * sparse-coverage slack is for; deterministic samples would only gain ghosts from it. */
+static bool has_temporal_noise(const plan *p)
+{
+    for (int i = 0; i < p->pass_count; i++) {
+        const plan_pass *ps = &p->passes[i];
+        if (ps->kind == PLAN_PASS_FORWARD_MASK &&
+            (ps->mode == ALPHA_MODE_STOCHASTIC || has_define_str(ps, "TAA_HASH_OFFSET 1")))
+            return true;
+    }
+    return false;
+}
+
 fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
 {
     plan_options o = opt ? *opt : (plan_options){0};
@@ -207,9 +230,11 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         out->texture_count += sc->assets[a].image_count;
 
     /* TAA: history only when there is more than one frame to accumulate. With TAA the hashed
-     * thresholds move every frame so the history averages them (seed 000 §5.4.1). */
+     * thresholds move every frame by a golden-ratio offset so the history averages them
+     * (alpha_hashed_frame_offset; the paper's own suggestion, §5.4.1, is sub-pixel noise, a
+     * --hash-scale of 0.3-0.5: docs/hashed-alpha.md measures both). */
     out->taa = o.taa && o.frames > 1;
-    for (int i = 0; i < out->pass_count && out->taa; i++) {
+    for (int i = 0; i < out->pass_count && out->taa && !out->alpha.no_frame_offset; i++) {
         plan_pass *ps = &out->passes[i];
         if (ps->kind == PLAN_PASS_FORWARD_MASK && (ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C))
             add_define(ps, "TAA_HASH_OFFSET", 1);
@@ -256,6 +281,10 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         if (out->taa_controls.nan_check == TAA_NAN_SET)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
         out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
+        /* The sparse-coverage slack (docs/taa.md): only where samples are noise in time. */
+        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_temporal_noise(out);
+        if (out->taa_sparse)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
         /* Rings that skip instances in their hole: history from there is not whole. */
         if (out->ring_cull)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_CULL 1");
@@ -373,12 +402,18 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     fprintf(f, "targets    per ring: colour RGBA16F + coverage R16F + depth 24%s%s; display: %s\n",
             p->velocity ? " + motion RGBA16F (world-space motion of swaying fragments)" : "",
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
+    char sparse[96];
+    if (p->taa_sparse)
+        snprintf(sparse, sizeof sparse, "sparse-coverage slack %.2f", p->taa_controls.sparse);
+    else
+        snprintf(sparse, sizeof sparse, "no sparse-coverage slack (%s)",
+                 p->taa_controls.sparse > 0.0f ? "no alpha test is noise in time" : "off");
     if (p->taa)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, sparse-coverage slack %.2f, Halton(2,3) jitter of %d frames; %s; %s%s; "
+                   "blend %.2f, gamma %.2f, %s, Halton(2,3) jitter of %d frames; %s; %s%s; "
                    "clip box from the %s, %s history, NaN checked per %s\n",
                 p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
-                p->taa_controls.sparse > 0.0f ? p->taa_controls.sparse : 0.0f, p->taa_controls.jitter_length,
+                sparse, p->taa_controls.jitter_length,
                 p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
                                                        : "reprojection through depth and per-object motion (instances sway)")
                 : p->camera_motion ? "reprojection through depth (the camera moves)"

@@ -44,10 +44,11 @@ typedef struct plan_pass {
 
 /* Parameters of the hashed-family alpha tests (seed 000 §5), the same for every material. */
 typedef struct alpha_params {
-    float hash_scale;   /* noise scale in pixels, default 1 (below 1 for TAA, seed 000 §5.4.1) */
+    float hash_scale;   /* noise scale in pixels, default 1 (seed 000 §5.4.1 suggests 0.3-0.5 with TAA) */
     int hash_kind;      /* ALPHA_HASH_* (common/shared_defs.h), default the project's choice */
     bool anisotropic;   /* per-axis derivative scaling of the hash (option) */
     bool no_fade;       /* disable the fade-in of hashed noise with LOD (seed 000 §5.5.1) */
+    bool no_frame_offset; /* with TAA: no per-frame golden-ratio offset of hashed thresholds */
     float fade_n;       /* mip levels over which the noise fades in, default 6 */
     bool a2c_sharpen;   /* a2c: Golus's mip-level alpha scaling and fwidth sharpening (seed 002) */
 } alpha_params;
@@ -119,6 +120,8 @@ typedef struct plan {
     bool camera_motion;         /* the camera path moves: TAA reprojects through depth */
     bool taa_coarse_history;    /* stochastic alpha tests and rings: a pixel that left its ring's
                                  * footprint takes a coarser ring's history */
+    bool taa_sparse;            /* the sparse-coverage slack (TAA_SPARSE_COVERAGE): some alpha test
+                                 * is noise in time (stochastic, or hashed with the frame offset) */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
     fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */
     bool rings;                 /* foveation on: more than one ring or a reduced scale */
