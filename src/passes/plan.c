@@ -153,15 +153,19 @@ static bool has_stochastic_mask(const plan *p)
     return false;
 }
 
-/* Some alpha-tested pass's samples change from frame to frame at a fixed view: stochastic tests,
- * and hashed ones whose thresholds move by the per-frame offset (TAA_HASH_OFFSET). What the TAA's
- * sparse-coverage slack is for; deterministic samples would only gain ghosts from it. */
+/* Some alpha-tested pass's samples change from frame to frame at a fixed view: stochastic tests;
+ * hashed ones whose thresholds move by the per-frame offset (TAA_HASH_OFFSET), or whose noise
+ * cells are smaller than a pixel, so that the jitter lands each frame's sample in another cell
+ * (seed 000 §5.4.1). What the TAA's sparse-coverage slack is for; deterministic samples would only
+ * gain ghosts from it. */
 static bool has_temporal_noise(const plan *p)
 {
     for (int i = 0; i < p->pass_count; i++) {
         const plan_pass *ps = &p->passes[i];
+        bool hashed = ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C;
         if (ps->kind == PLAN_PASS_FORWARD_MASK &&
-            (ps->mode == ALPHA_MODE_STOCHASTIC || has_define_str(ps, "TAA_HASH_OFFSET 1")))
+            (ps->mode == ALPHA_MODE_STOCHASTIC ||
+             (hashed && (has_define_str(ps, "TAA_HASH_OFFSET 1") || p->alpha.hash_scale < 1.0f))))
             return true;
     }
     return false;

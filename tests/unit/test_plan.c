@@ -312,6 +312,10 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
               ((sparse_cases[i].mode == ALPHA_MODE_HASHED || sparse_cases[i].mode == ALPHA_MODE_HASHED_A2C) &&
                !sparse_cases[i].no_offset));
     }
+    /* Hashed without the offset but with sub-pixel cells: the jitter moves samples between cells. */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED,
+                                          .alpha = {.no_frame_offset = true, .hash_scale = 0.4f}}, &p) == FS_OK);
+    CHECK(p.taa_sparse && has_define(&p.taa_pass, "TAA_SPARSE_COVERAGE 1"));
     /* ... and not when it is off. */
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_STOCHASTIC,
                                           .taa_controls = {.sparse = -1.0f}}, &p) == FS_OK);
