@@ -64,14 +64,6 @@ static void add_define(plan_pass *ps, const char *name, int value)
     qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
 }
 
-/* The pass has this define ("NAME VALUE"). */
-static bool has_define_str(const plan_pass *ps, const char *define)
-{
-    for (int i = 0; i < ps->define_count; i++)
-        if (!strcmp(ps->defines[i], define))
-            return true;
-    return false;
-}
 
 static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
 {
@@ -148,24 +140,6 @@ static bool has_stochastic_mask(const plan *p)
         alpha_mode m = p->passes[i].mode;
         if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
             (m == ALPHA_MODE_STOCHASTIC || m == ALPHA_MODE_HASHED || m == ALPHA_MODE_HASHED_A2C))
-            return true;
-    }
-    return false;
-}
-
-/* Some alpha-tested pass's samples change from frame to frame at a fixed view: stochastic tests;
- * hashed ones whose thresholds move by the per-frame offset (TAA_HASH_OFFSET), or whose noise
- * cells are smaller than a pixel, so that the jitter lands each frame's sample in another cell
- * (seed 000 §5.4.1). What the TAA's sparse-coverage slack is for; deterministic samples would only
- * gain ghosts from it. */
-static bool has_temporal_noise(const plan *p)
-{
-    for (int i = 0; i < p->pass_count; i++) {
-        const plan_pass *ps = &p->passes[i];
-        bool hashed = ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C;
-        if (ps->kind == PLAN_PASS_FORWARD_MASK &&
-            (ps->mode == ALPHA_MODE_STOCHASTIC ||
-             (hashed && (has_define_str(ps, "TAA_HASH_OFFSET 1") || p->alpha.hash_scale < 1.0f))))
             return true;
     }
     return false;
@@ -285,8 +259,10 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         if (out->taa_controls.nan_check == TAA_NAN_SET)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
         out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
-        /* The sparse-coverage slack (docs/taa.md): only where samples are noise in time. */
-        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_temporal_noise(out);
+        /* The sparse-coverage slack (docs/taa.md): only where samples are noise in time, which
+         * hashed ones are too, with or without the frame offset: the camera's motion and the
+         * jitter move pixels across the object-anchored cells (docs/taa.md measures it). */
+        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_stochastic_mask(out);
         if (out->taa_sparse)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
         /* Rings that skip instances in their hole: history from there is not whole. */

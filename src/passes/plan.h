@@ -121,7 +121,7 @@ typedef struct plan {
     bool taa_coarse_history;    /* stochastic alpha tests and rings: a pixel that left its ring's
                                  * footprint takes a coarser ring's history */
     bool taa_sparse;            /* the sparse-coverage slack (TAA_SPARSE_COVERAGE): some alpha test
-                                 * is noise in time (stochastic, or hashed with the frame offset) */
+                                 * is noise in time (stochastic or hashed) */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
     fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */
     bool rings;                 /* foveation on: more than one ring or a reduced scale */

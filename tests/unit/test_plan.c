@@ -293,13 +293,13 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(p.taa_coarse_history);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_TRADITIONAL, .layout = l}, &p) == FS_OK);
     CHECK(!p.taa_coarse_history && !has_define(&p.taa_pass, "TAA_COARSE_HISTORY 1"));
-    /* The sparse-coverage slack only where samples are noise in time (issue 16): stochastic, and
-     * hashed with its per-frame offset; not traditional, a2c, or hashed without the offset. */
+    /* The sparse-coverage slack only where samples are noise in time (issue 16): stochastic and
+     * hashed (with or without the per-frame offset); not traditional, a2c, castano or mipscale. */
     const struct {
         alpha_mode mode;
         bool no_offset, sparse;
     } sparse_cases[] = {{ALPHA_MODE_STOCHASTIC, false, true}, {ALPHA_MODE_HASHED, false, true},
-                        {ALPHA_MODE_HASHED_A2C, false, true}, {ALPHA_MODE_HASHED, true, false},
+                        {ALPHA_MODE_HASHED_A2C, false, true}, {ALPHA_MODE_HASHED, true, true},
                         {ALPHA_MODE_TRADITIONAL, false, false}, {ALPHA_MODE_A2C, false, false},
                         {ALPHA_MODE_CASTANO, false, false}, {ALPHA_MODE_MIPSCALE, false, false}};
     for (size_t i = 0; i < sizeof sparse_cases / sizeof sparse_cases[0]; i++) {
@@ -312,10 +312,6 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
               ((sparse_cases[i].mode == ALPHA_MODE_HASHED || sparse_cases[i].mode == ALPHA_MODE_HASHED_A2C) &&
                !sparse_cases[i].no_offset));
     }
-    /* Hashed without the offset but with sub-pixel cells: the jitter moves samples between cells. */
-    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_HASHED,
-                                          .alpha = {.no_frame_offset = true, .hash_scale = 0.4f}}, &p) == FS_OK);
-    CHECK(p.taa_sparse && has_define(&p.taa_pass, "TAA_SPARSE_COVERAGE 1"));
     /* ... and not when it is off. */
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_STOCHASTIC,
                                           .taa_controls = {.sparse = -1.0f}}, &p) == FS_OK);
