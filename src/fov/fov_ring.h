@@ -79,9 +79,10 @@ fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0);
 /* Acuity check of any layout (auto or explicit) on a display, for any gaze on the display: the
  * largest ratio of the angle a block of ring i spans (along any side, either pitch) to the MAR at
  * ring i's inner edge, over every gaze on the display and every display point in the ring. The
- * block bound is 2^k / f radians (the supremum over the display, reached at the principal point),
- * so the ratio is exact when some gaze puts the principal point in the ring (inner edge up to the
- * centre-to-corner eccentricity) and an upper bound beyond. 0 for full-resolution rings (the
+ * block bound is 2^k / f radians (the supremum over the display, approached at the principal
+ * point to within (2^k / f)^2 / 3 relative), so the ratio is tight when some gaze puts the
+ * principal point in the ring (inner edge up to the centre-to-corner eccentricity) and an upper
+ * bound beyond. 0 for full-resolution rings (the
  * display's own pixels) and for rings no gaze on the display shows (inner edge at or beyond the
  * corner-to-corner eccentricity). slope/omega0 <= 0 mean the default model. */
 double fov_ring_block_mar_ratio(const display_desc *d, const fov_layout *l, int i, float slope, float omega0);
