@@ -122,49 +122,53 @@ fov_layout fov_layout_off(void)
     return l;
 }
 
-/* Eccentricity (degrees, from the display centre along the horizontal axis) where a block of
- * `block` display pixels has the angular size MAR(e): the root of
- * g(e) = block * pitch(e) - (slope * e + omega0), pitch(e) = (180/pi) cos^2(e) / f degrees per
- * pixel (the derivative of atan(x / f)). g is strictly decreasing, so bisection on [0, 89.9].
- * Returns 0 when the block already resolves the acuity at the centre, INFINITY when it never
- * does below 89.9 degrees. */
-static double acuity_edge_deg(double f, double block, double slope, double omega0)
+/* The largest angle, in degrees, that a block of `block` x `block` display pixels spans along
+ * any of its sides, anywhere on the display. At a display point t degrees from the view axis a
+ * pixel spans cos^2(t)/f radians radially and cos(t)/f tangentially (f: focal length in pixels);
+ * both are largest, 1/f, at the principal point. Exactly: the angle between the view rays through
+ * two image-plane points is at most their distance over f (the eye is at least f from the line
+ * through them), so no side of a block spans more than block/f radians, and blocks at the
+ * principal point come within (block/f)^2/3 of that. */
+static double block_angle_max_deg(const disp *D, int block)
 {
-    double lo = 0.0, hi = 89.9;
-#define ACUITY_G(e) (block * RAD2DEG * cos((e) * DEG2RAD) * cos((e) * DEG2RAD) / f - (slope * (e) + omega0))
-    if (ACUITY_G(lo) <= 0.0)
-        return 0.0;
-    if (ACUITY_G(hi) > 0.0)
-        return INFINITY;
-    for (int it = 0; it < 100 && hi - lo > 1e-12; it++) {
-        double mid = 0.5 * (lo + hi);
-        if (ACUITY_G(mid) > 0.0)
-            lo = mid;
-        else
-            hi = mid;
-    }
-#undef ACUITY_G
-    return 0.5 * (lo + hi);
+    return (double)block / D->f * RAD2DEG;
+}
+
+/* Largest eccentricity between two display points: opposite corners. (The set of points within a
+ * given angle of a ray meets the image plane in a convex region, so the farthest point of a
+ * rectangle from any ray is a corner, and the farthest gaze on the display as well.) */
+static double diagonal_ecc_deg(const disp *D)
+{
+    double a[3], b[3];
+    view_ray(D, 0.0, 0.0, a);
+    view_ray(D, D->w, D->h, b);
+    return angle_between(a, b) * RAD2DEG;
+}
+
+static void acuity_model(float slope, float omega0, double *m, double *w0)
+{
+    *m = slope > 0.0f && isfinite(slope) ? slope : FOV_ACUITY_SLOPE_DEFAULT;
+    *w0 = omega0 > 0.0f && isfinite(omega0) ? omega0 : FOV_ACUITY_OMEGA0_DEFAULT;
 }
 
 /* Resulting layouts with the default model (slope 0.0275, omega0 1/48 degree), rings as
- * [inner, outer) degrees and scale (tests/unit/test_fov_ring.c checks these):
- *   1280x720 @ 90 deg (f = 640 px, corner 48.9 deg), "5.689322:1:0,11.726324:1/2:0,...":
- *     [0, 5.69) 1, [5.69, 11.73) 1/2, [11.73, 21.72) 1/4, [21.72, 34.56) 1/8, [34.56, *) 1/16
- *     shading 7.0 % of the display's pixels at central gaze (no margin)
+ * [inner, outer) degrees and scale; e_k = (2^k (180/pi) / f - omega0) / slope
+ * (tests/unit/test_fov_ring.c checks these):
+ *   1280x720 @ 90 deg (f = 640 px, corner 48.9 deg), "5.7533083:1:0,12.264193:1/2:0,...":
+ *     [0, 5.75) 1, [5.75, 12.26) 1/2, [12.26, 25.29) 1/4, [25.29, *) 1/8
+ *     (1/16 would start at 51.33 deg, beyond the corner as seen from the centre: dropped)
  *   1920x1080 @ 90 deg (f = 960 px, corner 48.9 deg):
- *     [0, 3.57) 1, [3.57, 7.77) 1/2, [7.77, 15.38) 1/4, [15.38, 26.87) 1/8, [26.87, *) 1/16
- *     shading 3.5 % at central gaze
+ *     [0, 3.58) 1, [3.58, 7.92) 1/2, [7.92, 16.60) 1/4, [16.60, 33.97) 1/8, [33.97, *) 1/16
  * (The displays are coarser than acuity at the centre: a 1280x720 @ 90 pixel is 5.4 arcmin against
  * MAR(0) = 1.25 arcmin, so full resolution is only kept until 2 pixels match MAR.)
- * A display so fine that 2^k-pixel blocks resolve the acuity even at the centre (2^k pitch(0) <=
+ * A display so fine that 2^k-pixel blocks resolve the acuity even at the centre (2^k / f <=
  * omega0, e.g. hfov 1 degree) gets e_k = 0: ring k-1 would be empty [0, 0), so it is skipped and
  * the innermost ring is then coarser than full resolution (one 1/16 ring for 1280x720 at 1 deg). */
 fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0)
 {
     disp D = disp_of(d);
-    double m = slope > 0.0f && isfinite(slope) ? slope : FOV_ACUITY_SLOPE_DEFAULT;
-    double w0 = omega0 > 0.0f && isfinite(omega0) ? omega0 : FOV_ACUITY_OMEGA0_DEFAULT;
+    double m, w0;
+    acuity_model(slope, omega0, &m, &w0);
     double emax = corner_ecc_deg(&D);
 
     fov_layout l;
@@ -175,10 +179,19 @@ fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0)
     int scale = 0;       /* scale of the ring being built; its inner edge is prev */
     float prev = 0.0f;
     for (int k = 1; k <= MAX_FOV_SCALE_LOG2 && l.count < MAX_FOV_RINGS - 1; k++) {
-        double ek = acuity_edge_deg(D.f, (double)(1 << k), m, w0);
+        /* The gaze may be anywhere, so any ring's inner edge may pass through the principal point,
+         * where a block is largest: ring k starts where MAR reaches that largest block. */
+        double block_deg = block_angle_max_deg(&D, 1 << k);
+        double ek = (block_deg - w0) / m;
+        if (ek < 0.0)
+            ek = 0.0; /* 2^k-pixel blocks resolve the acuity even at the fovea */
         if (!(ek < emax))
             break; /* scale k would start beyond the display's corner: ring k-1 is the last */
+        /* Round outwards, so that MAR at the stored (float) border is not below the block by a
+         * rounding error (the same expression as fov_ring_block_mar_ratio's). */
         float e = (float)ek;
+        while (m * (double)e + w0 < block_deg)
+            e = nextafterf(e, INFINITY);
         if (e > prev) {
             l.rings[l.count++] = (fov_ring){e, scale, 0.0f};
             prev = e;
@@ -187,6 +200,37 @@ fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0)
     }
     l.rings[l.count++] = (fov_ring){INFINITY, scale, 0.0f};
     return l;
+}
+
+double fov_ring_block_mar_ratio(const display_desc *d, const fov_layout *l, int i, float slope, float omega0)
+{
+    if (!l || i < 0 || i >= l->count || i >= MAX_FOV_RINGS)
+        return 0.0;
+    int block = block_of(&l->rings[i]);
+    if (block == 1)
+        return 0.0; /* full resolution: the display's own pitch, not the layout's choice */
+    disp D = disp_of(d);
+    double inner = i > 0 ? l->rings[i - 1].outer_deg : 0.0;
+    if (!(inner < diagonal_ecc_deg(&D)))
+        return 0.0; /* no gaze on the display shows this ring */
+    double m, w0;
+    acuity_model(slope, omega0, &m, &w0);
+    return block_angle_max_deg(&D, block) / (m * inner + w0);
+}
+
+double fov_layout_acuity_margin(const display_desc *d, const fov_layout *l, float slope, float omega0,
+                                int *worst_ring)
+{
+    double worst = 0.0;
+    int at = -1;
+    for (int i = 0; l && i < l->count && i < MAX_FOV_RINGS; i++) {
+        double r = fov_ring_block_mar_ratio(d, l, i, slope, omega0);
+        if (r > worst)
+            worst = r, at = i;
+    }
+    if (worst_ring)
+        *worst_ring = at;
+    return worst > 0.0 ? 1.0 / worst : INFINITY;
 }
 
 #define TOKEN_MAX 64

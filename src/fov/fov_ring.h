@@ -63,14 +63,36 @@ typedef struct fov_layout {
 
 /* Foveation off: one ring, scale 1, bias 0, covering the display. */
 fov_layout fov_layout_off(void);
-/* The acuity layout for a display (DESIGN.md "Foveation"): ring k (block 2^k) starts at the
- * eccentricity e_k where 2^k times the display's angular pixel pitch at e_k (measured from the
- * display centre along the horizontal axis) equals MAR(e_k) = slope * e_k + omega0; the innermost
- * ring is full resolution unless 2^k-pixel blocks already resolve MAR at the centre (e_k = 0: the
- * empty rings [0, 0) are skipped, so a very fine display starts coarser); rings whose inner edge
- * lies beyond the display's largest eccentricity (centre to corner) are dropped; scales stop at
- * MAX_FOV_SCALE_LOG2. slope/omega0 <= 0 mean the defaults. */
+/* The acuity layout for a display (DESIGN.md "Foveation", docs/foveation.md "Layouts"): ring k
+ * (block 2^k) starts at the eccentricity e_k where MAR(e_k) = slope * e_k + omega0 equals the
+ * largest angle a 2^k-pixel block spans anywhere on the display, 2^k / f radians at the principal
+ * point (f: focal length in pixels; both the radial pitch cos^2(t)/f and the tangential cos(t)/f
+ * peak there). That holds for any gaze on the display, since a ring's inner edge can pass through
+ * the principal point, so the layout does not depend on the gaze: no ring's block is coarser than
+ * MAR at the ring's inner edge, for either pitch and any gaze (fov_layout_acuity_margin >= 1).
+ * The innermost ring is full resolution unless 2^k-pixel blocks already resolve MAR at the
+ * centre (e_k = 0: the empty rings [0, 0) are skipped, so a very fine display starts coarser);
+ * rings whose inner edge lies beyond the display's largest eccentricity from its centre (centre
+ * to corner) are dropped; scales stop at MAX_FOV_SCALE_LOG2. slope/omega0 <= 0 mean the
+ * defaults. */
 fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0);
+/* Acuity check of any layout (auto or explicit) on a display, for any gaze on the display: the
+ * largest ratio of the angle a block of ring i spans (along any side, either pitch) to the MAR at
+ * ring i's inner edge, over every gaze on the display and every display point in the ring. The
+ * block bound is 2^k / f radians (the supremum over the display, approached at the principal
+ * point to within (2^k / f)^2 / 3 relative), so the ratio is tight when some gaze puts the
+ * principal point in the ring (inner edge up to the centre-to-corner eccentricity) and an upper
+ * bound beyond. 0 for full-resolution rings (the
+ * display's own pixels) and for rings no gaze on the display shows (inner edge at or beyond the
+ * corner-to-corner eccentricity). slope/omega0 <= 0 mean the default model. */
+double fov_ring_block_mar_ratio(const display_desc *d, const fov_layout *l, int i, float slope, float omega0);
+/* The layout's guaranteed acuity margin: the smallest MAR / block over its rings (1 / the largest
+ * fov_ring_block_mar_ratio); >= 1 means no block anywhere is coarser than the MAR at its ring's
+ * inner edge, for any gaze; below 1 (possible for explicit layouts) some block is coarser by that
+ * factor. INFINITY when no ring coarser than full resolution is ever shown. *worst_ring (may be
+ * NULL) gets the ring that sets it, -1 for INFINITY. */
+double fov_layout_acuity_margin(const display_desc *d, const fov_layout *l, float slope, float omega0,
+                                int *worst_ring);
 /* Parses "auto", "off", or an explicit list "10:1:0,25:0.5:0,*:0.25:0.5" (outer degrees or "*"
  * for the last, scale as 1, 0.5, 0.25, ... or 1/2, 1/4, ..., mip bias). On error writes one line
  * into err (e.g. "ring 2: scale 0.3 is not a power of two (1, 1/2, ... 1/16)") and returns

@@ -299,6 +299,26 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     return FS_OK;
 }
 
+/* The layout's guaranteed acuity margin (fov_layout_acuity_margin, default acuity model): how
+ * coarse its blocks may get against the MAR at their ring's inner edge, for any gaze on the
+ * display. Explicit layouts may fall short; that is reported, not refused. */
+static void plan_print_acuity(const display_desc *dd, const fov_layout *l, FILE *f)
+{
+    int worst = -1;
+    double margin = fov_layout_acuity_margin(dd, l, 0.0f, 0.0f, &worst);
+    if (worst < 0) {
+        fprintf(f, "  acuity     no ring coarser than full resolution is shown\n");
+        return;
+    }
+    double ratio = 1.0 / margin;
+    if (margin >= 1.0)
+        fprintf(f, "  acuity     margin %.3fx: blocks span at most %.3fx the MAR at their ring's inner edge, for any gaze "
+                   "on the display (tightest: ring %d)\n", margin, ratio, worst);
+    else
+        fprintf(f, "  acuity     margin %.3fx: ring %d's blocks span up to %.3fx the MAR at its inner edge for some gazes, "
+                   "coarser than the acuity model by %.0f %%\n", margin, worst, ratio, 100.0 * (ratio - 1.0));
+}
+
 void plan_print(const plan *p, const scene *sc, FILE *f)
 {
     long long tris = 0;
@@ -353,12 +373,19 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
                 snprintf(outer, sizeof outer, "display edge");
             else
                 snprintf(outer, sizeof outer, "%.2f deg (%.0f px)", r->outer_deg, r->outer_deg * fov_pixels_per_degree(&dd));
-            fprintf(f, "  ring %d   %5.2f deg .. %-24s scale 1/%-2d mip bias %+.2f  target %4d x %-4d  shades %5.1f %%\n",
-                    i, inner, outer, 1 << r->scale_log2, r->mip_bias, rr.width, rr.height, 100.0 * (double)per[i] / px);
+            /* The worst block against the MAR at the ring's inner edge, any gaze (fov_ring_block_mar_ratio). */
+            double ratio = fov_ring_block_mar_ratio(&dd, &p->layout, i, 0.0f, 0.0f);
+            char acuity[32] = "";
+            if (ratio > 0.0)
+                snprintf(acuity, sizeof acuity, "  block/MAR %.3f", ratio);
+            fprintf(f, "  ring %d   %5.2f deg .. %-24s scale 1/%-2d mip bias %+.2f  target %4d x %-4d  shades %5.1f %%%s\n",
+                    i, inner, outer, 1 << r->scale_log2, r->mip_bias, rr.width, rr.height, 100.0 * (double)per[i] / px,
+                    acuity);
             inner = r->outer_deg;
         }
         fprintf(f, "  total      %.1f %% of display pixels shaded (ideal speedup %.2fx)\n", 100.0 * (double)total / px,
                 px / (double)total);
+        plan_print_acuity(&dd, &p->layout, f);
     } else {
         fprintf(f, "rings      off (full resolution)\n");
     }

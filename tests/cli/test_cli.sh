@@ -54,6 +54,10 @@ check "short trace: still renders" test $? -eq 0
 check "short trace: said once" test "$(grep -c 'ends at 0.50 s' "$T/err.txt")" -eq 1
 check "plan prints the rings" bash -c "'$BIN' plan forest | grep -q 'ring 0' && '$BIN' plan forest | grep -q 'ideal speedup'"
 check "plan --rings off" bash -c "'$BIN' plan forest --rings off | grep -q 'rings      off'"
+# The acuity margin (docs/foveation.md "Layouts"): the auto layout's blocks never exceed MAR at their
+# ring's inner edge, for any gaze; an explicit layout that does is reported, not refused.
+check "plan: the auto layout's acuity margin" bash -c "'$BIN' plan forest | grep -q 'acuity     margin 1.000x: blocks span at most 1.000x the MAR'"
+check "plan: an explicit layout coarser than acuity says by how much" bash -c "'$BIN' plan forest --rings \"5.689322:1:0,11.726324:1/2:0,21.719414:1/4:0,34.564426:1/8:0,*:1/16:0\" | grep -q \"margin 0.678x: ring 4's blocks span up to 1.475x the MAR at its inner edge for some gazes, coarser than the acuity model by 47 %\""
 expect_exit "bad --rings -> 2" 2 "$BIN" render --rings "10:1:0,5:1/2:0,*:1/4:0" --out "$T/bad9"
 check "bad rings create nothing" test ! -e "$T/bad9"
 printf 't,x,y\n0,0.5,0.5\n1,abc,0.5\n' >"$T/badgaze.csv"
@@ -76,10 +80,12 @@ check "bench JSON: counters of the fence" python3 "$SRC/tests/cli/check_bench_js
 check "bench JSON: forest counters, foveation shades fewer fragments" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_forest.json" known --foveation-saves-fragments
 FOVSIM_NO_PIPELINE_STATS=1 "$BIN" bench --builtin fence --frames 2 --warmup 1 --width 160 --height 90 --format json >"$T/bench_nostats.json" 2>/dev/null
 check "bench JSON: counts unknown (-1) without the extension" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_nostats.json" unknown
-# Ring culling (docs/foveation.md): the rings of the auto layout skip instances only their hole
-# would show, so they draw fewer than with --ring-cull off, and fewer primitives; the same frames.
+# Ring culling (docs/foveation.md): rings skip instances only their hole would show, so they draw
+# fewer than with --ring-cull off, and fewer primitives; the same frames. Four rings (the auto layout
+# at 320x180 before issue 16 part 3; the acuity-safe auto layout has two on so coarse a display).
 for c in on off; do
-  "$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --ring-cull $c --format json >"$T/bench_cull_$c.json" 2>/dev/null
+  "$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --ring-cull $c \
+    --rings 21.719414:1:0,34.564426:1/2:0,47.247437:1/4:0,*:1/8:0 --format json >"$T/bench_cull_$c.json" 2>/dev/null
 done
 check "bench: rings cull what only their hole shows (fewer instances and primitives than --ring-cull off)" python3 -c "
 import json; on, off = [json.load(open('$T/bench_cull_%s.json' % c))['configs'][1] for c in ('on', 'off')]

@@ -73,7 +73,9 @@ static void print_layout(const char *name, const display_desc *d, const fov_layo
 
 // >>layouts
 
-/* The auto layout satisfies its defining equation at every ring border and stops where it should. */
+/* The auto layout satisfies its defining equation at every ring border (the largest block on the
+ * display, 2^k pixels at the principal point, equals MAR there: any gaze may put the principal
+ * point on the border) and stops where it should. */
 static void check_auto(const display_desc *d)
 {
     fov_layout l = fov_layout_auto(d, 0, 0);
@@ -94,13 +96,14 @@ static void check_auto(const display_desc *d)
     for (int i = 0; i + 1 < l.count; i++) {
         double e = l.rings[i].outer_deg;
         double block = (double)(1 << (i + 1));
-        CHECK_NEAR(block * pitch_deg(f, e), mar_deg(e), 1e-4);
+        CHECK_NEAR(block * pitch_deg(f, 0), mar_deg(e), 1e-4);
+        CHECK(mar_deg(e) >= block * pitch_deg(f, 0) * (1.0 - 1e-6)); /* rounded outwards */
         CHECK(e < emax);
     }
     int last = l.rings[l.count - 1].scale_log2;
     CHECK(isinf(l.rings[l.count - 1].outer_deg));
     /* The next scale would only pay off beyond the corner (or there is none). */
-    CHECK(last == MAX_FOV_SCALE_LOG2 || (double)(1 << (last + 1)) * pitch_deg(f, emax) >= mar_deg(emax));
+    CHECK(last == MAX_FOV_SCALE_LOG2 || (double)(1 << (last + 1)) * pitch_deg(f, 0) >= mar_deg(emax));
 }
 
 TEST(auto_layout_follows_the_acuity_model)
@@ -109,15 +112,18 @@ TEST(auto_layout_follows_the_acuity_model)
     for (int k = 0; k < 4; k++)
         check_auto(&ds[k]);
 
-    /* Regression values (the comment above fov_layout_auto). */
+    /* Regression values (the comment above fov_layout_auto), computed apart in Python as
+     * e_k = (2^k (180/pi) / f - 1/48) / 0.0275: at 1280x720 the 1/16 ring would start at 51.33
+     * deg, beyond the corner (48.93 deg), so there are 4 rings. */
     display_desc a = disp(1280, 720, 90), b = disp(1920, 1080, 90);
     fov_layout la = fov_layout_auto(&a, 0, 0), lb = fov_layout_auto(&b, 0, 0);
-    const double ea[] = {5.69, 11.73, 21.72, 34.56}, eb[] = {3.57, 7.77, 15.38, 26.87};
-    CHECK(la.count == 5 && lb.count == 5);
-    for (int i = 0; i < 4; i++) {
-        CHECK_NEAR(la.rings[i].outer_deg, ea[i], 0.01);
-        CHECK_NEAR(lb.rings[i].outer_deg, eb[i], 0.01);
-    }
+    const double ea[] = {5.753308, 12.264192, 25.285960}, eb[] = {3.583014, 7.923603, 16.604782, 33.967139};
+    CHECK(la.count == 4 && lb.count == 5);
+    for (int i = 0; i < 3; i++)
+        CHECK_NEAR(la.rings[i].outer_deg, ea[i], 1e-4);
+    for (int i = 0; i < 4; i++)
+        CHECK_NEAR(lb.rings[i].outer_deg, eb[i], 1e-4);
+    CHECK(la.rings[3].scale_log2 == 3 && lb.rings[4].scale_log2 == 4);
     /* Explicit model parameters: a steeper slope moves every border inwards. */
     fov_layout steep = fov_layout_auto(&a, 0.05f, 1.0f / 48.0f);
     CHECK(steep.count >= 2 && steep.rings[0].outer_deg < la.rings[0].outer_deg);
@@ -142,14 +148,21 @@ TEST(auto_layout_on_degenerate_displays)
     CHECK(fov_layout_check(&l, NULL, 0) == FS_OK);
     CHECK(l.count == 1 && l.rings[0].scale_log2 == MAX_FOV_SCALE_LOG2);
 
-    /* hfov 179 deg: still a valid layout with borders on the defining equation. */
+    /* hfov 179 deg: a pixel at the centre spans 10 deg, so 2-pixel blocks only meet MAR at 745
+     * deg: one full-resolution ring, whatever the gaze. */
     display_desc wide = disp(1280, 720, 179);
     l = fov_layout_auto(&wide, 0, 0);
     print_layout("auto", &wide, &l);
     CHECK(fov_layout_check(&l, NULL, 0) == FS_OK);
+    CHECK(l.count == 1 && l.rings[0].scale_log2 == 0);
+    /* hfov 150 deg on a wide display: still a valid layout with borders on the defining equation. */
+    display_desc w150 = disp(7680, 2160, 150);
+    l = fov_layout_auto(&w150, 0, 0);
+    print_layout("auto", &w150, &l);
+    CHECK(fov_layout_check(&l, NULL, 0) == FS_OK && l.count >= 2);
     for (int i = 0; i + 1 < l.count; i++) {
         double e = l.rings[i].outer_deg;
-        CHECK_NEAR((double)(1 << l.rings[i + 1].scale_log2) * pitch_deg(focal(&wide), e), mar_deg(e), 1e-4);
+        CHECK_NEAR((double)(1 << l.rings[i + 1].scale_log2) * pitch_deg(focal(&w150), 0), mar_deg(e), 1e-4);
     }
 
     /* A display in between: 2x blocks resolve the acuity at the centre, 4x do not -> e_1 = 0, the
@@ -161,7 +174,167 @@ TEST(auto_layout_on_degenerate_displays)
     print_layout("auto", &fine, &l);
     CHECK(fov_layout_check(&l, NULL, 0) == FS_OK);
     CHECK(l.count >= 2 && l.rings[0].scale_log2 == 1 && l.rings[1].scale_log2 == 2);
-    CHECK_NEAR(4.0 * pitch_deg(focal(&fine), l.rings[0].outer_deg), mar_deg(l.rings[0].outer_deg), 1e-4);
+    CHECK_NEAR(4.0 * pitch_deg(focal(&fine), 0), mar_deg(l.rings[0].outer_deg), 1e-4);
+}
+
+/* Unit vector of the view ray through display point (x, y), pixels from the top-left corner
+ * (the camera of fov_ring.h, rebuilt here). */
+static void ray_unit(const display_desc *d, double x, double y, double u[3])
+{
+    double f = focal(d);
+    u[0] = x - 0.5 * d->width, u[1] = -(y - 0.5 * d->height), u[2] = -f;
+    double n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    u[0] /= n, u[1] /= n, u[2] /= n;
+}
+
+/* Angle in degrees between the view rays through two display points: 2 asin(chord / 2). */
+static double span_deg(const display_desc *d, double ax, double ay, double bx, double by)
+{
+    double a[3], b[3];
+    ray_unit(d, ax, ay, a);
+    ray_unit(d, bx, by, b);
+    double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return 2.0 * asin(0.5 * sqrt(dx * dx + dy * dy + dz * dz)) * 180.0 / PI_D;
+}
+
+/* The largest angle a block of b x b display pixels with top-left corner (x0, y0) spans, from
+ * first principles: its four sides, and the segments of length b through its centre pointing away
+ * from the display centre (the radial pitch) and across (the tangential pitch), each measured as
+ * the angle between the view rays through its end points. */
+static double block_span_deg(const display_desc *d, double x0, double y0, int b)
+{
+    double x1 = x0 + b, y1 = y0 + b;
+    double s = fmax(fmax(span_deg(d, x0, y0, x1, y0), span_deg(d, x0, y1, x1, y1)),
+                    fmax(span_deg(d, x0, y0, x0, y1), span_deg(d, x1, y0, x1, y1)));
+    double cx = x0 + 0.5 * b, cy = y0 + 0.5 * b, rx = cx - 0.5 * d->width, ry = cy - 0.5 * d->height;
+    double r = hypot(rx, ry);
+    if (r > 0.0)
+        rx /= r, ry /= r;
+    else
+        rx = 1.0, ry = 0.0;
+    double h = 0.5 * b;
+    s = fmax(s, span_deg(d, cx - h * rx, cy - h * ry, cx + h * rx, cy + h * ry));
+    s = fmax(s, span_deg(d, cx + h * ry, cy - h * rx, cx - h * ry, cy + h * rx));
+    return s;
+}
+
+/* For gazes on a 5 x 5 grid over the display (its centre, the midpoints of its edges, its corners
+ * and points between), the largest block-span / MAR(inner edge) of ring i of l over every block
+ * of the ring's pixel grid that reaches into the ring: one of its corners at an eccentricity >= the
+ * inner edge (a square's farthest point from a ray is a corner), i.e. a view ray through a corner
+ * whose dot product with the gaze ray is <= cos(inner edge). Blocks are where the renderer puts
+ * them, on multiples of the block size. Also reports the gaze that gives the worst. */
+static double worst_block_over_mar(const display_desc *d, const fov_layout *l, int i, double *worst_gx,
+                                   double *worst_gy)
+{
+    int b = 1 << l->rings[i].scale_log2;
+    double inner = i > 0 ? l->rings[i - 1].outer_deg : 0.0, mar = mar_deg(inner);
+    double cos_inner = cos(inner * PI_D / 180.0);
+    int nx = (d->width + b - 1) / b, ny = (d->height + b - 1) / b, lx = nx + 1;
+    double *span = malloc(sizeof(double) * (size_t)nx * ny);
+    double *ray = malloc(3 * sizeof(double) * (size_t)lx * (ny + 1));
+    bool *out = malloc(sizeof(bool) * (size_t)lx * (ny + 1));
+    CHECK(span && ray && out);
+    if (!span || !ray || !out) {
+        free(span), free(ray), free(out);
+        return INFINITY;
+    }
+    for (int by = 0; by < ny; by++)
+        for (int bx = 0; bx < nx; bx++)
+            span[by * nx + bx] = block_span_deg(d, bx * b, by * b, b);
+    for (int y = 0; y <= ny; y++)
+        for (int x = 0; x <= nx; x++)
+            ray_unit(d, x * b, y * b, &ray[3 * (y * lx + x)]);
+    double worst = 0.0;
+    for (int gy = 0; gy <= 4; gy++)
+        for (int gx = 0; gx <= 4; gx++) {
+            double px = 0.25 * gx * d->width, py = 0.25 * gy * d->height, g[3];
+            ray_unit(d, px, py, g);
+            for (int k = 0; k < lx * (ny + 1); k++)
+                out[k] = ray[3 * k] * g[0] + ray[3 * k + 1] * g[1] + ray[3 * k + 2] * g[2] <= cos_inner;
+            for (int by = 0; by < ny; by++)
+                for (int bx = 0; bx < nx; bx++) {
+                    const bool *o = &out[by * lx + bx];
+                    if (!(o[0] || o[1] || o[lx] || o[lx + 1]))
+                        continue;
+                    double r = span[by * nx + bx] / mar;
+                    if (r > worst)
+                        worst = r, *worst_gx = px, *worst_gy = py;
+                }
+        }
+    free(span);
+    free(ray);
+    free(out);
+    return worst;
+}
+
+/* Issue 16 part 3: no ring's block is coarser than the MAR at the ring's inner edge, for the larger
+ * of the two pixel pitches (radial cos^2 e / f, tangential cos e / f) and for any gaze on the
+ * display. Checked by brute force over gazes and blocks, and fov_ring_block_mar_ratio bounds what
+ * the brute force finds, closely where some gaze puts the display centre in the ring. */
+TEST(auto_layout_blocks_resolve_the_acuity_for_any_gaze)
+{
+    display_desc ds[] = {disp(1280, 720, 90), disp(1920, 1080, 90), disp(1920, 1080, 60), disp(800, 800, 110)};
+    for (int k = 0; k < 4; k++) {
+        const display_desc *d = &ds[k];
+        fov_layout l = fov_layout_auto(d, 0, 0);
+        print_layout("auto", d, &l);
+        CHECK(l.count >= 3);
+        double margin = fov_layout_acuity_margin(d, &l, 0, 0, NULL);
+        CHECK(margin >= 1.0);
+        for (int i = 1; i < l.count; i++) {
+            double gx = 0, gy = 0, inner = l.rings[i - 1].outer_deg;
+            double worst = worst_block_over_mar(d, &l, i, &gx, &gy);
+            double bound = fov_ring_block_mar_ratio(d, &l, i, 0, 0);
+            printf("acuity   %4dx%-4d @%5.1f ring %d (1/%-2d from %6.3f deg): worst block / MAR(inner) %.6f "
+                   "(gaze %.0f, %.0f), bound %.6f\n", d->width, d->height, (double)d->hfov_deg, i,
+                   1 << l.rings[i].scale_log2, inner, worst, gx, gy, bound);
+            CHECK(worst <= 1.0 + 1e-9);
+            CHECK(worst <= bound * (1.0 + 1e-9));
+            CHECK(worst >= 0.98 * bound); /* the corner gazes put the display centre in the ring */
+        }
+    }
+}
+
+/* The margin of explicit layouts, from the closed form (block / f radians against MAR at the inner
+ * edge), checked by the same brute force where it falls short. */
+TEST(acuity_margin_of_explicit_layouts)
+{
+    display_desc d = disp(1280, 720, 90);
+    /* The auto layout before issue 16 part 3 (radial pitch, centred gaze): the 1/16 ring from
+     * 34.56 deg has 1.432 deg blocks at the principal point against MAR = 0.971 deg. */
+    fov_layout old = parse_ok("5.689322:1:0,11.726324:1/2:0,21.719414:1/4:0,34.564426:1/8:0,*:1/16:0", &d);
+    int worst = -2;
+    double margin = fov_layout_acuity_margin(&d, &old, 0, 0, &worst);
+    double expect = mar_deg(34.564426) / (16.0 / 640.0 * 180.0 / PI_D);
+    CHECK(worst == 4);
+    CHECK_NEAR(margin, expect, 1e-6);
+    CHECK_NEAR(margin, 0.678134, 1e-5);
+    for (int i = 1; i < old.count; i++) {
+        double ratio = fov_ring_block_mar_ratio(&d, &old, i, 0, 0);
+        CHECK_NEAR(ratio, (1 << i) / 640.0 * 180.0 / PI_D / mar_deg(old.rings[i - 1].outer_deg), 1e-6);
+    }
+    double gx = 0, gy = 0;
+    double found = worst_block_over_mar(&d, &old, 4, &gx, &gy);
+    printf("acuity   old auto layout, ring 4: worst block / MAR(inner) %.6f (gaze %.0f, %.0f), margin %.6f\n", found, gx,
+           gy, margin);
+    CHECK(found > 1.4 && found <= 1.0 / margin * (1.0 + 1e-9));
+
+    /* A coarse ring 0 is checked against MAR(0). */
+    fov_layout coarse = parse_ok("*:1/2:0", &d);
+    CHECK_NEAR(fov_layout_acuity_margin(&d, &coarse, 0, 0, &worst), FOV_ACUITY_OMEGA0_DEFAULT / (2.0 / 640.0 * 180.0 / PI_D),
+               1e-6);
+    CHECK(worst == 0);
+    /* Full resolution everywhere, or a coarse ring no gaze on the display reaches (corner to corner
+     * is 97.85 deg): nothing to check. */
+    fov_layout off = fov_layout_off(), far = parse_ok("98:1:0,*:1/16:0", &d), near = parse_ok("97:1:0,*:1/16:0", &d);
+    CHECK(isinf(fov_layout_acuity_margin(&d, &off, 0, 0, &worst)) && worst == -1);
+    CHECK(isinf(fov_layout_acuity_margin(&d, &far, 0, 0, &worst)) && worst == -1);
+    CHECK(fov_layout_acuity_margin(&d, &near, 0, 0, &worst) > 1.0 && worst == 1);
+    /* The model's parameters: twice the slope, about twice the margin far out. */
+    double m2 = fov_layout_acuity_margin(&d, &old, 2.0f * FOV_ACUITY_SLOPE_DEFAULT, 0, NULL);
+    CHECK_NEAR(m2, (2.0 * FOV_ACUITY_SLOPE_DEFAULT * 34.564426 + FOV_ACUITY_OMEGA0_DEFAULT) / (16.0 / 640.0 * 180.0 / PI_D),
+               1e-6);
 }
 
 TEST(off_layout)
@@ -837,6 +1010,8 @@ int main(void)
     log_set_quiet_errors(true);
     RUN(auto_layout_follows_the_acuity_model);
     RUN(auto_layout_on_degenerate_displays);
+    RUN(auto_layout_blocks_resolve_the_acuity_for_any_gaze);
+    RUN(acuity_margin_of_explicit_layouts);
     RUN(off_layout);
     RUN(parse_good_layouts);
     RUN(parse_bad_layouts);
