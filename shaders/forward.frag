@@ -22,6 +22,10 @@
 flat in uint v_instance;
 uniform uint u_draw_order;       // the draw's first instance in the API order of this pass's draws
 #endif
+#ifdef FORWARD_HASH_LAYER
+flat in uint v_hash_instance;    // the instance's scene slot (common/draw_order.glsl)
+uniform uint u_hash_primitive;   // triangles of the asset's primitives drawn before this one
+#endif
 #ifdef PASS_MASK
 #include "common/alpha_test.glsl"
 #endif

@@ -33,6 +33,10 @@ out vec4 v_color;
 #ifdef FORWARD_DRAW_ORDER
 flat out uint v_instance;   // the instance within its draw (common/draw_order.glsl)
 #endif
+#ifdef FORWARD_HASH_LAYER
+uniform uint u_hash_instance; // the scene slot of the draw's first instance (common/draw_order.glsl)
+flat out uint v_hash_instance;
+#endif
 
 void main()
 {
@@ -58,6 +62,9 @@ void main()
     v_color = a_color;
 #ifdef FORWARD_DRAW_ORDER
     v_instance = uint(gl_InstanceID);
+#endif
+#ifdef FORWARD_HASH_LAYER
+    v_hash_instance = u_hash_instance + uint(gl_InstanceID);
 #endif
     gl_Position = u_view_proj * world;
 }

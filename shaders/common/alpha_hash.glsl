@@ -119,35 +119,70 @@ float alpha_hash_pcg(vec3 p)
     return float((h.x ^ h.y ^ h.z) >> 8u) * (1.0 / 16777216.0);
 }
 
-// C twin: alpha_hash_kind.
+// C twin: alpha_hash_pcg_layer.
 // pcg of lattice cells that are already finite integers (the floored cells of alpha_hashed_threshold): the same
-// value as alpha_hash_pcg(c), without re-checking for NaN, Inf, denormals and re-flooring, which
+// value as alpha_hash_pcg(c) (layer 0), without re-checking for NaN, Inf, denormals and re-flooring, which
 // alpha_hash_key does for arbitrary inputs (cost on llvmpipe: ~6 % of the hashed forest's frame).
-float alpha_hash_pcg_cell(vec3 c)
+// `layer` (alpha_hash_layer; 0 = none) is XORed into the x key: a bijection of the lattice for
+// each layer, so each layer's hashes stay uniform, and layers with different keys hash different
+// lattice points.
+float alpha_hash_pcg_cell(vec3 c, uint layer)
 {
     vec3 q = clamp(c, vec3(-2147483648.0), vec3(2147483520.0));
-    uvec3 h = alpha_hash_pcg3d(uvec3(ivec3(q)));
+    uvec3 h = alpha_hash_pcg3d(uvec3(ivec3(q)) ^ uvec3(layer, 0u, 0u));
     // < 2^24, so float(int) gives the same exact value as float(uint), in one instruction where
     // the CPU has no unsigned conversion (AVX2: llvmpipe spends about six).
     return float(int((h.x ^ h.y ^ h.z) >> 8u)) * (1.0 / 16777216.0);
 }
 
-float alpha_hash_kind(vec3 p, int hash_kind)
+// C twin: alpha_hash_sine_layer (alpha_hash_sine with the inner hash rotated by the layer's top
+// 24 bits; layer 0 gives alpha_hash_sine exactly).
+float alpha_hash_sine_layer(vec3 p, uint layer)
+{
+    precise float h = alpha_hash_sine2(p.xy) + float(layer >> 8u) * (1.0 / 16777216.0);
+    return alpha_hash_sine2(vec2(alpha_hash_fract(h), p.z));
+}
+
+// C twin: alpha_hash_kind_layer (alpha_hash_kind of a layer's lattice; layer 0 = alpha_hash_kind).
+float alpha_hash_kind_layer(vec3 p, int hash_kind, uint layer)
 {
 #ifdef ALPHA_HASH_KIND
     // The plan compiles one hash per variant: a runtime choice costs both hashes on SIMD
     // rasterisers that evaluate both sides of a branch (measured on llvmpipe: 1.61x -> 1.41x
     // traditional's frame time for the hashed forest).
 #if ALPHA_HASH_KIND == ALPHA_HASH_SINE
-    return alpha_hash_sine(p);
+    return alpha_hash_sine_layer(p, layer);
 #else
-    return alpha_hash_pcg_cell(p);
+    return alpha_hash_pcg_cell(p, layer);
 #endif
 #else
     if (hash_kind == ALPHA_HASH_SINE)
-        return alpha_hash_sine(p);
-    return alpha_hash_pcg_cell(p);
+        return alpha_hash_sine_layer(p, layer);
+    return alpha_hash_pcg_cell(p, layer);
 #endif
+}
+
+float alpha_hash_kind(vec3 p, int hash_kind)
+{
+    return alpha_hash_kind_layer(p, hash_kind, 0u);
+}
+
+// C twin: alpha_hash_pcg1 (pcg's 32-bit RXS-M-XS output step, Jarzynski & Olano 2020): a bijection.
+uint alpha_hash_pcg1(uint v)
+{
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// C twin: alpha_hash_layer. The layer key of a fragment: a stable id of its instance and of its
+// triangle within the instance's asset, mixed to 32 bits. Overlapping surfaces whose object-space
+// positions fall in the same noise cell (far away: several leaves of one plant, or instances
+// sharing the asset's object space) get independent thresholds instead of one shared threshold,
+// so k layers of opacity a cover 1 - (1 - a)^k, not a (docs/hashed-alpha.md, "Layers").
+uint alpha_hash_layer(uint instance, uint primitive)
+{
+    return alpha_hash_pcg1(alpha_hash_pcg1(instance) + primitive);
 }
 
 // >>threshold
@@ -207,8 +242,10 @@ float alpha_hash_coord(float o)
     return (floatBitsToUint(o) & 0x7f800000u) - (65u << 23) < (125u << 23) ? o : 0.0;
 }
 
-// C twin: alpha_hashed_threshold (seed 000 Listing 1).
-float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic)
+// C twin: alpha_hashed_threshold_layer (seed 000 Listing 1, both hashes on the lattice of `layer`,
+// alpha_hash_layer; layer 0 = alpha_hashed_threshold).
+float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic,
+                                   uint layer)
 {
     float l = alpha_hash_log2_scale(dx, dy, hash_scale);
     float lo = floor(l), hi = ceil(l);
@@ -231,13 +268,19 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
     vec3 o = vec3(alpha_hash_coord(obj.x), alpha_hash_coord(obj.y), alpha_hash_coord(obj.z));
     vec3 c_lo = floor(vec3(alpha_hash_pow2(ilo + e.x), alpha_hash_pow2(ilo + e.y), alpha_hash_pow2(ilo + e.z)) * o);
     vec3 c_hi = floor(vec3(alpha_hash_pow2(ihi + e.x), alpha_hash_pow2(ihi + e.y), alpha_hash_pow2(ihi + e.z)) * o);
-    float h_lo = alpha_hash_kind(c_lo, hash_kind);
-    float h_hi = alpha_hash_kind(c_hi, hash_kind);
+    float h_lo = alpha_hash_kind_layer(c_lo, hash_kind, layer);
+    float h_hi = alpha_hash_kind_layer(c_hi, hash_kind, layer);
     precise float x = (1.0 - lerp_factor) * h_lo + lerp_factor * h_hi;
     // x and lerp_factor are in [0, 1] (hashes in [0, 1), l clamped and never NaN), so the CDF needs
     // no NaN guard here: the hard-case tests check the result for every input.
     float t = alpha_hash_cdf_core(x, lerp_factor);
     return clamp(t, float(ALPHA_THRESHOLD_MIN), 1.0);
+}
+
+// C twin: alpha_hashed_threshold (seed 000 Listing 1).
+float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic)
+{
+    return alpha_hashed_threshold_layer(obj, dx, dy, hash_scale, hash_kind, anisotropic, 0u);
 }
 
 // >>fade

@@ -11,3 +11,15 @@
 #define FORWARD_DRAW_ORDER 1
 #endif
 #endif
+
+// FORWARD_HASH_LAYER: the hashed modes key each fragment's noise lattice by its instance and its
+// triangle (alpha_hash_layer, docs/hashed-alpha.md "Layers"). The instance id is its slot in the
+// scene (u_hash_instance, the draw's first slot, + gl_InstanceID in v_hash_instance), not its place
+// in this frame's draws, which culling changes: the key, and so the noise, stays put over frames,
+// rings and modes. The triangle is u_hash_primitive (triangles of the asset's earlier primitives)
+// + gl_PrimitiveID.
+#if defined(PASS_MASK)
+#if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C
+#define FORWARD_HASH_LAYER 1
+#endif
+#endif

@@ -15,16 +15,19 @@ struct twin_in {
     vec4 p3;   // a2c: alpha, chi; cdf: x, lerp_factor
     vec4 p4;   // fade: threshold; texture fade level: mip scale
     uvec4 u0;  // hash_kind, anisotropic, pixel_x, pixel_y
-    uvec4 u1;  // frame, salt, a2c n, a2c sample index
+    uvec4 u1;  // frame, salt (also the hashed threshold's layer), a2c n, a2c sample index
 };
 
 struct twin_out {
-    vec4 r0;   // alpha_hashed_threshold, alpha_hash_pcg(obj), alpha_hash_sine(obj), alpha_stochastic_threshold
+    vec4 r0;   // alpha_hashed_threshold_layer(layer u1.y), alpha_hash_pcg(obj), alpha_hash_sine(obj),
+               // alpha_stochastic_threshold
     vec4 r1;   // alpha_hashed_fade, alpha_texture_lod, alpha_texture_fade_level(p1.xy, p1.zw, p2.xy, p4.y),
                // alpha_hash_cdf
     vec4 r2;   // alpha_hash_log2_scale, alpha_hashed_a2c_threshold, alpha_hash_sine2(obj.xy), sin(obj.x)
     uvec4 r3;  // alpha_hashed_a2c_mask, alpha_hash_pcg3d(u0.zw, u1.x)
     vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), (unused)
+    uvec4 r5;  // alpha_hash_layer(u0.z, u0.w), alpha_hash_pcg1(u1.x), the bits of
+               // alpha_hash_pcg_cell(floor(obj), u1.y) and of alpha_hashed_threshold (no layer)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -40,7 +43,7 @@ void main()
     twin_out r;
     int kind = int(a.u0.x);
     bool aniso = a.u0.y != 0u;
-    r.r0.x = alpha_hashed_threshold(a.obj.xyz, a.dx.xyz, a.dy.xyz, a.obj.w, kind, aniso);
+    r.r0.x = alpha_hashed_threshold_layer(a.obj.xyz, a.dx.xyz, a.dy.xyz, a.obj.w, kind, aniso, a.u1.y);
     r.r0.y = alpha_hash_pcg(a.obj.xyz);
     r.r0.z = alpha_hash_sine(a.obj.xyz);
     r.r0.w = alpha_stochastic_threshold(a.u0.z, a.u0.w, a.u1.x, a.u1.y);
@@ -54,5 +57,9 @@ void main()
     r.r3 = uvec4(alpha_hashed_a2c_mask(a.p3.x, int(a.u1.z), a.p2.z, a.p2.w, a.p3.y),
                  alpha_hash_pcg3d(uvec3(a.u0.z, a.u0.w, a.u1.x)));
     r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), 0.0, 0.0, 0.0);
+    vec3 cell = floor(vec3(alpha_hash_coord(a.obj.x), alpha_hash_coord(a.obj.y), alpha_hash_coord(a.obj.z)));
+    r.r5 = uvec4(alpha_hash_layer(a.u0.z, a.u0.w), alpha_hash_pcg1(a.u1.x),
+                 floatBitsToUint(alpha_hash_pcg_cell(cell, a.u1.y)),
+                 floatBitsToUint(alpha_hashed_threshold(a.obj.xyz, a.dx.xyz, a.dy.xyz, a.obj.w, kind, aniso)));
     tout[i] = r;
 }

@@ -132,6 +132,12 @@ float alpha_hash_sine(vec3 p)
     return alpha_hash_sine2(alpha_hash_sine2(p.x, p.y), p.z);
 }
 
+float alpha_hash_sine_layer(vec3 p, uint32_t layer)
+{
+    float h = alpha_hash_sine2(p.x, p.y) + (float)(layer >> 8u) * (1.0f / 16777216.0f);
+    return alpha_hash_sine2(fractf(h), p.z);
+}
+
 /* One floored coordinate as the int32 key of pcg3d: non-finite -> 0, denormal -> 0 (GPUs may flush
  * them), floor, clamp to [-2^31, 2^31 - 128] (the largest float below 2^31), int, bit pattern as
  * uint (-0 becomes 0). GLSL twin: alpha_hash_key. */
@@ -144,15 +150,37 @@ static uint32_t hash_key(float v)
     return (uint32_t)(int32_t)q;
 }
 
+float alpha_hash_pcg_layer(vec3 p, uint32_t layer)
+{
+    alpha_uvec3 h = alpha_hash_pcg3d((alpha_uvec3){hash_key(p.x) ^ layer, hash_key(p.y), hash_key(p.z)});
+    return (float)((h.x ^ h.y ^ h.z) >> 8u) * (1.0f / 16777216.0f);
+}
+
 float alpha_hash_pcg(vec3 p)
 {
-    alpha_uvec3 h = alpha_hash_pcg3d((alpha_uvec3){hash_key(p.x), hash_key(p.y), hash_key(p.z)});
-    return (float)((h.x ^ h.y ^ h.z) >> 8u) * (1.0f / 16777216.0f);
+    return alpha_hash_pcg_layer(p, 0u);
+}
+
+float alpha_hash_kind_layer(vec3 p, int hash_kind, uint32_t layer)
+{
+    return hash_kind == ALPHA_HASH_SINE ? alpha_hash_sine_layer(p, layer) : alpha_hash_pcg_layer(p, layer);
 }
 
 float alpha_hash_kind(vec3 p, int hash_kind)
 {
-    return hash_kind == ALPHA_HASH_SINE ? alpha_hash_sine(p) : alpha_hash_pcg(p);
+    return alpha_hash_kind_layer(p, hash_kind, 0u);
+}
+
+uint32_t alpha_hash_pcg1(uint32_t v)
+{
+    uint32_t state = v * 747796405u + 2891336453u;
+    uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+uint32_t alpha_hash_layer(uint32_t instance, uint32_t primitive)
+{
+    return alpha_hash_pcg1(alpha_hash_pcg1(instance) + primitive);
 }
 
 /* >>threshold */
@@ -212,7 +240,8 @@ static float hash_coord(float o)
     return (float_bits(o) & 0x7f800000u) - (65u << 23) < (125u << 23) ? o : 0.0f;
 }
 
-float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic)
+float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic,
+                                   uint32_t layer)
 {
     float l = alpha_hash_log2_scale(dx, dy, hash_scale);
     float lo = floorf(l), hi = ceilf(l);
@@ -228,12 +257,17 @@ float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int h
     vec3 o = {hash_coord(obj.x), hash_coord(obj.y), hash_coord(obj.z)};
     vec3 c_lo = {floorf(pow2i(ilo + ex) * o.x), floorf(pow2i(ilo + ey) * o.y), floorf(pow2i(ilo + ez) * o.z)};
     vec3 c_hi = {floorf(pow2i(ihi + ex) * o.x), floorf(pow2i(ihi + ey) * o.y), floorf(pow2i(ihi + ez) * o.z)};
-    float h_lo = alpha_hash_kind(c_lo, hash_kind);
-    float h_hi = alpha_hash_kind(c_hi, hash_kind);
+    float h_lo = alpha_hash_kind_layer(c_lo, hash_kind, layer);
+    float h_hi = alpha_hash_kind_layer(c_hi, hash_kind, layer);
     float x = (1.0f - lerp_factor) * h_lo + lerp_factor * h_hi;
     /* x and lerp_factor are in [0, 1], so no NaN guard (the hard-case tests check every input). */
     float t = cdf_core(x, lerp_factor);
     return t < (float)ALPHA_THRESHOLD_MIN ? (float)ALPHA_THRESHOLD_MIN : t > 1.0f ? 1.0f : t;
+}
+
+float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic)
+{
+    return alpha_hashed_threshold_layer(obj, dx, dy, hash_scale, hash_kind, anisotropic, 0u);
 }
 
 /* >>fade */

@@ -60,6 +60,24 @@ float alpha_hash_pcg(vec3 p);
 /* ALPHA_HASH_SINE -> alpha_hash_sine, anything else -> alpha_hash_pcg. GLSL twin: alpha_hash_kind. */
 float alpha_hash_kind(vec3 p, int hash_kind);
 
+/* The hashes of one layer's lattice (docs/hashed-alpha.md, "Layers"): alpha_hash_pcg with `layer`
+ * XORed into the x key (a bijection of the lattice, so each layer stays uniform; GLSL twin:
+ * alpha_hash_pcg_cell), alpha_hash_sine with the inner 2D hash rotated by the layer's top 24 bits,
+ * fract(hash2(p.xy) + (layer >> 8) 2^-24) (GLSL twin: alpha_hash_sine_layer), and the choice
+ * between them (GLSL twin: alpha_hash_kind_layer). Layer 0 gives the hashes above exactly. */
+float alpha_hash_pcg_layer(vec3 p, uint32_t layer);
+float alpha_hash_sine_layer(vec3 p, uint32_t layer);
+float alpha_hash_kind_layer(vec3 p, int hash_kind, uint32_t layer);
+
+/* pcg's 32-bit RXS-M-XS step (Jarzynski & Olano 2020), a bijection of uint32. GLSL twin:
+ * alpha_hash_pcg1. */
+uint32_t alpha_hash_pcg1(uint32_t v);
+
+/* The layer key of a fragment, pcg1(pcg1(instance) + primitive): `instance` a stable id of the
+ * instance (its slot in the scene, not its place in the frame's draws), `primitive` the triangle's
+ * index within the instance's asset. GLSL twin: alpha_hash_layer. */
+uint32_t alpha_hash_layer(uint32_t instance, uint32_t primitive);
+
 /* Seed 000 Eq. 1: maps x = (1 - f) u1 + f u2 (u1, u2 independent uniform in [0, 1)) back to a
  * uniform value, a = min(f, 1 - f). Only the needed branch is evaluated and its denominator is
  * kept >= FLT_MIN, so f = 0 or 1 (a = 0) and a within 1e-7 of 0 are finite. Result in [0, 1].
@@ -79,6 +97,13 @@ float alpha_hash_log2_scale(vec3 dx, vec3 dy, float hash_scale);
  * that axis is shorter than the longest one (docs/hashed-alpha.md). Non-finite obj components hash
  * as 0. GLSL twin: alpha_hashed_threshold. */
 float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic);
+
+/* alpha_hashed_threshold with both hashes on the lattice of `layer` (alpha_hash_layer): surfaces
+ * with different layer keys get independent thresholds even inside one noise cell; each layer's
+ * thresholds are as uniform as the unlayered ones. Layer 0 is alpha_hashed_threshold, bit for bit.
+ * GLSL twin: alpha_hashed_threshold_layer. */
+float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic,
+                                   uint32_t layer);
 
 /* Seed 000 Eq. 2-3 with the material cutoff c in place of 0.5: c + (threshold - c) b(lod),
  * b(x) = clamp(x / fade_n, 0, 1)^2, where lod is the mip level the alpha lookup reads (mip bias

@@ -44,7 +44,7 @@ typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
-        u_prev_time, u_draw_order, u_list_capacity;
+        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive;
 } gpu_program;
 
 typedef struct composite_program {
@@ -62,6 +62,7 @@ typedef struct taa_program {
 typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
     GLsizei index_count;
+    uint32_t first_triangle; /* triangles of the asset's earlier primitives (u_hash_primitive) */
 } gpu_prim;
 
 typedef struct gpu_asset {
@@ -76,6 +77,7 @@ typedef struct gpu_asset {
     unsigned char *visible; /* per slot: may be visible in the ring being drawn (frustum culling) */
     float *cull_pad;        /* plan.sway, per slot: how far (asset units) sway may leave the box */
     int instance_count;
+    int slot_base;          /* instances of the earlier assets: slot k is the scene's slot_base + k */
 } gpu_asset;
 
 /* Ring targets: colour and coverage are texture arrays with one layer per ring, each layer the
@@ -202,6 +204,8 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_prev_time = glGetUniformLocation(p, "u_prev_time");
     out->u_draw_order = glGetUniformLocation(p, "u_draw_order");
     out->u_list_capacity = glGetUniformLocation(p, "u_list_capacity");
+    out->u_hash_instance = glGetUniformLocation(p, "u_hash_instance");
+    out->u_hash_primitive = glGetUniformLocation(p, "u_hash_primitive");
     return FS_OK;
 }
 
@@ -370,11 +374,13 @@ static fs_status upload_scene(renderer *r)
     r->blend_order = calloc((size_t)sc->instance_count + 1, sizeof *r->blend_order);
     if (!r->assets || !r->blend_order)
         return FS_ERR_NOMEM;
-    for (int a = 0; a < sc->asset_count; a++) {
+    for (int a = 0, slots = 0; a < sc->asset_count; a++) {
         const asset *as = &sc->assets[a];
         gpu_asset *ga = &r->assets[a];
         for (int i = 0; i < sc->instance_count; i++)
             ga->instance_count += sc->instances[i].asset == a;
+        ga->slot_base = slots;
+        slots += ga->instance_count;
         if (ga->instance_count == 0)
             continue; /* nothing places it: nothing to upload */
         ga->instance_ids = malloc(sizeof(int) * (size_t)ga->instance_count);
@@ -446,8 +452,11 @@ static fs_status upload_scene(renderer *r)
                     return st;
             }
         }
-        for (int p = 0; p < as->prim_count; p++)
+        for (int p = 0; p < as->prim_count; p++) {
             upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo, ga->sway_vbo);
+            if (p > 0)
+                ga->prims[p].first_triangle = ga->prims[p - 1].first_triangle + as->prims[p - 1].index_count / 3u;
+        }
     }
     return FS_OK;
 }
@@ -820,6 +829,10 @@ static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, 
         if (pg->u_draw_order >= 0) { /* each draw's instances take the next orders (draw_order.glsl) */
             glProgramUniform1ui(pg->id, pg->u_draw_order, r->list_draw_order);
             r->list_draw_order += (uint32_t)count;
+        }
+        if (pg->u_hash_instance >= 0) { /* the hashed modes' layer keys (draw_order.glsl) */
+            glProgramUniform1ui(pg->id, pg->u_hash_instance, (GLuint)(ga->slot_base + first));
+            glProgramUniform1ui(pg->id, pg->u_hash_primitive, ga->prims[p].first_triangle);
         }
         glBindVertexArray(ga->prims[p].vao);
         glDrawElementsInstancedBaseInstance(GL_TRIANGLES, ga->prims[p].index_count, GL_UNSIGNED_INT, NULL, count,

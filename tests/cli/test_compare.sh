@@ -32,6 +32,10 @@ m=[x for x in s['modes'] if x['mode']=='$2'][0]
 rings=[r for r in m['rings'] if r['ring']>=0]
 print(rings[$3]['coverage_ratio'])"
 }
+# display_ratio DIR: the hashed mode's coverage ratio over the whole display
+display_ratio() {
+  python3 -c "import json; s=json.load(open('$1/summary.json')); print([x for x in s['modes'] if x['mode']=='hashed'][0]['rings'][-1]['coverage_ratio'])"
+}
 # within A LO HI: LO <= A <= HI
 within() { python3 -c "import sys; a=float('$1'); sys.exit(0 if $2 <= a <= $3 else 1)"; }
 
@@ -53,16 +57,19 @@ check "forest, TAA: traditional outermost ring coverage ratio $r loses >= 25 %" 
 compare fence off "$T/fence"; rc=$?
 check "compare fence exits 0" test $rc -eq 0
 for ring in -1 -2 -3; do
-  # The outermost ring (1/8 scale) measured 0.88: within 15 % there, 10 % elsewhere.
-  lo=0.9; [ $ring -eq -1 ] && lo=0.85
-  r=$(ring_ratio "$T/fence" hashed $ring)
-  check "fence, no TAA: hashed ring $ring coverage ratio $r within 10 % (15 % outermost)" within "$r" $lo 1.1
+  # The outermost ring (1/8 scale) shades only ~15 ring pixels of fence per frame here (~940 display
+  # pixels), a handful of noise cells: its per-frame hashed ratio spans 0.02-1.9, and a 12-frame
+  # mean is noise (0.88 before the per-layer hash keys of issue 16 part 4, 1.33 after; over 48
+  # frames 0.92 and 1.08). It is checked with the rest of the display below; 10 % elsewhere.
+  if [ $ring -ne -1 ]; then
+    r=$(ring_ratio "$T/fence" hashed $ring)
+    check "fence, no TAA: hashed ring $ring coverage ratio $r within 10 %" within "$r" 0.9 1.1
+  fi
   r=$(ring_ratio "$T/fence" traditional $ring)
   check "fence, no TAA: traditional ring $ring coverage ratio $r loses >= 25 %" within "$r" 0 0.75
 done
-display_ratio() {
-  python3 -c "import json; s=json.load(open('$1/summary.json')); print([x for x in s['modes'] if x['mode']=='hashed'][0]['rings'][-1]['coverage_ratio'])"
-}
+r=$(display_ratio "$T/fence")
+check "fence, no TAA: hashed display coverage ratio $r within 10 %" within "$r" 0.9 1.1
 compare fence on "$T/fence_taa"
 r=$(display_ratio "$T/fence_taa")
 check "fence, TAA: hashed keeps $r of the display's coverage (measured 0.84)" within "$r" 0.75 1.1

@@ -46,6 +46,7 @@ typedef struct twin_out {
     float r0[4], r1[4], r2[4];
     uint32_t r3[4];
     float r4[4];
+    uint32_t r5[4];
 } twin_out;
 
 enum { GROUP = 1 << 16, GROUPS = 4, COUNT = GROUP * GROUPS };
@@ -145,11 +146,20 @@ static void make_input(int i, twin_in *in)
     in->u1[1] = rng01() < 0.5 ? 0u : (uint32_t)rng_u64();
 }
 
+/* The lattice cell alpha_hashed_threshold hashes at scale 1: floor of the coordinate as
+ * alpha_hash_coord sanitises it (|o| outside [2^-62, 2^63) -> 0), for the alpha_twin.comp's r5.z. */
+static float coord_cell(float o)
+{
+    uint32_t u;
+    memcpy(&u, &o, sizeof u);
+    return (u & 0x7f800000u) - (65u << 23) < (125u << 23) ? floorf(o) : 0.0f;
+}
+
 static void run_cpu(const twin_in *a, twin_out *r)
 {
     vec3 obj = v3(a->obj[0], a->obj[1], a->obj[2]), dx = v3(a->dx[0], a->dx[1], a->dx[2]), dy = v3(a->dy[0], a->dy[1], a->dy[2]);
     memset(r, 0, sizeof *r);
-    r->r0[0] = alpha_hashed_threshold(obj, dx, dy, a->obj[3], (int)a->u0[0], a->u0[1] != 0);
+    r->r0[0] = alpha_hashed_threshold_layer(obj, dx, dy, a->obj[3], (int)a->u0[0], a->u0[1] != 0, a->u1[1]);
     r->r0[1] = alpha_hash_pcg(obj);
     r->r0[2] = alpha_hash_sine(obj);
     r->r0[3] = alpha_stochastic_threshold(a->u0[2], a->u0[3], a->u1[0], a->u1[1]);
@@ -167,6 +177,12 @@ static void run_cpu(const twin_in *a, twin_out *r)
     r->r3[2] = h.y;
     r->r3[3] = h.z;
     r->r4[0] = alpha_hashed_frame_offset(a->p4[0], a->u1[0]);
+    r->r5[0] = alpha_hash_layer(a->u0[2], a->u0[3]);
+    r->r5[1] = alpha_hash_pcg1(a->u1[0]);
+    float cell = alpha_hash_pcg_layer(v3(coord_cell(obj.x), coord_cell(obj.y), coord_cell(obj.z)), a->u1[1]);
+    memcpy(&r->r5[2], &cell, sizeof cell);
+    float t0 = alpha_hashed_threshold(obj, dx, dy, a->obj[3], (int)a->u0[0], a->u0[1] != 0);
+    memcpy(&r->r5[3], &t0, sizeof t0);
 }
 
 /* >>gpu */
@@ -191,7 +207,7 @@ TEST(integer_paths_are_bit_identical)
         CHECK(have_gpu_results);
         return;
     }
-    long long bad_pcg = 0, bad_pcg3d = 0, bad_stoch = 0, bad_a2c_t = 0, bad_mask = 0;
+    long long bad_pcg = 0, bad_pcg3d = 0, bad_stoch = 0, bad_a2c_t = 0, bad_mask = 0, bad_layer = 0, bad_cell = 0;
     for (int i = 0; i < COUNT; i++) {
         const twin_out *g = &gpu[i], *c = &cpu[i];
         bad_pcg += !twin_same_bits(g->r0[1], c->r0[1]);
@@ -199,17 +215,22 @@ TEST(integer_paths_are_bit_identical)
         bad_pcg3d += g->r3[1] != c->r3[1] || g->r3[2] != c->r3[2] || g->r3[3] != c->r3[3];
         bad_a2c_t += !twin_same_bits(g->r2[1], c->r2[1]);
         bad_mask += g->r3[0] != c->r3[0];
+        bad_layer += g->r5[0] != c->r5[0] || g->r5[1] != c->r5[1];
+        bad_cell += g->r5[2] != c->r5[2];
         if (!twin_same_bits(g->r0[1], c->r0[1]) && bad_pcg <= 3)
             fprintf(stderr, "  pcg mismatch at %d: obj (%g %g %g): gpu %.9g cpu %.9g\n", i, inputs[i].obj[0], inputs[i].obj[1],
                     inputs[i].obj[2], g->r0[1], c->r0[1]);
     }
-    fprintf(stderr, "  %d inputs; mismatches: pcg %lld, pcg3d %lld, stochastic %lld, a2c threshold %lld, a2c mask %lld\n",
-            COUNT, bad_pcg, bad_pcg3d, bad_stoch, bad_a2c_t, bad_mask);
+    fprintf(stderr, "  %d inputs; mismatches: pcg %lld, pcg3d %lld, stochastic %lld, a2c threshold %lld, a2c mask %lld, "
+                    "layer key %lld, layered pcg cell %lld\n",
+            COUNT, bad_pcg, bad_pcg3d, bad_stoch, bad_a2c_t, bad_mask, bad_layer, bad_cell);
     CHECK(bad_pcg == 0);
     CHECK(bad_pcg3d == 0);
     CHECK(bad_stoch == 0);
     CHECK(bad_a2c_t == 0);
     CHECK(bad_mask == 0);
+    CHECK(bad_layer == 0);
+    CHECK(bad_cell == 0);
 }
 
 TEST(gpu_thresholds_are_always_in_range)
@@ -237,6 +258,12 @@ TEST(gpu_thresholds_are_always_in_range)
 /* Fraction of inputs of group g (kind -1 = any) whose field agrees within tol (relative when rel). */
 typedef float (*field_fn)(const twin_out *);
 static float f_threshold(const twin_out *o) { return o->r0[0]; }
+static float f_threshold_unlayered(const twin_out *o)
+{
+    float t;
+    memcpy(&t, &o->r5[3], sizeof t);
+    return t;
+}
 static float f_sine(const twin_out *o) { return o->r0[2]; }
 static float f_frame_offset(const twin_out *o) { return o->r4[0]; }
 static float f_fade(const twin_out *o) { return o->r1[0]; }
@@ -274,8 +301,13 @@ TEST(hashed_threshold_with_pcg_agrees)
     }
     for (int g = 0; g < GROUPS; g++) {
         double worst;
+        /* with the layer u1.y (0 for half the inputs, a random key for the others), and without */
         double frac = agree(g, ALPHA_HASH_PCG, f_threshold, 1e-5, false, &worst);
         fprintf(stderr, "  pcg threshold, %-22s: %.4f%% within 1e-5, largest difference %.3g\n", group_name[g], 100 * frac, worst);
+        CHECK(frac >= 0.999);
+        frac = agree(g, ALPHA_HASH_PCG, f_threshold_unlayered, 1e-5, false, &worst);
+        fprintf(stderr, "  pcg threshold, no layer, %-12s: %.4f%% within 1e-5, largest difference %.3g\n", group_name[g],
+                100 * frac, worst);
         CHECK(frac >= 0.999);
     }
 }
