@@ -344,9 +344,12 @@ TEST(killed_mid_recording_leaves_a_valid_trace)
      * killed outright (no chance to close anything). */
     write_file(p("kill.txt"), "frame 0\nmove 0.6 0.3\nkey R\n");
     char cmd[2048];
+    /* Killed once the trace holds three samples (polled, at most 30 s: a loaded machine or a
+     * sanitizer build starts the viewer slowly), not after a fixed time. */
     snprintf(cmd, sizeof cmd, XVFB " sh -c \"'%s' view --builtin fence --width 64 --height 36 --record '%s' "
-             "--script '%s' --quiet & v=\\$!; sleep 1.5; kill -KILL \\$v; wait \\$v; exit 0\"", g_bin,
-             p("kill/k.csv"), p("kill.txt"));
+             "--script '%s' --quiet & v=\\$!; n=0; c=0; while [ \\$n -lt 300 ] && [ \\${c:-0} -lt 3 ]; do "
+             "sleep 0.1; n=\\$((n+1)); c=\\$(grep -c '^[0-9]' '%s' 2>/dev/null); done; "
+             "kill -KILL \\$v; wait \\$v; exit 0\"", g_bin, p("kill/k.csv"), p("kill.txt"), p("kill/k.csv"));
     CHECK(sh(cmd, log) == 0);
     gaze_trace t;
     fs_status st = gaze_load(p("kill/k.csv"), &(gaze_load_desc){0}, &t);
