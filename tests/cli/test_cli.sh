@@ -213,6 +213,24 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   for f in "$T"/full/seq/*.exr; do [ -e "$f" ] || continue; exrheader "$f" >/dev/null 2>&1 || bad=1; done
   check "full disk: every frame left is complete" test $bad -eq 0
   umount "$T/full"
+  # Already full before the first frame (issue 17, defect 1): the header write failed while the
+  # EXR library held its context lock, and the error handler asked it for the user data: a hang
+  # (killed by `timeout`, 124/137) with a 0-byte temporary file. Expected: exit 6, one line, nothing
+  # left. render writes through the writer thread; reference writes the frame and its cache entry.
+  mount -t tmpfs -o size=64k tmpfs "$T/full"
+  dd if=/dev/zero of="$T/full/filler" bs=4k count=64 2>/dev/null # fills it: dd fails at ENOSPC
+  mkdir -p "$T/full/seq" "$T/full/cache"
+  timeout -s KILL 60 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
+  rc=$?
+  check "disk full from the start: render -> exit 6, no hang (exit $rc)" test $rc -eq 6
+  check "disk full from the start: render, one line naming the frame" bash -c "grep -q 'seq/frame\.0000\.exr: .*No space left' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+  check "disk full from the start: render leaves no file" test -z "$(ls -A "$T/full/seq")"
+  timeout -s KILL 60 "$BIN" reference fence --frames 1 --width 32 --height 18 --supersample 1 --cache "$T/full/cache" --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
+  rc=$?
+  check "disk full from the start: reference -> exit 6, no hang (exit $rc)" test $rc -eq 6
+  check "disk full from the start: reference, one line" test "$(wc -l <"$T/err.txt")" -eq 1
+  check "disk full from the start: reference leaves no file" test -z "$(ls -A "$T/full/seq" "$T/full/cache" | grep -v ':$' | grep .)"
+  umount "$T/full"
 else
   echo "note: cannot mount a small tmpfs here (not root?); full-disk case not exercised" >&2
 fi

@@ -536,6 +536,60 @@ TEST(atomic_failure_midway)
     exr_image_free(&big);
 }
 
+/* A disk that is full before the first byte (issue 17, defect 1): the header write fails inside
+ * exr_write_header, while the Core holds its context lock. The error handler used to ask the Core
+ * for the user data (exr_get_user_data takes that lock again) and the write hung for ever. The
+ * file-size limit stands in for the full disk (EFBIG instead of ENOSPC, the same path); an alarm
+ * turns the old hang into a failure. Both the plain call and the writer thread are tried. */
+static void on_hang_alarm(int sig)
+{
+    (void)sig;
+    static const char msg[] = "test_exr: atomic_failure_at_header: write hung (deadlock)\n";
+    if (write(2, msg, sizeof msg - 1) < 0) { /* nothing else to do */ }
+    _exit(1);
+}
+
+TEST(atomic_failure_at_header)
+{
+    const char *dir = fresh_dir("atomic_full_at_start");
+    char path[1200], path2[1200];
+    snprintf(path, sizeof path, "%s/frame.0000.exr", dir);
+    snprintf(path2, sizeof path2, "%s/frame.0001.exr", dir);
+    exr_image img, img2;
+    make_frame(&img, 16, 16, 0.0f);
+    make_frame(&img2, 16, 16, 1.0f);
+
+    struct rlimit old_lim;
+    CHECK(getrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    void (*old_sig)(int) = signal(SIGXFSZ, SIG_IGN);
+    void (*old_alarm)(int) = signal(SIGALRM, on_hang_alarm);
+    struct rlimit lim = old_lim;
+    lim.rlim_cur = 8; /* not even the magic number and version fit */
+    CHECK(setrlimit(RLIMIT_FSIZE, &lim) == 0);
+    alarm(20);
+    log_set_quiet_errors(true);
+    fs_status st = exr_write_file(path, &img, EXR_COMPRESS_ZIP);
+    exr_writer_desc d = {.thread_count = 2};
+    exr_writer *w = exr_writer_create(&d);
+    CHECK(w != NULL);
+    fs_status st_sub = w ? exr_writer_submit(w, path2, &img2) : FS_ERR_IO;
+    fs_status st_fin = w ? exr_writer_finish(w) : FS_ERR_IO;
+    log_set_quiet_errors(false);
+    alarm(0);
+    CHECK(setrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    signal(SIGALRM, old_alarm);
+    signal(SIGXFSZ, old_sig);
+
+    CHECK(st == FS_ERR_IO);
+    CHECK(st_sub == FS_OK); /* queued; the failure comes back from finish */
+    CHECK(st_fin == FS_ERR_IO);
+    CHECK(!file_exists(path));
+    CHECK(!file_exists(path2));
+    CHECK(count_entries(dir, "") == 0); /* no 0-byte temporary file either */
+    exr_image_free(&img);
+    exr_image_free(&img2);
+}
+
 TEST(bad_images_refused)
 {
     exr_image img;
@@ -1285,6 +1339,7 @@ int main(void)
     RUN(atomic_missing_directory);
     RUN(atomic_no_temp_left_after_success);
     RUN(atomic_failure_midway);
+    RUN(atomic_failure_at_header);
     RUN(bad_images_refused);
     RUN(writer_thread_writes_all_frames_1_thread);
     RUN(writer_thread_writes_all_frames_4_threads);
