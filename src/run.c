@@ -160,7 +160,7 @@ static fs_status run_reference(const run_desc *d)
         printf("  %d drawn, %d from the cache%s%s%s", drawn, cached, cache ? " (" : " (no cache)", cache ? cache : "",
                cache ? ")" : "");
         if (rebuilt)
-            printf(", %d cache entries were truncated or stale and were redrawn", rebuilt);
+            printf(", %d cache entries were unusable (truncated, stale, tampered or not a file) and were redrawn", rebuilt);
         if (reference_get_kind(rf) == REFERENCE_EXACT) {
             int c = reference_compare_grid(rf);
             printf("\n  convergence, RMS difference of the %dx%d and %dx%d sub-sample frames (linear RGB): median %.5f, "

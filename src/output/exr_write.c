@@ -878,9 +878,21 @@ static bool open_read(const char *path, exr_stream *s, exr_context_t *ctxt)
 {
     memset(s, 0, sizeof *s);
     *ctxt = NULL;
-    s->fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: a FIFO opens at once instead of waiting for a writer (issue 17), and is then
+     * refused below with everything else that is not a regular file. No effect on files. */
+    s->fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (s->fd < 0) {
         log_error("%s: cannot read EXR: %s", path, strerror(errno));
+        return false;
+    }
+    struct stat sb;
+    int fst = fstat(s->fd, &sb);
+    if (fst != 0 || !S_ISREG(sb.st_mode)) {
+        log_error("%s: cannot read EXR: %s", path, fst != 0 ? strerror(errno)
+                                                   : S_ISDIR(sb.st_mode) ? "is a directory"
+                                                                         : "not a regular file");
+        close(s->fd);
+        s->fd = -1;
         return false;
     }
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;

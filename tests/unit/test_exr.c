@@ -544,7 +544,7 @@ TEST(atomic_failure_midway)
 static void on_hang_alarm(int sig)
 {
     (void)sig;
-    static const char msg[] = "test_exr: atomic_failure_at_header: write hung (deadlock)\n";
+    static const char msg[] = "test_exr: hung (deadlock, or an open waiting on a FIFO)\n";
     if (write(2, msg, sizeof msg - 1) < 0) { /* nothing else to do */ }
     _exit(1);
 }
@@ -588,6 +588,29 @@ TEST(atomic_failure_at_header)
     CHECK(count_entries(dir, "") == 0); /* no 0-byte temporary file either */
     exr_image_free(&img);
     exr_image_free(&img2);
+}
+
+/* Only regular files are read (issue 17, defect 4): a FIFO is refused at once instead of
+ * blocking the open until a writer comes, a directory with one line. */
+TEST(read_refuses_fifo_and_directory)
+{
+    const char *dir = fresh_dir("read_not_regular");
+    char fifo[1200], sub[1200];
+    snprintf(fifo, sizeof fifo, "%s/fifo.exr", dir);
+    snprintf(sub, sizeof sub, "%s/dir.exr", dir);
+    CHECK(mkfifo(fifo, 0644) == 0);
+    CHECK(mkdir(sub, 0755) == 0);
+    void (*old_alarm)(int) = signal(SIGALRM, on_hang_alarm);
+    alarm(20);
+    exr_image img;
+    int parts = -1;
+    log_set_quiet_errors(true);
+    CHECK(exr_read_file(fifo, &img) == FS_ERR_IO);
+    CHECK(exr_file_part_count(fifo, &parts) == FS_ERR_IO && parts == 0);
+    CHECK(exr_read_file(sub, &img) == FS_ERR_IO);
+    log_set_quiet_errors(false);
+    alarm(0);
+    signal(SIGALRM, old_alarm);
 }
 
 TEST(bad_images_refused)
@@ -1340,6 +1363,7 @@ int main(void)
     RUN(atomic_no_temp_left_after_success);
     RUN(atomic_failure_midway);
     RUN(atomic_failure_at_header);
+    RUN(read_refuses_fifo_and_directory);
     RUN(bad_images_refused);
     RUN(writer_thread_writes_all_frames_1_thread);
     RUN(writer_thread_writes_all_frames_4_threads);
