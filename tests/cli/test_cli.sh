@@ -192,6 +192,24 @@ check "unknown mode creates nothing" test ! -e "$T/bad7"
 expect_exit "no such EGL device -> 7" 7 "$BIN" render --gpu 15 --frames 1 --out "$T/bad8"
 check "no GL context creates nothing" test ! -e "$T/bad8"
 
+# ---- output paths too long for the file system (issue 17, defect 8): refused with the other
+# arguments (exit 2, one line, nothing drawn or created). The old code rendered, then failed the
+# first write with exit 6, a message cut short and an empty folder left behind.
+long_name=$(printf 'n%.0s' $(seq 250))
+expect_exit "--name of 250 characters -> 2" 2 "$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$long_name" --out "$T/bad14"
+check "--name too long: the message says the limit" grep -q -- "--name 'nnnn.*(250 characters): expected at most 221 characters" "$T/err.txt"
+check "--name too long creates nothing" test ! -e "$T/bad14"
+expect_exit "compare --name of 250 characters -> 2" 2 "$BIN" compare fence --frames 1 --width 32 --height 18 --name "$long_name" --out "$T/bad15"
+check "compare --name too long creates nothing" test ! -e "$T/bad15"
+expect_exit "--out with a 300-character component -> 2" 2 "$BIN" render --builtin fence --frames 1 --out "$T/$(printf 'd%.0s' $(seq 300))/x"
+expect_exit "--out of 1100 characters -> 2" 2 "$BIN" render --builtin fence --frames 1 --out "$T/$(printf 'd%.0s/' $(seq 550))"
+check "--out too long creates nothing" test -z "$(ls -d "$T"/ddd* "$T"/d 2>/dev/null)"
+expect_exit "--cache of 1000 characters -> 2" 2 "$BIN" reference fence --frames 1 --cache "$T/$(printf 'c%.0s/' $(seq 500))"
+# The longest --name accepted does write (its temporary names fit in 255 characters).
+max_name=$(printf 'm%.0s' $(seq 221))
+"$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$max_name" --out "$T/maxname" --quiet >/dev/null 2>"$T/err.txt"
+check "--name of 221 characters renders" test $? -eq 0 -a -f "$T/maxname/$max_name.0000.exr"
+
 # ---- Ctrl-C: stops after the frame in flight, exit 130, every file left is complete
 "$BIN" render --builtin forest --frames 5000 --width 64 --height 36 --out "$T/int" --quiet >/dev/null 2>"$T/err.txt" &
 pid=$!
