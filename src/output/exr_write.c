@@ -643,7 +643,7 @@ static fs_status write_file(const char *path, const exr_image *img, exr_compress
     if (rv != EXR_ERR_SUCCESS)
         goto fail;
     /* No fsync: the rename already keeps a killed or failed run from leaving a truncated frame
-     * under the final name, which is what --resume relies on. Surviving a power cut as well would
+     * under the final name (what a future --resume would rely on; there is none yet, issue 17). Surviving a power cut as well would
      * need an fsync of the file and its directory per frame (milliseconds each on common file
      * systems), for frames that a rerun regenerates anyway. */
     int fd = s.fd;
@@ -1055,7 +1055,7 @@ static void *writer_main(void *arg)
         pthread_mutex_unlock(&w->mu);
 
         /* Jobs accepted before a failure are still written: each write is atomic, so a complete
-         * frame is never worse than none, and --resume can use it. */
+         * frame is never worse than none. */
         char err[1600];
         fs_status st = write_file(job.path, &job.img, w->compression, w->zip_level, err, sizeof err);
         exr_image_free(&job.img);

@@ -16,6 +16,7 @@
 #include "passes/abuffer.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
+#include "output/out_path.h"
 
 /* Bump when the method changes what a reference frame holds: old cache files then miss.
  * 3: entries carry fovsim:ref_checksum (issue 17). */
@@ -98,8 +99,10 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     rf->ss = desc->supersample > 0 ? desc->supersample : REFERENCE_SUPERSAMPLE_DEFAULT;
     rf->k = desc->samples > 0 ? desc->samples : REFERENCE_SAMPLES_DEFAULT;
     FS_ASSERT(rf->ss <= REFERENCE_SUPERSAMPLE_MAX && rf->k <= REFERENCE_SAMPLES_MAX && rf->k % 2 == 0);
-    if (desc->cache_dir)
+    if (desc->cache_dir) {
         snprintf(rf->cache_dir, sizeof rf->cache_dir, "%s", desc->cache_dir);
+        out_dir_remove_stale_temps(rf->cache_dir); /* what killed runs left (issue 17) */
+    }
     rf->on_pass = desc->on_pass;
     rf->user = desc->user;
 

@@ -5,7 +5,10 @@
 #include <limits.h>
 #include <stdio.h>
 #include <string.h>
+#include <dirent.h>
+#include <stdlib.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -93,11 +96,101 @@ TEST(longest_name_writes)
     exr_image_free(&img);
 }
 
+TEST(temp_pid_parsing)
+{
+    CHECK(out_path_temp_pid(".frame.0003.exr.tmp.4242.7") == 4242);
+    CHECK(out_path_temp_pid(".metrics.csv.tmp.17") == 17);
+    CHECK(out_path_temp_pid("summary.json.tmp.99") == 99);
+    CHECK(out_path_temp_pid(".a.tmp.b.exr.tmp.5.0") == 5);
+    CHECK(out_path_temp_pid("frame.0003.exr") == 0);
+    CHECK(out_path_temp_pid(".frame.tmp.") == 0);
+    CHECK(out_path_temp_pid(".frame.tmp.12x") == 0);
+    CHECK(out_path_temp_pid(".frame.tmp.12.") == 0);
+    CHECK(out_path_temp_pid(".frame.tmp.0") == 0);
+    CHECK(out_path_temp_pid(".frame.tmp.1234567890123") == 0);
+    CHECK(out_path_temp_pid(".tmp.5") == 0 || out_path_temp_pid(".tmp.5") == 5);
+}
+
+static void touch(const char *dir, const char *name)
+{
+    char p[1400];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    FILE *f = fopen(p, "w");
+    if (f)
+        fclose(f);
+}
+
+static bool exists(const char *dir, const char *name)
+{
+    char p[1400];
+    struct stat sb;
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    return lstat(p, &sb) == 0;
+}
+
+/* A pid that no longer exists: a child that has exited and been reaped. */
+static long dead_pid(void)
+{
+    pid_t pid = fork();
+    if (pid == 0)
+        _exit(0);
+    int status;
+    waitpid(pid, &status, 0);
+    return (long)pid;
+}
+
+TEST(stale_temps_and_old_frames_removed)
+{
+    char dir[1100], cmd[2300], name[1300];
+    snprintf(dir, sizeof dir, "%s/out_path_tidy", test_out_dir());
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+    CHECK(system(cmd) == 0);
+    long dead = dead_pid(), live = (long)getppid();
+    snprintf(name, sizeof name, ".frame.0003.exr.tmp.%ld.0", dead);
+    touch(dir, name);
+    snprintf(name, sizeof name, ".metrics.csv.tmp.%ld", dead);
+    touch(dir, name);
+    snprintf(name, sizeof name, ".frame.0004.exr.tmp.%ld.3", live); /* another run, still going */
+    touch(dir, name);
+    snprintf(name, sizeof name, ".frame.0005.exr.tmp.%ld.1", (long)getpid()); /* our own */
+    touch(dir, name);
+    snprintf(name, sizeof name, "%s/.dir.tmp.%ld", dir, dead); /* not a regular file */
+    CHECK(mkdir(name, 0755) == 0);
+    touch(dir, "frame.0000.exr");
+    touch(dir, "frame.0011.exr");
+    touch(dir, "frame.100000.exr");
+    touch(dir, "frame.001.exr");      /* 3 digits: not fovsim's */
+    touch(dir, "frame.0001.exr.bak"); /* not a frame */
+    touch(dir, "frames.0001.exr");    /* another name */
+    touch(dir, "frame.0001.0002.exr");
+    touch(dir, "notes.txt");
+
+    CHECK(out_dir_remove_stale_temps(dir) == 2);
+    snprintf(name, sizeof name, ".frame.0003.exr.tmp.%ld.0", dead);
+    CHECK(!exists(dir, name));
+    snprintf(name, sizeof name, ".frame.0004.exr.tmp.%ld.3", live);
+    CHECK(exists(dir, name));
+    snprintf(name, sizeof name, ".frame.0005.exr.tmp.%ld.1", (long)getpid());
+    CHECK(exists(dir, name));
+    snprintf(name, sizeof name, ".dir.tmp.%ld", dead);
+    CHECK(exists(dir, name));
+
+    int removed = -1;
+    CHECK(out_dir_remove_sequence(dir, "frame", &removed) == FS_OK && removed == 3);
+    CHECK(!exists(dir, "frame.0000.exr") && !exists(dir, "frame.0011.exr") && !exists(dir, "frame.100000.exr"));
+    CHECK(exists(dir, "frame.001.exr") && exists(dir, "frame.0001.exr.bak") && exists(dir, "frames.0001.exr") &&
+          exists(dir, "frame.0001.0002.exr") && exists(dir, "notes.txt"));
+    CHECK(out_dir_remove_stale_temps("/nonexistent/fovsim") == 0);
+    CHECK(out_dir_remove_sequence("/nonexistent/fovsim", "frame", &removed) == FS_OK && removed == 0);
+}
+
 int main(void)
 {
     RUN(name_limit);
     RUN(dir_limits);
     RUN(cli_refuses_before_running);
     RUN(longest_name_writes);
+    RUN(temp_pid_parsing);
+    RUN(stale_temps_and_old_frames_removed);
     return test_summary();
 }
