@@ -11,6 +11,7 @@
 #include "common/shared_defs.h"
 #include "core/log.h"
 #include "passes/plan.h"
+#include "output/out_path.h"
 
 static const struct {
     const char *name;
@@ -596,5 +597,11 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         d->builtin = "forest";
     if (!d->name)
         d->name = d->cmd == CMD_REFERENCE ? "reference" : d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO ? "compare" : "frame";
+    /* Output paths that cannot be written fail here, not after the frames are drawn (issue 17). */
+    char why[512];
+    if (!out_path_check(d->out_dir, d->name, d->cache_dir, why, sizeof why)) {
+        log_error("%s", why);
+        return FS_ERR_USAGE;
+    }
     return FS_OK;
 }

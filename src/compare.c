@@ -18,6 +18,7 @@
 #include "metrics/metrics.h"
 #include "metrics/warp.h"
 #include "output/fvvdp_export.h"
+#include "output/out_path.h"
 
 /* One alpha mode's renderer and what it measured. */
 typedef struct mode_run {
@@ -512,6 +513,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     snprintf(json_path, sizeof json_path, "%s/summary.json", out);
     if (st == FS_OK)
         st = file_make_dirs(out);
+    if (st == FS_OK) /* a killed run's litter, and the frames of an earlier run (issue 17) */
+        st = out_dir_tidy(out, d->name);
     FILE *csv = NULL;
     if (st == FS_OK && !(csv = fopen(csv_tmp, "w"))) {
         log_error("%s: cannot create: %s", csv_tmp, strerror(errno));
@@ -935,6 +938,8 @@ fs_status run_bench_accuracy(const run_desc *d)
     const char *out = d->out_dir ? d->out_dir : "out/bench";
     if (st == FS_OK)
         st = file_make_dirs(out);
+    if (st == FS_OK)
+        out_dir_remove_stale_temps(out);
     session_catch_sigint();
     progress pr = progress_begin("accuracy frame", n + warm, d->quiet);
     rp.pr.enabled = false; /* one progress line: frames */

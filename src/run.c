@@ -29,6 +29,7 @@
 #include "compare.h"
 #include "session.h"
 #include "view/view.h"
+#include "output/out_path.h"
 
 /* >>render */
 /* Renders the sequence; *frames_out (may be NULL) gets the number of frames asked for. */
@@ -43,6 +44,8 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     if (frames_out)
         *frames_out = frames;
     st = file_make_dirs(out);
+    if (st == FS_OK) /* a killed run's litter, and the frames of an earlier run (issue 17) */
+        st = out_dir_tidy(out, d->name);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
         st = FS_ERR_NOMEM;
@@ -104,6 +107,8 @@ static fs_status run_reference(const run_desc *d)
     int frames = session_frame_count(d, &s.sc);
     if (st == FS_OK)
         st = file_make_dirs(out);
+    if (st == FS_OK)
+        st = out_dir_tidy(out, d->name);
     double *errors = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
     if (st == FS_OK && !errors)
         st = FS_ERR_NOMEM;
@@ -160,7 +165,7 @@ static fs_status run_reference(const run_desc *d)
         printf("  %d drawn, %d from the cache%s%s%s", drawn, cached, cache ? " (" : " (no cache)", cache ? cache : "",
                cache ? ")" : "");
         if (rebuilt)
-            printf(", %d cache entries were truncated or stale and were redrawn", rebuilt);
+            printf(", %d cache entries were unusable (truncated, stale, tampered or not a file) and were redrawn", rebuilt);
         if (reference_get_kind(rf) == REFERENCE_EXACT) {
             int c = reference_compare_grid(rf);
             printf("\n  convergence, RMS difference of the %dx%d and %dx%d sub-sample frames (linear RGB): median %.5f, "

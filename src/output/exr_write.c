@@ -282,14 +282,36 @@ void exr_image_free(exr_image *img)
 typedef struct exr_stream {
     int fd;
     char msg[256]; /* first error reported by the Core, "" if none */
+    struct exr_stream *prev_bound; /* reader: what stream_bind replaced (see tl_stream) */
 } exr_stream;
 
+/* The stream of the context this thread is driving, for stream_error_handler. The handler gets
+ * no user data, and it must not ask the Core for it: exr_get_user_data takes the context lock,
+ * which a write context already holds while it reports an error from inside exr_write_header
+ * (a disk full before the first byte), so asking deadlocked the writer (issue 17, defect 1). The
+ * Core calls the handler on the thread that called into it, so a thread-local pointer, bound for
+ * the context's whole life (stream_bind .. stream_unbind), is always the right stream. */
+static _Thread_local exr_stream *tl_stream;
+
+static exr_stream *stream_bind(exr_stream *s)
+{
+    exr_stream *prev = tl_stream;
+    tl_stream = s;
+    return prev;
+}
+
+static void stream_unbind(exr_stream *prev)
+{
+    tl_stream = prev;
+}
+
+/* Calls nothing of the Core that takes the context lock (see tl_stream). */
 static void stream_error_handler(exr_const_context_t ctxt, exr_result_t code, const char *msg)
 {
-    void *ud = NULL;
-    if (!ctxt || exr_get_user_data(ctxt, &ud) != EXR_ERR_SUCCESS || !ud)
+    (void)ctxt;
+    exr_stream *s = tl_stream;
+    if (!s)
         return;
-    exr_stream *s = ud;
     if (s->msg[0] == '\0')
         snprintf(s->msg, sizeof s->msg, "%s", msg ? msg : exr_get_default_error_message(code));
 }
@@ -578,6 +600,7 @@ static fs_status write_file(const char *path, const exr_image *img, exr_compress
     }
 
     exr_stream s = {.fd = -1};
+    exr_stream *prev_stream = tl_stream; /* bound to &s while the context lives */
     exr_context_t ctxt = NULL;
     exr_result_t rv = EXR_ERR_SUCCESS;
     char sys_msg[300] = "";
@@ -591,6 +614,7 @@ static fs_status write_file(const char *path, const exr_image *img, exr_compress
     init.error_handler_fn = stream_error_handler;
     init.user_data = &s;
     init.write_fn = stream_write;
+    prev_stream = stream_bind(&s);
     rv = exr_start_write(&ctxt, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS && needs_long_names(img))
         rv = exr_set_longname_support(ctxt, 1);
@@ -613,12 +637,13 @@ static fs_status write_file(const char *path, const exr_image *img, exr_compress
         rv = encode_part(ctxt, part++, p);
     /* exr_finish writes the chunk offset table, so its result matters as much as the rest. */
     exr_result_t frv = exr_finish(&ctxt);
+    stream_unbind(prev_stream);
     if (rv == EXR_ERR_SUCCESS)
         rv = frv;
     if (rv != EXR_ERR_SUCCESS)
         goto fail;
     /* No fsync: the rename already keeps a killed or failed run from leaving a truncated frame
-     * under the final name, which is what --resume relies on. Surviving a power cut as well would
+     * under the final name (what a future --resume would rely on; there is none yet, issue 17). Surviving a power cut as well would
      * need an fsync of the file and its directory per frame (milliseconds each on common file
      * systems), for frames that a rerun regenerates anyway. */
     int fd = s.fd;
@@ -637,6 +662,7 @@ static fs_status write_file(const char *path, const exr_image *img, exr_compress
 fail:
     if (ctxt)
         exr_finish(&ctxt);
+    stream_unbind(prev_stream);
     if (s.fd >= 0)
         close(s.fd);
     unlink(tmp); /* ENOENT when it was never created: harmless */
@@ -852,9 +878,21 @@ static bool open_read(const char *path, exr_stream *s, exr_context_t *ctxt)
 {
     memset(s, 0, sizeof *s);
     *ctxt = NULL;
-    s->fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: a FIFO opens at once instead of waiting for a writer (issue 17), and is then
+     * refused below with everything else that is not a regular file. No effect on files. */
+    s->fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (s->fd < 0) {
         log_error("%s: cannot read EXR: %s", path, strerror(errno));
+        return false;
+    }
+    struct stat sb;
+    int fst = fstat(s->fd, &sb);
+    if (fst != 0 || !S_ISREG(sb.st_mode)) {
+        log_error("%s: cannot read EXR: %s", path, fst != 0 ? strerror(errno)
+                                                   : S_ISDIR(sb.st_mode) ? "is a directory"
+                                                                         : "not a regular file");
+        close(s->fd);
+        s->fd = -1;
         return false;
     }
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -864,10 +902,12 @@ static bool open_read(const char *path, exr_stream *s, exr_context_t *ctxt)
     init.size_fn = stream_size;
     /* Do not guess at missing chunks of a truncated file: report it. */
     init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    s->prev_bound = stream_bind(s); /* until close_read */
     exr_result_t rv = exr_start_read(ctxt, path, &init);
     if (rv != EXR_ERR_SUCCESS) {
         if (*ctxt)
             exr_finish(ctxt);
+        stream_unbind(s->prev_bound);
         close(s->fd);
         s->fd = -1;
         log_error("%s: cannot read EXR: %s", path, exr_reason(s, rv));
@@ -880,6 +920,7 @@ static void close_read(exr_stream *s, exr_context_t *ctxt)
 {
     if (*ctxt)
         exr_finish(ctxt);
+    stream_unbind(s->prev_bound);
     if (s->fd >= 0)
         close(s->fd);
     s->fd = -1;
@@ -1014,7 +1055,7 @@ static void *writer_main(void *arg)
         pthread_mutex_unlock(&w->mu);
 
         /* Jobs accepted before a failure are still written: each write is atomic, so a complete
-         * frame is never worse than none, and --resume can use it. */
+         * frame is never worse than none. */
         char err[1600];
         fs_status st = write_file(job.path, &job.img, w->compression, w->zip_level, err, sizeof err);
         exr_image_free(&job.img);

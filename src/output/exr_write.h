@@ -6,7 +6,9 @@
  * holds Inf or NaN. ZIP uses deflate level EXR_ZIP_LEVEL_DEFAULT. The file is written to a
  * temporary name in the same directory (`.<name>.tmp.<pid>.<n>`, <n> new for every write) and
  * renamed over the final name only when complete: an interrupted or failed write (a full disk)
- * never leaves a truncated frame under the final name.
+ * never leaves a truncated frame under the final name. That holds also when the disk is full
+ * before the first byte (the header write fails): the Core's error callback never calls back into
+ * the Core, whose context lock is held then (see tl_stream in exr_write.c).
  *
  * exr_writer runs exr_write_file on background threads (exr_writer_desc.thread_count, each
  * writing whole frames) fed by a bounded queue (EXR_QUEUE_DEPTH), so rendering does not wait on

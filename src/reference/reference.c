@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/embedded.h"
 #include "core/file_read.h"
@@ -15,9 +16,11 @@
 #include "passes/abuffer.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
+#include "output/out_path.h"
 
-/* Bump when the method changes what a reference frame holds: old cache files then miss. */
-#define REFERENCE_FORMAT_VERSION 2
+/* Bump when the method changes what a reference frame holds: old cache files then miss.
+ * 3: entries carry fovsim:ref_checksum (issue 17). */
+#define REFERENCE_FORMAT_VERSION 3
 
 enum { REF_CHANNELS = 5 }; /* R, G, B, A, coverage */
 static const char *const k_channels[REF_CHANNELS] = {"R", "G", "B", "A", "coverage"};
@@ -96,8 +99,10 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     rf->ss = desc->supersample > 0 ? desc->supersample : REFERENCE_SUPERSAMPLE_DEFAULT;
     rf->k = desc->samples > 0 ? desc->samples : REFERENCE_SAMPLES_DEFAULT;
     FS_ASSERT(rf->ss <= REFERENCE_SUPERSAMPLE_MAX && rf->k <= REFERENCE_SAMPLES_MAX && rf->k % 2 == 0);
-    if (desc->cache_dir)
+    if (desc->cache_dir) {
         snprintf(rf->cache_dir, sizeof rf->cache_dir, "%s", desc->cache_dir);
+        out_dir_remove_stale_temps(rf->cache_dir); /* what killed runs left (issue 17) */
+    }
     rf->on_pass = desc->on_pass;
     rf->user = desc->user;
 
@@ -216,27 +221,81 @@ static void key_hex(uint64_t key, char out[17])
     snprintf(out, 17, "%016" PRIx64, key);
 }
 
-/* A cached frame is usable when it reads back whole, with this key, size and every channel. */
-static bool cache_load(const reference *rf, const char *path, const char *hex, exr_image *img, bool *existed)
+/* The checksum of a frame's pixels, as 16 hex digits (docs/reference.md, "Cache"): 64-bit FNV-1a
+ * (hash.h) over the channels R, G, B, A, coverage in that order, each its name (with the NUL)
+ * then its width * height values row by row, top row first, each rounded to half as the file
+ * stores it (exr_half_round), -0 as +0, fed as the 8 little-endian bytes of its float32 bits
+ * (hash_floats). So the drawn frame and its cached copy have the same checksum, and a pixel
+ * changed in the file, even by one half-float step, changes it. */
+static void pixel_checksum(const exr_image *img, char out[17])
 {
-    FILE *f = fopen(path, "rb");
-    *existed = f != NULL;
-    if (!f)
-        return false;
-    fclose(f);
+    uint64_t h = hash_str(HASH_FNV_INIT, "fovsim reference pixels");
+    size_t w = (size_t)img->width;
+    float *row = malloc(w * sizeof *row);
+    for (int c = 0; c < REF_CHANNELS; c++) {
+        const float *p = exr_image_channel(img, k_channels[c]);
+        h = hash_str(h, k_channels[c]);
+        for (int y = 0; p && row && y < img->height; y++) {
+            for (size_t x = 0; x < w; x++)
+                row[x] = exr_half_round(p[(size_t)y * w + x]);
+            h = hash_floats(h, row, w);
+        }
+    }
+    if (!row)
+        h = 0; /* out of memory: a checksum that matches nothing written by a working run */
+    free(row);
+    key_hex(h, out);
+}
+
+typedef enum cache_result {
+    CACHE_HIT = 0,
+    CACHE_ABSENT,      /* no entry */
+    CACHE_NOT_REGULAR, /* a directory, FIFO, socket or device at the entry's path */
+    CACHE_BAD,         /* unreadable, truncated, another key, size or channels */
+    CACHE_CHECKSUM,    /* reads back whole with the right key, but its pixels are not the ones written */
+} cache_result;
+
+/* A cached frame is usable when it is a regular file that reads back whole, with this key, size,
+ * every channel and its pixels' checksum. Nothing but a regular file is opened (stat first; the
+ * reader also opens without blocking and refuses anything else): a FIFO would wait for a writer. */
+static cache_result cache_load(const reference *rf, const char *path, const char *hex, exr_image *img,
+                               mode_t *mode)
+{
+    struct stat sb;
+    *mode = 0;
+    if (stat(path, &sb) != 0)
+        return CACHE_ABSENT;
+    *mode = sb.st_mode;
+    if (!S_ISREG(sb.st_mode))
+        return CACHE_NOT_REGULAR;
     log_set_quiet_errors(true); /* a broken cache file is expected here: we rebuild it */
     fs_status st = exr_read_file(path, img);
     log_set_quiet_errors(false);
     if (st != FS_OK)
-        return false;
+        return CACHE_BAD;
     const exr_attr *k = exr_image_attr(img, "fovsim:ref_key");
     bool ok = img->width == rf->width && img->height == rf->height && k && k->type == FS_EXR_ATTR_STRING &&
               !strcmp(k->s, hex);
     for (int c = 0; c < REF_CHANNELS && ok; c++)
         ok = exr_image_channel(img, k_channels[c]) != NULL;
-    if (!ok)
+    if (!ok) {
         exr_image_free(img);
-    return ok;
+        return CACHE_BAD;
+    }
+    const exr_attr *sum = exr_image_attr(img, "fovsim:ref_checksum");
+    char want[17];
+    pixel_checksum(img, want);
+    if (!sum || sum->type != FS_EXR_ATTR_STRING || strcmp(sum->s, want)) {
+        exr_image_free(img);
+        return CACHE_CHECKSUM;
+    }
+    return CACHE_HIT;
+}
+
+static const char *file_kind(mode_t m)
+{
+    return S_ISDIR(m) ? "a directory" : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket"
+         : S_ISCHR(m) || S_ISBLK(m) ? "a device" : "not a regular file";
 }
 
 /* >>drawing */
@@ -511,17 +570,26 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     key_hex(info->key, hex);
     if (rf->cache_dir[0]) {
         snprintf(info->path, sizeof info->path, "%s/ref-%s.exr", rf->cache_dir, hex);
-        bool existed = false;
-        if (cache_load(rf, info->path, hex, img, &existed)) {
+        mode_t mode = 0;
+        cache_result cr = cache_load(rf, info->path, hex, img, &mode);
+        if (cr == CACHE_HIT) {
             const exr_attr *e = exr_image_attr(img, "fovsim:ref_error");
             info->error = e && e->type == FS_EXR_ATTR_FLOAT ? e->f[0] : 0.0;
             info->cached = true;
             return FS_OK;
         }
-        if (existed) {
-            info->rebuilt = true;
+        info->rebuilt = cr != CACHE_ABSENT;
+        if (cr == CACHE_BAD)
             log_info("REFERENCE: %s is truncated or stale; drawing it again", info->path);
-        }
+        else if (cr == CACHE_CHECKSUM)
+            log_warn("REFERENCE: %s: its pixels do not match their checksum (changed after it was written); "
+                     "drawing it again", info->path);
+        else if (cr == CACHE_NOT_REGULAR && S_ISDIR(mode))
+            log_warn("REFERENCE: %s is a directory, not a cache entry; drawing the frame without caching it",
+                     info->path);
+        else if (cr == CACHE_NOT_REGULAR)
+            log_warn("REFERENCE: %s is %s, not a cache entry; drawing the frame and replacing it", info->path,
+                     file_kind(mode));
     }
     bool exact = rf->kind == REFERENCE_EXACT;
     fs_status st = exact ? draw_exact(rf, fr, img, info) : draw_stochastic(rf, fr, img, info);
@@ -545,7 +613,12 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     if (exact)
         exr_image_set_int(img, "fovsim:ref_overflow_pixels", (int)(info->overflow_pixels < INT32_MAX ? info->overflow_pixels : INT32_MAX));
     exr_image_set_float(img, "fovsim:time", fr->time);
-    if (rf->cache_dir[0]) {
+    char sum[17];
+    pixel_checksum(img, sum);
+    exr_image_set_string(img, "fovsim:ref_checksum", sum);
+    struct stat sb;
+    /* A directory cannot be renamed over (and may hold someone's files): the frame stays uncached. */
+    if (rf->cache_dir[0] && !(lstat(info->path, &sb) == 0 && S_ISDIR(sb.st_mode))) {
         st = file_make_dirs(rf->cache_dir);
         if (st == FS_OK)
             st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);

@@ -27,8 +27,10 @@
  * The reference depends on the scene, the frame's camera (and time, when instances sway), the
  * display size, the kind, S, K (exact: the fallback's tests), the exact kind's budget and the
  * shaders, not on the gaze or the alpha mode: frames are cached as EXR files named by a 64-bit key
- * of those (reference_key); a cached file is reused when it reads back completely with the same key
- * and size, else it is rebuilt (truncated, stale, or written by another version).
+ * of those (reference_key); a cached file is reused when it is a regular file that reads back
+ * completely with the same key, size and pixel checksum (fovsim:ref_checksum), else it is rebuilt
+ * (truncated, stale, tampered, or written by another version); a directory at its path leaves the
+ * frame uncached.
  *
  * Usage (a GL context must be current):
  *   reference *rf = reference_create(&sc, &(reference_desc){.width = w, .height = h,
@@ -69,7 +71,8 @@ typedef struct reference_desc {
 
 typedef struct reference_info {
     bool cached;       /* read from the cache, not drawn */
-    bool rebuilt;      /* a cache file existed but was unusable (truncated / stale) and was redrawn */
+    bool rebuilt;      /* something existed at the cache path but was unusable (truncated, stale,
+                        * checksum mismatch, not a regular file) and the frame was redrawn */
     double error;      /* convergence: exact RMS(ref_S - ref_C), stochastic RMS((A - B) / 2), over
                         * linear RGB (see above) */
     int passes;        /* passes drawn (0 when cached) */

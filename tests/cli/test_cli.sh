@@ -192,6 +192,46 @@ check "unknown mode creates nothing" test ! -e "$T/bad7"
 expect_exit "no such EGL device -> 7" 7 "$BIN" render --gpu 15 --frames 1 --out "$T/bad8"
 check "no GL context creates nothing" test ! -e "$T/bad8"
 
+# ---- output paths too long for the file system (issue 17, defect 8): refused with the other
+# arguments (exit 2, one line, nothing drawn or created). The old code rendered, then failed the
+# first write with exit 6, a message cut short and an empty folder left behind.
+long_name=$(printf 'n%.0s' $(seq 250))
+expect_exit "--name of 250 characters -> 2" 2 "$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$long_name" --out "$T/bad14"
+check "--name too long: the message says the limit" grep -q -- "--name 'nnnn.*(250 characters): expected at most 221 characters" "$T/err.txt"
+check "--name too long creates nothing" test ! -e "$T/bad14"
+expect_exit "compare --name of 250 characters -> 2" 2 "$BIN" compare fence --frames 1 --width 32 --height 18 --name "$long_name" --out "$T/bad15"
+check "compare --name too long creates nothing" test ! -e "$T/bad15"
+expect_exit "--out with a 300-character component -> 2" 2 "$BIN" render --builtin fence --frames 1 --out "$T/$(printf 'd%.0s' $(seq 300))/x"
+expect_exit "--out of 1100 characters -> 2" 2 "$BIN" render --builtin fence --frames 1 --out "$T/$(printf 'd%.0s/' $(seq 550))"
+check "--out too long creates nothing" test -z "$(ls -d "$T"/ddd* "$T"/d 2>/dev/null)"
+expect_exit "--cache of 1000 characters -> 2" 2 "$BIN" reference fence --frames 1 --cache "$T/$(printf 'c%.0s/' $(seq 500))"
+# The longest --name accepted does write (its temporary names fit in 255 characters).
+max_name=$(printf 'm%.0s' $(seq 221))
+"$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$max_name" --out "$T/maxname" --quiet >/dev/null 2>"$T/err.txt"
+check "--name of 221 characters renders" test $? -eq 0 -a -f "$T/maxname/$max_name.0000.exr"
+
+# ---- a rerun tidies the folder (issue 17, defect 9): the temporary files of killed runs (their
+# pid gone) are removed, those of a live process kept, and the frames of an earlier, longer run
+# removed, so the folder holds exactly the new sequence. The old code left all of it.
+RR="$T/rerun"
+"$BIN" render --builtin fence --frames 4 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>&1
+sleep 0 & dead=$!; wait $dead
+: >"$RR/.frame.0002.exr.tmp.$dead.0"; : >"$RR/.metrics.csv.tmp.$dead"; : >"$RR/.frame.0003.exr.tmp.$$.1"
+"$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>"$T/err.txt"
+check "rerun with fewer frames exits 0" test $? -eq 0
+check "rerun: frames 0-1 only" test -f "$RR/frame.0000.exr" -a -f "$RR/frame.0001.exr" -a ! -e "$RR/frame.0002.exr" -a ! -e "$RR/frame.0003.exr"
+check "rerun: temporary files of dead processes removed" test ! -e "$RR/.frame.0002.exr.tmp.$dead.0" -a ! -e "$RR/.metrics.csv.tmp.$dead"
+check "rerun: a live process's temporary file kept" test -e "$RR/.frame.0003.exr.tmp.$$.1"
+rm -f "$RR/.frame.0003.exr.tmp.$$.1"
+# kill -9 in the middle of a run, then a rerun: nothing of the killed run's temporaries is left.
+"$BIN" render --builtin fence --frames 5000 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 100); do [ -e "$RR/frame.0003.exr" ] && break; sleep 0.1; done
+kill -KILL "$pid"; wait "$pid" 2>/dev/null
+: >"$RR/.frame.0009.exr.tmp.$pid.77" # what a kill during a write leaves (the timing may not hit one)
+"$BIN" render --builtin fence --frames 1 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>&1
+check "after kill -9 and a rerun: no temporary file, one frame" bash -c "[ -z \"\$(find '$RR' -name '*.tmp*')\" ] && [ \$(ls '$RR' | wc -l) -eq 1 ]"
+
 # ---- Ctrl-C: stops after the frame in flight, exit 130, every file left is complete
 "$BIN" render --builtin forest --frames 5000 --width 64 --height 36 --out "$T/int" --quiet >/dev/null 2>"$T/err.txt" &
 pid=$!
@@ -212,6 +252,24 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   bad=0
   for f in "$T"/full/seq/*.exr; do [ -e "$f" ] || continue; exrheader "$f" >/dev/null 2>&1 || bad=1; done
   check "full disk: every frame left is complete" test $bad -eq 0
+  umount "$T/full"
+  # Already full before the first frame (issue 17, defect 1): the header write failed while the
+  # EXR library held its context lock, and the error handler asked it for the user data: a hang
+  # (killed by `timeout`, 124/137) with a 0-byte temporary file. Expected: exit 6, one line, nothing
+  # left. render writes through the writer thread; reference writes the frame and its cache entry.
+  mount -t tmpfs -o size=64k tmpfs "$T/full"
+  dd if=/dev/zero of="$T/full/filler" bs=4k count=64 2>/dev/null # fills it: dd fails at ENOSPC
+  mkdir -p "$T/full/seq" "$T/full/cache"
+  timeout -s KILL 60 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
+  rc=$?
+  check "disk full from the start: render -> exit 6, no hang (exit $rc)" test $rc -eq 6
+  check "disk full from the start: render, one line naming the frame" bash -c "grep -q 'seq/frame\.0000\.exr: .*No space left' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+  check "disk full from the start: render leaves no file" test -z "$(ls -A "$T/full/seq")"
+  timeout -s KILL 60 "$BIN" reference fence --frames 1 --width 32 --height 18 --supersample 1 --cache "$T/full/cache" --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
+  rc=$?
+  check "disk full from the start: reference -> exit 6, no hang (exit $rc)" test $rc -eq 6
+  check "disk full from the start: reference, one line" test "$(wc -l <"$T/err.txt")" -eq 1
+  check "disk full from the start: reference leaves no file" test -z "$(ls -A "$T/full/seq" "$T/full/cache" | grep -v ':$' | grep .)"
   umount "$T/full"
 else
   echo "note: cannot mount a small tmpfs here (not root?); full-disk case not exercised" >&2

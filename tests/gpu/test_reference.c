@@ -1,5 +1,6 @@
 /* test_reference.c: the ground truth (src/reference): it converges as 1/sqrt(K), its expectation
  * is order-correct alpha compositing, and its cache is reused, keyed and repaired. */
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -713,12 +714,85 @@ TEST(stochastic_coplanar_cards_are_tested_independently)
     scene_free(&sc);
 }
 
+/* Issue 17, defect 4: the cache trusted any readable EXR with the right key. A tampered entry
+ * (pixels rewritten, header kept) gave silently wrong metrics; a FIFO at the entry's path hung
+ * the run (the open waited for a writer); a directory there failed the whole run (the rename of
+ * the redrawn frame). Now every entry carries a checksum of its pixels, verified on read, and
+ * anything that is not a regular file is a miss. The alarm turns a hang into a failure. */
+static void on_hang_alarm(int sig)
+{
+    (void)sig;
+    static const char msg[] = "test_reference: cache_tampered_fifo_directory: hung on the cache entry\n";
+    if (write(2, msg, sizeof msg - 1) < 0) { /* nothing else to do */ }
+    _exit(1);
+}
+
+TEST(cache_tampered_fifo_directory)
+{
+    enum { W = 32, H = 20 };
+    char dir[512], cmd[2200];
+    snprintf(dir, sizeof dir, "%s/reference_cache_tamper", getenv("FOVSIM_TEST_OUT") ? getenv("FOVSIM_TEST_OUT") : "/tmp");
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+    scene sc;
+    CHECK(scene_load_builtin("fence", &sc) == FS_OK);
+    exr_image first, got, again;
+    reference_info i1, i2, i3;
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &first, &i1) == FS_OK);
+    CHECK(!i1.cached);
+
+    /* Tampered: one pixel of the stored entry changed, every attribute (the key too) kept. */
+    exr_image disk;
+    CHECK(exr_read_file(i1.path, &disk) == FS_OK);
+    float *r = exr_image_channel(&disk, "R");
+    CHECK(r != NULL);
+    if (r)
+        r[W * (H / 2) + W / 2] += 0.5f;
+    CHECK(exr_write_file(i1.path, &disk, EXR_COMPRESS_ZIP) == FS_OK);
+    exr_image_free(&disk);
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &got, &i2) == FS_OK);
+    CHECK(!i2.cached && i2.rebuilt);
+    CHECK(files_equal(&first, &got)); /* the true frame, not the tampered one */
+    exr_image_free(&got);
+    /* ... and the entry was rewritten: read back, equal to the first. */
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &got, &i3) == FS_OK);
+    CHECK(i3.cached && files_equal(&first, &got));
+    exr_image_free(&got);
+
+    void (*old_alarm)(int) = signal(SIGALRM, on_hang_alarm);
+    alarm(60);
+    /* A FIFO at the entry's path: a miss, drawn, no hang; the FIFO is replaced by the entry. */
+    CHECK(unlink(i1.path) == 0);
+    CHECK(mkfifo(i1.path, 0644) == 0);
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &got, &i2) == FS_OK);
+    CHECK(!i2.cached && files_equal(&first, &got));
+    exr_image_free(&got);
+    struct stat sb;
+    CHECK(stat(i1.path, &sb) == 0 && S_ISREG(sb.st_mode));
+    /* A directory there: a miss, drawn, the run goes on; the directory is left alone (it may hold
+     * someone's files) and the frame is not cached. */
+    CHECK(unlink(i1.path) == 0);
+    CHECK(mkdir(i1.path, 0755) == 0);
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &got, &i2) == FS_OK);
+    CHECK(!i2.cached && files_equal(&first, &got));
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &again, &i3) == FS_OK);
+    CHECK(!i3.cached && files_equal(&first, &again));
+    CHECK(stat(i1.path, &sb) == 0 && S_ISDIR(sb.st_mode));
+    alarm(0);
+    signal(SIGALRM, old_alarm);
+    exr_image_free(&got);
+    exr_image_free(&again);
+    exr_image_free(&first);
+    scene_free(&sc);
+}
+
 int main(void)
 {
     gpu_begin();
     RUN(expectation_is_order_correct_compositing);
     RUN(error_shrinks_as_one_over_sqrt_k);
     RUN(cache_reused_keyed_and_repaired);
+    RUN(cache_tampered_fifo_directory);
     RUN(reference_ignores_mode_overrides);
     RUN(exact_stacked_cards_match_the_closed_form);
     RUN(exact_overflow_falls_back_to_stochastic_for_the_lost_pixels);

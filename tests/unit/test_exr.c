@@ -536,6 +536,83 @@ TEST(atomic_failure_midway)
     exr_image_free(&big);
 }
 
+/* A disk that is full before the first byte (issue 17, defect 1): the header write fails inside
+ * exr_write_header, while the Core holds its context lock. The error handler used to ask the Core
+ * for the user data (exr_get_user_data takes that lock again) and the write hung for ever. The
+ * file-size limit stands in for the full disk (EFBIG instead of ENOSPC, the same path); an alarm
+ * turns the old hang into a failure. Both the plain call and the writer thread are tried. */
+static void on_hang_alarm(int sig)
+{
+    (void)sig;
+    static const char msg[] = "test_exr: hung (deadlock, or an open waiting on a FIFO)\n";
+    if (write(2, msg, sizeof msg - 1) < 0) { /* nothing else to do */ }
+    _exit(1);
+}
+
+TEST(atomic_failure_at_header)
+{
+    const char *dir = fresh_dir("atomic_full_at_start");
+    char path[1200], path2[1200];
+    snprintf(path, sizeof path, "%s/frame.0000.exr", dir);
+    snprintf(path2, sizeof path2, "%s/frame.0001.exr", dir);
+    exr_image img, img2;
+    make_frame(&img, 16, 16, 0.0f);
+    make_frame(&img2, 16, 16, 1.0f);
+
+    struct rlimit old_lim;
+    CHECK(getrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    void (*old_sig)(int) = signal(SIGXFSZ, SIG_IGN);
+    void (*old_alarm)(int) = signal(SIGALRM, on_hang_alarm);
+    struct rlimit lim = old_lim;
+    lim.rlim_cur = 8; /* not even the magic number and version fit */
+    CHECK(setrlimit(RLIMIT_FSIZE, &lim) == 0);
+    alarm(20);
+    log_set_quiet_errors(true);
+    fs_status st = exr_write_file(path, &img, EXR_COMPRESS_ZIP);
+    exr_writer_desc d = {.thread_count = 2};
+    exr_writer *w = exr_writer_create(&d);
+    CHECK(w != NULL);
+    fs_status st_sub = w ? exr_writer_submit(w, path2, &img2) : FS_ERR_IO;
+    fs_status st_fin = w ? exr_writer_finish(w) : FS_ERR_IO;
+    log_set_quiet_errors(false);
+    alarm(0);
+    CHECK(setrlimit(RLIMIT_FSIZE, &old_lim) == 0);
+    signal(SIGALRM, old_alarm);
+    signal(SIGXFSZ, old_sig);
+
+    CHECK(st == FS_ERR_IO);
+    CHECK(st_sub == FS_OK); /* queued; the failure comes back from finish */
+    CHECK(st_fin == FS_ERR_IO);
+    CHECK(!file_exists(path));
+    CHECK(!file_exists(path2));
+    CHECK(count_entries(dir, "") == 0); /* no 0-byte temporary file either */
+    exr_image_free(&img);
+    exr_image_free(&img2);
+}
+
+/* Only regular files are read (issue 17, defect 4): a FIFO is refused at once instead of
+ * blocking the open until a writer comes, a directory with one line. */
+TEST(read_refuses_fifo_and_directory)
+{
+    const char *dir = fresh_dir("read_not_regular");
+    char fifo[1200], sub[1200];
+    snprintf(fifo, sizeof fifo, "%s/fifo.exr", dir);
+    snprintf(sub, sizeof sub, "%s/dir.exr", dir);
+    CHECK(mkfifo(fifo, 0644) == 0);
+    CHECK(mkdir(sub, 0755) == 0);
+    void (*old_alarm)(int) = signal(SIGALRM, on_hang_alarm);
+    alarm(20);
+    exr_image img;
+    int parts = -1;
+    log_set_quiet_errors(true);
+    CHECK(exr_read_file(fifo, &img) == FS_ERR_IO);
+    CHECK(exr_file_part_count(fifo, &parts) == FS_ERR_IO && parts == 0);
+    CHECK(exr_read_file(sub, &img) == FS_ERR_IO);
+    log_set_quiet_errors(false);
+    alarm(0);
+    signal(SIGALRM, old_alarm);
+}
+
 TEST(bad_images_refused)
 {
     exr_image img;
@@ -1285,6 +1362,8 @@ int main(void)
     RUN(atomic_missing_directory);
     RUN(atomic_no_temp_left_after_success);
     RUN(atomic_failure_midway);
+    RUN(atomic_failure_at_header);
+    RUN(read_refuses_fifo_and_directory);
     RUN(bad_images_refused);
     RUN(writer_thread_writes_all_frames_1_thread);
     RUN(writer_thread_writes_all_frames_4_threads);
