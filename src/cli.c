@@ -451,21 +451,36 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++)
                     d->bench_modes[d->bench_mode_count++] = (alpha_mode)m;
             } else {
-                char buf[256];
-                snprintf(buf, sizeof buf, "%s", val);
-                for (char *tok = strtok(buf, ","); tok && ok; tok = strtok(NULL, ",")) {
+                /* Items separated by commas; an empty list or item (`''`, `,`, `a,,b`) is an error
+                 * with a message, never the default set. */
+                const char *p = val;
+                for (;;) {
+                    const char *comma = strchr(p, ',');
+                    size_t len = comma ? (size_t)(comma - p) : strlen(p);
+                    char tok[32];
+                    if (len == 0 || len >= sizeof tok) {
+                        log_error("--modes: expected alpha modes separated by commas (modes: %s, or all), got '%s'",
+                                  alpha_mode_list(), val);
+                        ok = false;
+                        break;
+                    }
+                    memcpy(tok, p, len);
+                    tok[len] = '\0';
                     alpha_mode m = alpha_mode_parse(tok);
                     bool dup = false;
                     for (int k = 0; k < d->bench_mode_count; k++)
                         dup |= d->bench_modes[k] == m;
-                    ok = m != ALPHA_MODE_DEFAULT && !dup;
-                    if (!ok)
+                    if (m == ALPHA_MODE_DEFAULT || dup) {
                         log_error("--modes: '%s' is %s (modes: %s, or all)", tok, dup ? "given twice" : "not a mode",
                                   alpha_mode_list());
-                    else
-                        d->bench_modes[d->bench_mode_count++] = m;
+                        ok = false;
+                        break;
+                    }
+                    d->bench_modes[d->bench_mode_count++] = m;
+                    if (!comma)
+                        break;
+                    p = comma + 1;
                 }
-                ok = ok && d->bench_mode_count > 0;
             }
         } else if (!strcmp(opt, "--fade-n"))
             ok = parse_float(opt, val, 0.0f, 16.0f, &d->fade_n);
