@@ -31,4 +31,23 @@ for cmd in compare bench; do
 done
 check "--modes errors create nothing" test ! -e "$T/modes"
 
+# ---- control characters from input are escaped in messages (defect 5): a scene key with an ESC
+# sequence and a forged second "fovsim:" line, a glTF path with a raw newline, a material name
+# from a glTF file with both; each message stays one line and shows the bytes as \x1b, \n
+printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "\\u001b[31mkey\\nfovsim: error: forged": 1}' >"$T/esc_key.json"
+expect_exit "ESC and newline in a scene key -> 3, one line" 3 "$BIN" plan "$T/esc_key.json"
+check "the scene key is shown escaped" grep -qF 'esc_key.json: \x1b[31mkey\nfovsim: error: forged: unknown key' "$T/err.txt"
+printf '{"assets": [{"name": "a", "gltf": "no\\nsuch.gltf"}], "instances": [{"asset": "a"}]}' >"$T/nl_path.json"
+expect_exit "newline in a glTF path -> 6, one line" 6 "$BIN" plan "$T/nl_path.json"
+check "the glTF path is shown escaped" grep -qF 'no\nsuch.gltf: cannot open' "$T/err.txt"
+mkdir -p "$T/escmat"; cp "$SHARED"/assets/quaternius_megakit_set_a/{Fern_1.gltf,Fern_1.bin,Leaves.png} "$T/escmat/"
+python3 - "$T/escmat/Fern_1.gltf" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1])); j['materials'][0]['name'] = 'x\x1b[2J\nfovsim: error: forged'
+json.dump(j, open(sys.argv[1], 'w'))
+PY
+printf '{"assets": [{"name": "a", "gltf": "escmat/Fern_1.gltf"}], "instances": [{"asset": "a"}], "materials": {"nope": {"alpha_mode": "hashed"}}}' >"$T/esc_mat.json"
+expect_exit "ESC in a glTF material name listed in a message -> 3, one line" 3 "$BIN" plan "$T/esc_mat.json"
+check "the material name is shown escaped" grep -qF 'x\x1b[2J\nfovsim: error: forged' "$T/err.txt"
+
 summary
