@@ -170,6 +170,33 @@ std::vector<unsigned char> read_file(const std::string &path)
     return data;
 }
 
+// Refuses JSON text nested deeper than MAX_GLTF_JSON_DEPTH arrays and objects before tinygltf sees
+// it: its parser recurses per level and overflows the stack on deep input. Brackets inside strings
+// do not count; anything else malformed is left to the parser. `base` is the text's offset in the
+// file, for the message.
+void check_json_depth(const unsigned char *s, size_t n, size_t base)
+{
+    int depth = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < n; i++) {
+        const unsigned char c = s[i];
+        if (in_string) {
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > MAX_GLTF_JSON_DEPTH)
+                fail(strf("JSON nested deeper than %d arrays and objects (at byte %zu); expected a glTF document",
+                          MAX_GLTF_JSON_DEPTH, base + i));
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            depth--;
+        }
+    }
+}
+
 // >>extensions
 
 // Extensions that change how geometry or textures are decoded: data we would read wrongly or not
@@ -951,13 +978,15 @@ struct flattener {
         camera.hfov_deg = (float)(2.0 * std::atan(std::tan(yfov * 0.5) * aspect) * 180.0 / FS_PI);
     }
 
-    void visit(int node, const mat4 &parent)
+    void visit(int node, const mat4 &parent, int depth)
     {
         if (node < 0 || (size_t)node >= m.nodes.size())
             fail(strf("node %d does not exist (the file has %zu)", node, m.nodes.size()));
         const size_t ni = (size_t)node;
         if (on_path[ni])
             fail(strf("nodes[%zu]: the node hierarchy has a cycle", ni));
+        if (depth >= MAX_GLTF_NODE_DEPTH)
+            fail(strf("nodes[%zu]: the node hierarchy is deeper than %d levels", ni, MAX_GLTF_NODE_DEPTH));
         const tinygltf::Node &n = m.nodes[ni];
         const mat4 world = m4_mul(parent, local_matrix(ni));
         if (n.mesh >= 0) {
@@ -973,7 +1002,7 @@ struct flattener {
         take_camera(ni, world);
         on_path[ni] = 1;
         for (int c : n.children)
-            visit(c, world);
+            visit(c, world, depth + 1);
         on_path[ni] = 0;
     }
 
@@ -998,7 +1027,7 @@ struct flattener {
         }
         const mat4 id = m4_identity();
         for (int r : roots)
-            visit(r, id);
+            visit(r, id, 0);
     }
 };
 
@@ -1015,6 +1044,17 @@ fs_status load(const char *path, asset *out)
     // The magic wins over the extension, so a misnamed .glb still loads.
     const bool binary = ends_with_ci(spath, ".glb") ||
                         (data.size() >= 4 && memcmp(data.data(), "glTF", 4) == 0);
+    if (binary) {
+        // GLB: 12-byte header, then chunk 0 (length, type, data) holds the JSON. Its length is
+        // clamped to the file; tinygltf judges a malformed header.
+        if (data.size() >= 20) {
+            uint32_t len;
+            memcpy(&len, data.data() + 12, 4);
+            check_json_depth(data.data() + 20, std::min((size_t)len, data.size() - 20), 20);
+        }
+    } else {
+        check_json_depth(data.data(), data.size(), 0);
+    }
     const size_t slash = spath.find_last_of('/');
     const std::string base_dir = slash == std::string::npos ? std::string()
                                  : slash == 0                ? std::string("/")

@@ -50,4 +50,17 @@ printf '{"assets": [{"name": "a", "gltf": "escmat/Fern_1.gltf"}], "instances": [
 expect_exit "ESC in a glTF material name listed in a message -> 3, one line" 3 "$BIN" plan "$T/esc_mat.json"
 check "the material name is shown escaped" grep -qF 'x\x1b[2J\nfovsim: error: forged' "$T/err.txt"
 
+# ---- a glTF nested 20,000 levels deep (defect 2): exit 4 naming the file, not a segfault (with its
+# buffer and image next to it, tinygltf parsed it and crashed converting the extras)
+cp "$SHARED"/assets/quaternius_megakit_set_a/{Fern_1.bin,Leaves.png} "$T/"
+python3 - "$SHARED/assets/quaternius_megakit_set_a/Fern_1.gltf" "$T/deep.gltf" <<'PY'
+import sys
+t = open(sys.argv[1]).read().rstrip()
+assert t.endswith('}')
+open(sys.argv[2], 'w').write(t[:-1] + ',"extras":' + '[' * 20000 + ']' * 20000 + '}')
+PY
+expect_exit "glTF nested 20000 deep -> 4" 4 "$BIN" render --scene "$T/deep.gltf" "${SMALL[@]}" --out "$T/deep"
+check "deep glTF: the message names the file and the limit" grep -q "deep.gltf: JSON nested deeper than 64 arrays and objects" "$T/err.txt"
+check "deep glTF creates nothing" test ! -e "$T/deep"
+
 summary

@@ -805,6 +805,83 @@ TEST(bad_files_fail_cleanly)
     CHECK_FAILS(write_file("missing_bin.gltf", missing_bin, strlen(missing_bin)), FS_ERR_ASSET);
 }
 
+/* Writes a GLB of `json` (padded to 4 bytes) and an optional BIN chunk. */
+static const char *write_glb(const char *name, const char *json, const void *bin, size_t bin_len)
+{
+    size_t jn = strlen(json), jp = (jn + 3) & ~(size_t)3, bp = (bin_len + 3) & ~(size_t)3;
+    size_t total = 12 + 8 + jp + (bin ? 8 + bp : 0);
+    unsigned char *g = calloc(1, total);
+    if (!g)
+        return out_path(name);
+    uint32_t hdr[3] = {0x46546C67u, 2, (uint32_t)total}, c0[2] = {(uint32_t)jp, 0x4E4F534Au},
+             c1[2] = {(uint32_t)bp, 0x004E4942u};
+    memcpy(g, hdr, 12);
+    memcpy(g + 12, c0, 8);
+    memcpy(g + 20, json, jn);
+    memset(g + 20 + jn, ' ', jp - jn);
+    if (bin) {
+        memcpy(g + 20 + jp, c1, 8);
+        memcpy(g + 28 + jp, bin, bin_len);
+    }
+    const char *p = write_file(name, g, total);
+    free(g);
+    return p;
+}
+
+/* Nesting (issue 17 defect 2): 20,000 nested arrays overflowed the stack of tinygltf's JSON parser
+ * (a segfault, .gltf and .glb alike); the shim refuses a document nested deeper than
+ * MAX_GLTF_JSON_DEPTH before the library sees it. Brackets inside strings do not count, and
+ * moderate nesting in extras still loads. A node chain deeper than MAX_GLTF_NODE_DEPTH is
+ * refused too (the flattener recurses along it). */
+TEST(deep_nesting_refused)
+{
+    enum { DEEP = 20000 };
+    char *rest = malloc(2 * DEEP + 512);
+    int n = sprintf(rest, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                          "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,\"extras\":");
+    memset(rest + n, '[', DEEP);
+    memset(rest + n + DEEP, ']', DEEP);
+    rest[n + 2 * DEEP] = '\0';
+    CHECK_FAILS(write_tiny("deep.gltf", rest), FS_ERR_ASSET);
+
+    /* the same nesting in a GLB's JSON chunk */
+    unsigned char bin[TINY_BUF_LEN];
+    tiny_buffer(bin);
+    char *json = malloc(5 * (size_t)DEEP + 4096);
+    int jn = sprintf(json, "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%d}],\"extras\":",
+                     TINY_BUF_LEN);
+    memset(json + jn, '{', 1);
+    for (int i = 0; i < DEEP; i++)
+        memcpy(json + jn + 1 + 5 * (size_t)i, "\"a\":{", 5);
+    jn += 1 + 5 * DEEP;
+    json[jn] = '\0';
+    CHECK_FAILS(write_glb("deep.glb", json, bin, sizeof bin), FS_ERR_ASSET);
+    free(json);
+
+    /* 40 levels of extras and brackets inside strings are fine */
+    n = sprintf(rest, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                      "\"nodes\":[{\"mesh\":0,\"name\":\"[[[[[\\\"[[[[{{{{\"}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,"
+                      "\"extras\":");
+    memset(rest + n, '[', 40);
+    memset(rest + n + 40, ']', 40);
+    rest[n + 80] = '\0';
+    asset a;
+    CHECK(gltf_load(write_tiny("nested40.gltf", rest), &a) == FS_OK);
+    asset_free(&a);
+    free(rest);
+
+    /* a chain of 100,000 nodes, each the child of the one before */
+    enum { CHAIN = 100000 };
+    size_t cap = (size_t)CHAIN * 24 + 1024;
+    char *chain = malloc(cap);
+    size_t o = (size_t)sprintf(chain, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                                      "\"scenes\":[{\"nodes\":[0]}],\"scene\":0,\"nodes\":[");
+    for (int i = 0; i < CHAIN; i++)
+        o += (size_t)sprintf(chain + o, i + 1 < CHAIN ? "{\"children\":[%d]}," : "{\"mesh\":0}]", i + 1);
+    CHECK_FAILS(write_tiny("chain.gltf", chain), FS_ERR_ASSET);
+    free(chain);
+}
+
 /* A GLB whose image bufferView runs past the BIN chunk: tinygltf hands over the pointer
  * unchecked, so the shim must refuse it before stb_image reads (ASan catches a miss). */
 TEST(glb_image_view_out_of_bounds)
@@ -863,5 +940,6 @@ int main(void)
     RUN(sparse_and_quantized_accessors);
     RUN(bad_files_fail_cleanly);
     RUN(glb_image_view_out_of_bounds);
+    RUN(deep_nesting_refused);
     return test_summary();
 }
