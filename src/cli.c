@@ -148,7 +148,9 @@ void cli_print_help(command cmd)
            "  --gpu N             EGL device index (default: first hardware device, else llvmpipe)\n"
            "  --gl-debug          GL debug output on stderr (always on in debug builds)\n"
            "  --quiet             no progress line\n"
-           "  --verbose           print the renderer and what is loaded\n",
+           "  --verbose           print the renderer and what is loaded\n"
+           "  --asset-root DIR    glTF buffer and image URIs may also name files under DIR (default:\n"
+           "                      only under the glTF file's own folder; README \"Limits\")\n",
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
@@ -316,7 +318,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
-                                                 "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split"};
+                                                 "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
+                                                 "--asset-root"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -340,6 +343,12 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->out_dir = val;
         else if (!strcmp(opt, "--cache"))
             d->cache_dir = val;
+        else if (!strcmp(opt, "--asset-root")) {
+            d->asset_root = val;
+            ok = *val != '\0';
+            if (!ok)
+                log_error("--asset-root: expected a folder, got ''");
+        }
         else if (!strcmp(opt, "--supersample"))
             ok = parse_int(opt, val, 1, 16, &d->supersample);
         else if (!strcmp(opt, "--reference")) {

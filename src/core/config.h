@@ -30,6 +30,11 @@
 #define MAX_GLTF_JSON_DEPTH 64
 #endif
 
+/* Largest file a glTF asset may be or reference (its .gltf/.glb, .bin buffers, images), in bytes. */
+#ifndef MAX_ASSET_FILE_BYTES
+#define MAX_ASSET_FILE_BYTES (1u << 30)
+#endif
+
 /* glTF node hierarchy: the flattener recurses along it, so a deeper chain of children is refused. */
 #ifndef MAX_GLTF_NODE_DEPTH
 #define MAX_GLTF_NODE_DEPTH 1024

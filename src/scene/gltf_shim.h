@@ -13,6 +13,8 @@
 #ifndef FOVSIM_GLTF_SHIM_H
 #define FOVSIM_GLTF_SHIM_H
 
+#include <stdint.h>
+
 #include "core/status.h"
 #include "scene/scene.h"
 
@@ -23,6 +25,11 @@ extern "C" {
 /* Loads `path` into *out (zeroed first). On failure prints one line
  * `<path>: <where>: <what>` via log_error, leaves *out zeroed, returns FS_ERR_ASSET or FS_ERR_IO. */
 fs_status gltf_load(const char *path, asset *out);
+
+/* Process-wide input limits (README "Limits"), set once from the command line before scenes load.
+ * asset_root: URIs may also name files under this folder (--asset-root; NULL = only the glTF file's
+ * own folder). Returns FS_ERR_USAGE with a message when the folder cannot be resolved. */
+fs_status gltf_set_asset_root(const char *dir);
 
 #ifdef __cplusplus
 }

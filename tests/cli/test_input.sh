@@ -63,4 +63,43 @@ expect_exit "glTF nested 20000 deep -> 4" 4 "$BIN" render --scene "$T/deep.gltf"
 check "deep glTF: the message names the file and the limit" grep -q "deep.gltf: JSON nested deeper than 64 arrays and objects" "$T/err.txt"
 check "deep glTF creates nothing" test ! -e "$T/deep"
 
+# ---- glTF URIs (defects 7 and 10): each names a regular file under the glTF file's folder (or
+# --asset-root); a directory is said to be one (it was "out of memory", exit 9), and a URI that
+# leaves the folder is refused without reading the file or quoting its size
+mkdir -p "$T/uri/sub/adir" "$T/uri/tex"
+cp "$SHARED"/assets/quaternius_megakit_set_a/{Fern_1.gltf,Fern_1.bin,Leaves.png} "$T/uri/sub/"
+cp "$SHARED"/assets/quaternius_megakit_set_a/Leaves.png "$T/uri/tex/"
+ln -sf /etc/passwd "$T/uri/sub/link.bin"
+python3 - "$T/uri/sub" <<'PY'
+import json, sys
+d = sys.argv[1]
+def w(name, key, uri):
+    j = json.load(open(d + '/Fern_1.gltf')); j[key][0]['uri'] = uri; json.dump(j, open(d + '/' + name, 'w'))
+w('dir.gltf', 'buffers', 'adir')
+w('passwd.gltf', 'buffers', '../../../../../../../../../../etc/passwd')
+w('absolute.gltf', 'buffers', '/etc/passwd')
+w('link.gltf', 'buffers', 'link.bin')
+w('imgdir.gltf', 'images', 'adir')
+w('sibling.gltf', 'images', '../tex/Leaves.png')
+PY
+expect_exit "buffer URI names a directory -> 4" 4 "$BIN" render --scene "$T/uri/sub/dir.gltf" "${SMALL[@]}" --out "$T/uri/o1"
+check "directory URI: says what it is" grep -q "dir.gltf: URI 'adir' is a directory, expected a file" "$T/err.txt"
+expect_exit "image URI names a directory -> 4" 4 "$BIN" plan "$T/uri/sub/imgdir.gltf"
+check "directory image URI: says what it is" grep -q "imgdir.gltf: images\[0\] (Leaves): URI 'adir' is a directory" "$T/err.txt"
+expect_exit "URI ../../etc/passwd -> 4" 4 "$BIN" render --scene "$T/uri/sub/passwd.gltf" "${SMALL[@]}" --out "$T/uri/o2"
+check "../ URI: refused by the rule, no size quoted" bash -c "grep -q \"leaves the glTF file's folder\" '$T/err.txt' && ! grep -Eq '[0-9]{3,}|passwd.*bytes|File size' '$T/err.txt'"
+expect_exit "absolute URI -> 4" 4 "$BIN" plan "$T/uri/sub/absolute.gltf"
+check "absolute URI: refused" grep -q "URI '/etc/passwd' is an absolute path" "$T/err.txt"
+expect_exit "symlink out of the folder -> 4" 4 "$BIN" plan "$T/uri/sub/link.gltf"
+check "symlink URI: refused, no size quoted" bash -c "grep -q \"URI 'link.bin' leaves the glTF file's folder\" '$T/err.txt' && ! grep -q 'File size' '$T/err.txt'"
+expect_exit "sibling folder without --asset-root -> 4" 4 "$BIN" plan "$T/uri/sub/sibling.gltf"
+check "--asset-root widens the rule" bash -c "'$BIN' plan '$T/uri/sub/sibling.gltf' --asset-root '$T/uri' >/dev/null 2>'$T/err.txt'"
+check "--asset-root does not open /etc" bash -c "! '$BIN' plan '$T/uri/sub/passwd.gltf' --asset-root '$T/uri' >/dev/null 2>&1"
+expect_exit "--asset-root not a folder -> 2" 2 "$BIN" plan "$T/uri/sub/sibling.gltf" --asset-root "$T/uri/nope"
+check "the shipped example scene still loads" bash -c "'$BIN' plan '$SRC/scenes/examples/megakit_garden.json' >/dev/null"
+for f in "$SHARED"/assets/*/*.gltf "$SHARED"/assets/*/*.glb; do
+  check "shared asset loads: $(basename "$f")" bash -c "'$BIN' plan --scene '$f' >/dev/null 2>&1"
+done
+check "URI errors create nothing" test ! -e "$T/uri/o1" -a ! -e "$T/uri/o2"
+
 summary

@@ -882,6 +882,39 @@ TEST(deep_nesting_refused)
     free(chain);
 }
 
+/* URIs (issue 17 defects 7 and 10): a buffer URI naming a directory was "out of memory" (tinygltf
+ * asked for 2^63 bytes); one climbing out of the glTF file's folder read the file. Both are
+ * FS_ERR_ASSET now, decided before reading; a data: URI and a sibling file still load. */
+TEST(uris_name_files_under_the_folder)
+{
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", out_path("uri_dir.bin"));
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s'", dir);
+    CHECK(system(cmd) == 0);
+    const char *dir_json = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":48,\"uri\":\"gltf_uri_dir.bin\"}]}";
+    CHECK_FAILS(write_file("uri_dir.gltf", dir_json, strlen(dir_json)), FS_ERR_ASSET);
+    const char *up = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":48,"
+                     "\"uri\":\"../../../../../../../../../../../../etc/passwd\"}]}";
+    CHECK_FAILS(write_file("uri_up.gltf", up, strlen(up)), FS_ERR_ASSET);
+    const char *abs = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":48,\"uri\":\"/etc/passwd\"}]}";
+    CHECK_FAILS(write_file("uri_abs.gltf", abs, strlen(abs)), FS_ERR_ASSET);
+    /* a sibling .bin in the same folder loads */
+    unsigned char bin[TINY_BUF_LEN];
+    tiny_buffer(bin);
+    write_file("uri_sib.bin", bin, sizeof bin);
+    char json[4096];
+    snprintf(json, sizeof json,
+             "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%d,\"uri\":\"gltf_uri_sib.bin\"}],"
+             TINY_VIEWS TINY_ACCESSORS
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0}",
+             TINY_BUF_LEN);
+    asset a;
+    CHECK(gltf_load(write_file("uri_sib.gltf", json, strlen(json)), &a) == FS_OK);
+    asset_free(&a);
+}
+
 /* A GLB whose image bufferView runs past the BIN chunk: tinygltf hands over the pointer
  * unchecked, so the shim must refuse it before stb_image reads (ASan catches a miss). */
 TEST(glb_image_view_out_of_bounds)
@@ -941,5 +974,6 @@ int main(void)
     RUN(bad_files_fail_cleanly);
     RUN(glb_image_view_out_of_bounds);
     RUN(deep_nesting_refused);
+    RUN(uris_name_files_under_the_folder);
     return test_summary();
 }
