@@ -150,7 +150,10 @@ void cli_print_help(command cmd)
            "  --quiet             no progress line\n"
            "  --verbose           print the renderer and what is loaded\n"
            "  --asset-root DIR    glTF buffer and image URIs may also name files under DIR (default:\n"
-           "                      only under the glTF file's own folder; README \"Limits\")\n",
+           "                      only under the glTF file's own folder; README \"Limits\")\n"
+           "  --max-image-mpixels N   decoded-pixel budget per glTF image, in Mpixel of 2^20 pixels\n"
+           "                      (default 64 = 8192 x 8192), checked before decoding\n"
+           "  --max-scene-mpixels N   the same budget summed over a scene's images (default 256)\n",
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
@@ -319,7 +322,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
-                                                 "--asset-root"};
+                                                 "--asset-root", "--max-image-mpixels", "--max-scene-mpixels"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -348,7 +351,10 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = *val != '\0';
             if (!ok)
                 log_error("--asset-root: expected a folder, got ''");
-        }
+        } else if (!strcmp(opt, "--max-image-mpixels"))
+            ok = parse_int(opt, val, 1, 4096, &d->max_image_mpixels);
+        else if (!strcmp(opt, "--max-scene-mpixels"))
+            ok = parse_int(opt, val, 1, 65536, &d->max_scene_mpixels);
         else if (!strcmp(opt, "--supersample"))
             ok = parse_int(opt, val, 1, 16, &d->supersample);
         else if (!strcmp(opt, "--reference")) {

@@ -220,6 +220,8 @@ void check_json_depth(const unsigned char *s, size_t n, size_t base)
 // reaches the file system only through these callbacks.
 
 std::string g_asset_root; // realpath of --asset-root, or empty
+uint64_t g_image_budget = GLTF_DEFAULT_IMAGE_PIXELS, g_scene_budget = GLTF_DEFAULT_SCENE_PIXELS;
+uint64_t g_scene_pixels; // declared pixels decoded since gltf_begin_scene
 
 struct uri_state {
     std::string base_dir;  // as passed to tinygltf ("" = the current directory)
@@ -693,6 +695,21 @@ bool load_image_cb(tinygltf::Image *image, const int idx, std::string *err, std:
         st->errors[idx] = strf("%ux%u is larger than MAX_TEXTURE_SIZE (%d)", w, h, MAX_TEXTURE_SIZE);
         return true;
     }
+    const uint64_t px = (uint64_t)w * h;
+    if (px > g_image_budget) {
+        st->errors[idx] = strf("%ux%u is %.1f Mpixel, over the budget of %.1f Mpixel per image "
+                               "(--max-image-mpixels raises it)", w, h, (double)px / (1 << 20),
+                               (double)g_image_budget / (1 << 20));
+        return true;
+    }
+    if (px > g_scene_budget || g_scene_pixels > g_scene_budget - px) {
+        st->errors[idx] = strf("%ux%u (%.1f Mpixel) would bring the scene's images to %.1f Mpixel, over the "
+                               "budget of %.1f Mpixel per scene (--max-scene-mpixels raises it)", w, h,
+                               (double)px / (1 << 20), (double)(g_scene_pixels + px) / (1 << 20),
+                               (double)g_scene_budget / (1 << 20));
+        return true;
+    }
+    g_scene_pixels += px;
     std::string e;
     if (!tinygltf::LoadImageData(image, idx, &e, warn, req_w, req_h, bytes, size, nullptr)) {
         std::string line = first_line(e);
@@ -1338,6 +1355,14 @@ extern "C" fs_status gltf_set_asset_root(const char *dir)
     g_asset_root = real;
     return FS_OK;
 }
+
+extern "C" void gltf_set_pixel_budget(uint64_t per_image, uint64_t per_scene)
+{
+    g_image_budget = per_image ? per_image : GLTF_DEFAULT_IMAGE_PIXELS;
+    g_scene_budget = per_scene ? per_scene : GLTF_DEFAULT_SCENE_PIXELS;
+}
+
+extern "C" void gltf_begin_scene(void) { g_scene_pixels = 0; }
 
 extern "C" fs_status gltf_load(const char *path, asset *out)
 {

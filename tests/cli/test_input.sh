@@ -102,4 +102,34 @@ for f in "$SHARED"/assets/*/*.gltf "$SHARED"/assets/*/*.glb; do
 done
 check "URI errors create nothing" test ! -e "$T/uri/o1" -a ! -e "$T/uri/o2"
 
+# ---- a 256 KB PNG declaring 16384x16384 (defect 3): refused from its header (it took 146 s and
+# 2.1 GB before); the budget is per image and per scene, and a flag raises it. Memory is capped
+# here so that a regression fails instead of eating the machine.
+mkdir -p "$T/png"
+cp "$SHARED"/assets/quaternius_megakit_set_a/{Fern_1.gltf,Fern_1.bin,Leaves.png} "$T/png/"
+python3 - "$T/png" <<'PY'
+import json, struct, sys, zlib
+d = sys.argv[1]
+def chunk(t, b): return struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
+def png(path, w, h):
+    c = zlib.compressobj(9); row = b'\0' * (w + 1)
+    idat = b''.join(c.compress(row) for _ in range(h)) + c.flush()
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 0, 0, 0, 0))
+                           + chunk(b'IDAT', idat) + chunk(b'IEND', b''))
+png(d + '/huge.png', 16384, 16384)
+png(d + '/big.png', 4096, 4096)
+for name, uri in (('huge.gltf', 'huge.png'), ('big.gltf', 'big.png')):
+    j = json.load(open(d + '/Fern_1.gltf')); j['images'][0]['uri'] = uri; json.dump(j, open(d + '/' + name, 'w'))
+json.dump({"assets": [{"name": "b%d" % i, "gltf": "big.gltf"} for i in range(3)],
+           "instances": [{"asset": "b%d" % i} for i in range(3)]}, open(d + '/three.json', 'w'))
+PY
+expect_exit "PNG declaring 16384x16384 -> 4, fast" 4 bash -c "ulimit -v 1500000; exec timeout 20 '$BIN' render --scene '$T/png/huge.gltf' --frames 1 --width 32 --height 32 --out '$T/png/o'"
+check "huge PNG: the message gives the sizes and the flag" grep -q "huge.gltf: images\[0\] (Leaves): 16384x16384 is 256.0 Mpixel, over the budget of 64.0 Mpixel per image (--max-image-mpixels raises it)" "$T/err.txt"
+check "huge PNG creates nothing" test ! -e "$T/png/o"
+check "a 4096x4096 texture is within the budget" bash -c "'$BIN' plan '$T/png/big.gltf' >/dev/null"
+expect_exit "--max-image-mpixels 8 refuses 16 Mpixel -> 4" 4 "$BIN" plan "$T/png/big.gltf" --max-image-mpixels 8
+expect_exit "three 16 Mpixel assets over --max-scene-mpixels 40 -> 4" 4 "$BIN" plan "$T/png/three.json" --max-scene-mpixels 40
+check "the scene budget message gives the total" grep -q "would bring the scene's images to 48.0 Mpixel, over the budget of 40.0 Mpixel per scene" "$T/err.txt"
+check "--max-scene-mpixels 48 lets them through" bash -c "'$BIN' plan '$T/png/three.json' --max-scene-mpixels 48 >/dev/null"
+
 summary

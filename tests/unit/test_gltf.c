@@ -915,6 +915,34 @@ TEST(uris_name_files_under_the_folder)
     asset_free(&a);
 }
 
+/* Decoded-pixel budgets (issue 17 defect 3): checked against the declared size before decoding. */
+TEST(pixel_budget)
+{
+    char rest[2048];
+    snprintf(rest, sizeof rest,
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3,\"material\":0}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,"
+             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+             "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"data:image/png;base64,%s\"}]",
+             k_png_rgb_2x2);
+    const char *p = write_tiny("budget.gltf", rest);
+    asset a;
+    gltf_begin_scene();
+    CHECK(gltf_load(p, &a) == FS_OK); /* 4 pixels, default budgets */
+    asset_free(&a);
+    gltf_set_pixel_budget(3, 0); /* 3 pixels per image */
+    CHECK_FAILS(p, FS_ERR_ASSET);
+    gltf_set_pixel_budget(0, 6); /* 6 per scene: the first 2x2 fits, the second does not */
+    gltf_begin_scene();
+    CHECK(gltf_load(p, &a) == FS_OK);
+    asset_free(&a);
+    CHECK_FAILS(p, FS_ERR_ASSET);
+    gltf_begin_scene();
+    CHECK(gltf_load(p, &a) == FS_OK);
+    asset_free(&a);
+    gltf_set_pixel_budget(0, 0);
+}
+
 /* A GLB whose image bufferView runs past the BIN chunk: tinygltf hands over the pointer
  * unchecked, so the shim must refuse it before stb_image reads (ASan catches a miss). */
 TEST(glb_image_view_out_of_bounds)
@@ -975,5 +1003,6 @@ int main(void)
     RUN(glb_image_view_out_of_bounds);
     RUN(deep_nesting_refused);
     RUN(uris_name_files_under_the_folder);
+    RUN(pixel_budget);
     return test_summary();
 }
