@@ -149,7 +149,12 @@ void cli_print_help(command cmd)
            "  --gpu N             EGL device index (default: first hardware device, else llvmpipe)\n"
            "  --gl-debug          GL debug output on stderr (always on in debug builds)\n"
            "  --quiet             no progress line\n"
-           "  --verbose           print the renderer and what is loaded\n",
+           "  --verbose           print the renderer and what is loaded\n"
+           "  --asset-root DIR    glTF buffer and image URIs may also name files under DIR (default:\n"
+           "                      only under the glTF file's own folder; README \"Limits\")\n"
+           "  --max-image-mpixels N   decoded-pixel budget per glTF image, in Mpixel of 2^20 pixels\n"
+           "                      (default 64 = 8192 x 8192), checked before decoding\n"
+           "  --max-scene-mpixels N   the same budget summed over a scene's images (default 256)\n",
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
@@ -317,7 +322,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
-                                                 "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split"};
+                                                 "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
+                                                 "--asset-root", "--max-image-mpixels", "--max-scene-mpixels"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -341,6 +347,15 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->out_dir = val;
         else if (!strcmp(opt, "--cache"))
             d->cache_dir = val;
+        else if (!strcmp(opt, "--asset-root")) {
+            d->asset_root = val;
+            ok = *val != '\0';
+            if (!ok)
+                log_error("--asset-root: expected a folder, got ''");
+        } else if (!strcmp(opt, "--max-image-mpixels"))
+            ok = parse_int(opt, val, 1, 4096, &d->max_image_mpixels);
+        else if (!strcmp(opt, "--max-scene-mpixels"))
+            ok = parse_int(opt, val, 1, 65536, &d->max_scene_mpixels);
         else if (!strcmp(opt, "--supersample"))
             ok = parse_int(opt, val, 1, 16, &d->supersample);
         else if (!strcmp(opt, "--reference")) {
@@ -452,21 +467,36 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++)
                     d->bench_modes[d->bench_mode_count++] = (alpha_mode)m;
             } else {
-                char buf[256];
-                snprintf(buf, sizeof buf, "%s", val);
-                for (char *tok = strtok(buf, ","); tok && ok; tok = strtok(NULL, ",")) {
+                /* Items separated by commas; an empty list or item (`''`, `,`, `a,,b`) is an error
+                 * with a message, never the default set. */
+                const char *p = val;
+                for (;;) {
+                    const char *comma = strchr(p, ',');
+                    size_t len = comma ? (size_t)(comma - p) : strlen(p);
+                    char tok[32];
+                    if (len == 0 || len >= sizeof tok) {
+                        log_error("--modes: expected alpha modes separated by commas (modes: %s, or all), got '%s'",
+                                  alpha_mode_list(), val);
+                        ok = false;
+                        break;
+                    }
+                    memcpy(tok, p, len);
+                    tok[len] = '\0';
                     alpha_mode m = alpha_mode_parse(tok);
                     bool dup = false;
                     for (int k = 0; k < d->bench_mode_count; k++)
                         dup |= d->bench_modes[k] == m;
-                    ok = m != ALPHA_MODE_DEFAULT && !dup;
-                    if (!ok)
+                    if (m == ALPHA_MODE_DEFAULT || dup) {
                         log_error("--modes: '%s' is %s (modes: %s, or all)", tok, dup ? "given twice" : "not a mode",
                                   alpha_mode_list());
-                    else
-                        d->bench_modes[d->bench_mode_count++] = m;
+                        ok = false;
+                        break;
+                    }
+                    d->bench_modes[d->bench_mode_count++] = m;
+                    if (!comma)
+                        break;
+                    p = comma + 1;
                 }
-                ok = ok && d->bench_mode_count > 0;
             }
         } else if (!strcmp(opt, "--fade-n"))
             ok = parse_float(opt, val, 0.0f, 16.0f, &d->fade_n);

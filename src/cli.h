@@ -72,6 +72,9 @@ typedef struct run_desc {
     int reference_kind;      /* reference: --reference exact (0, default) or stochastic (1) */
     bool reference_set;      /* --reference was given */
     int ref_memory_mb;       /* reference: --ref-memory MB, the exact kind's list budget, 0 = default */
+    const char *asset_root;  /* --asset-root DIR: glTF URIs may also name files under it */
+    int max_image_mpixels;   /* --max-image-mpixels N: decoded-pixel budget per image (0 = 64) */
+    int max_scene_mpixels;   /* --max-scene-mpixels N: per scene (0 = 256) */
     const char *cache_dir;   /* --cache DIR for reference frames, NULL = the default */
     bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
     bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */

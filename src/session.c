@@ -3,6 +3,8 @@
  * the reference cache, and small statistics. */
 #include "session.h"
 
+#include "scene/gltf_shim.h"
+
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -34,7 +36,11 @@ bool session_interrupted(void)
 /* >>setup */
 fs_status session_load_scene(const run_desc *d, scene *sc)
 {
-    fs_status st = d->scene_path ? scene_load_file(d->scene_path, sc) : scene_load_builtin(d->builtin, sc);
+    fs_status st = gltf_set_asset_root(d->asset_root);
+    if (st != FS_OK)
+        return st;
+    gltf_set_pixel_budget((uint64_t)d->max_image_mpixels << 20, (uint64_t)d->max_scene_mpixels << 20);
+    st = d->scene_path ? scene_load_file(d->scene_path, sc) : scene_load_builtin(d->builtin, sc);
     if (st == FS_OK)
         st = scene_validate(sc);
     if (st != FS_OK)

@@ -24,6 +24,22 @@
 #endif
 
 /* Largest display edge accepted, in pixels. */
+/* glTF JSON: arrays and objects nested deeper than this are refused before tinygltf parses them
+ * (its parser recurses; 20,000 levels overflowed the stack). Real assets nest about 8 deep. */
+#ifndef MAX_GLTF_JSON_DEPTH
+#define MAX_GLTF_JSON_DEPTH 64
+#endif
+
+/* Largest file a glTF asset may be or reference (its .gltf/.glb, .bin buffers, images), in bytes. */
+#ifndef MAX_ASSET_FILE_BYTES
+#define MAX_ASSET_FILE_BYTES (1u << 30)
+#endif
+
+/* glTF node hierarchy: the flattener recurses along it, so a deeper chain of children is refused. */
+#ifndef MAX_GLTF_NODE_DEPTH
+#define MAX_GLTF_NODE_DEPTH 1024
+#endif
+
 #ifndef MAX_DISPLAY_SIZE
 #define MAX_DISPLAY_SIZE 8192
 #endif

@@ -11,11 +11,82 @@ void log_set_verbose(bool on) { g_verbose = on; }
 bool log_is_verbose(void) { return g_verbose; }
 void log_set_quiet_errors(bool on) { g_quiet_errors = on; }
 
+/* Length of the well-formed UTF-8 sequence at s (1..4), or 0 when it is not one (a stray or
+ * truncated byte, an overlong form, a surrogate, beyond U+10FFFF) or is a C1 control (U+0080 to
+ * U+009F, which some terminals obey like ESC sequences). */
+static size_t utf8_printable_len(const unsigned char *s, size_t n)
+{
+    unsigned c = s[0];
+    size_t len = c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 0;
+    if (len == 0 || c > 0xF4 || len > n)
+        return 0;
+    unsigned cp = c & (0x7Fu >> len);
+    for (size_t i = 1; i < len; i++) {
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+        cp = cp << 6 | (s[i] & 0x3Fu);
+    }
+    static const unsigned min_cp[5] = {0, 0, 0x80, 0x800, 0x10000};
+    if (cp < min_cp[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF) || cp <= 0x9F)
+        return 0;
+    return len;
+}
+
+void log_escape_write(FILE *f, const char *msg, size_t n)
+{
+    const unsigned char *s = (const unsigned char *)msg;
+    for (size_t i = 0; i < n;) {
+        unsigned c = s[i];
+        if (c >= 0x20 && c < 0x7F) {
+            fputc((int)c, f);
+            i++;
+            continue;
+        }
+        size_t len = c >= 0x80 ? utf8_printable_len(s + i, n - i) : 0;
+        if (len) {
+            fwrite(s + i, 1, len, f);
+            i += len;
+            continue;
+        }
+        if (c == '\n')
+            fputs("\\n", f);
+        else if (c == '\r')
+            fputs("\\r", f);
+        else if (c == '\t')
+            fputs("\\t", f);
+        else
+            fprintf(f, "\\x%02x", c);
+        i++;
+    }
+}
+
+/* One line: the message is formatted, then every byte that is not printable text (control
+ * characters, DEL, malformed UTF-8, C1 controls) is written as an escape (\n, \x1b, ...), so a
+ * file name or JSON key quoted in a message can neither break the line nor drive the terminal. */
 static void vline(const char *prefix, const char *fmt, va_list ap)
 {
+    char small[1024], *buf = small;
+    va_list ap2;
+    va_copy(ap2, ap);
+    int n = vsnprintf(small, sizeof small, fmt, ap);
+    if (n >= (int)sizeof small) {
+        char *big = malloc((size_t)n + 1);
+        if (big) {
+            vsnprintf(big, (size_t)n + 1, fmt, ap2);
+            buf = big;
+        } else {
+            n = (int)sizeof small - 1; /* the truncated message rather than none */
+        }
+    }
+    va_end(ap2);
+    while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == '\r' || buf[n - 1] == ' ' || buf[n - 1] == '\t'))
+        n--; /* a driver's or library's trailing newline is not part of the message */
     fputs(prefix, stderr);
-    vfprintf(stderr, fmt, ap);
+    if (n > 0)
+        log_escape_write(stderr, buf, (size_t)n);
     fputc('\n', stderr);
+    if (buf != small)
+        free(buf);
 }
 
 void log_error(const char *fmt, ...)

@@ -9,6 +9,8 @@
 #define FOVSIM_LOG_H
 
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -24,6 +26,14 @@ void log_set_verbose(bool on);
 bool log_is_verbose(void);
 /* Tests that feed bad input on purpose can silence the expected error lines. */
 void log_set_quiet_errors(bool on);
+
+/* Every message below is one line: after formatting, bytes that are not printable text (control
+ * characters incl. newline and ESC, DEL, malformed UTF-8, C1 controls) are written escaped
+ * (\n, \r, \t, \x1b, ...), so input quoted in a message (file names, JSON keys, glTF URIs) cannot
+ * break the line, forge another one or send terminal escape sequences. Well-formed UTF-8 passes. */
+
+/* Writes msg[0..n) to f escaped as described above (no newline added). */
+void log_escape_write(FILE *f, const char *msg, size_t n);
 
 /* `fovsim: error: <msg>` on stderr, one line (a newline is appended). */
 void log_error(const char *fmt, ...) FS_PRINTF(1, 2);

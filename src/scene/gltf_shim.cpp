@@ -25,6 +25,11 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <limits.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include "core/config.h"
 #include "core/fmath.h"
 #include "core/log.h"
@@ -155,6 +160,12 @@ std::vector<unsigned char> read_file(const std::string &path)
     FILE *f = fopen(path.c_str(), "rb");
     if (!f)
         fail(strf("cannot open: %s", strerror(errno)), FS_ERR_IO);
+    struct stat sb;
+    if (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode) &&
+        (unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
+        fclose(f);
+        fail(strf("is larger than %llu MiB (MAX_ASSET_FILE_BYTES)", (unsigned long long)MAX_ASSET_FILE_BYTES >> 20));
+    }
     std::vector<unsigned char> data;
     unsigned char chunk[1 << 16];
     for (;;) {
@@ -168,6 +179,192 @@ std::vector<unsigned char> read_file(const std::string &path)
     if (bad)
         fail(strf("cannot read: %s", strerror(err)), FS_ERR_IO);
     return data;
+}
+
+// Refuses JSON text nested deeper than MAX_GLTF_JSON_DEPTH arrays and objects before tinygltf sees
+// it: its parser recurses per level and overflows the stack on deep input. Brackets inside strings
+// do not count; anything else malformed is left to the parser. `base` is the text's offset in the
+// file, for the message.
+void check_json_depth(const unsigned char *s, size_t n, size_t base)
+{
+    int depth = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < n; i++) {
+        const unsigned char c = s[i];
+        if (in_string) {
+            if (c == '\\')
+                i++;
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > MAX_GLTF_JSON_DEPTH)
+                fail(strf("JSON nested deeper than %d arrays and objects (at byte %zu); expected a glTF document",
+                          MAX_GLTF_JSON_DEPTH, base + i));
+        } else if ((c == ']' || c == '}') && depth > 0) {
+            depth--;
+        }
+    }
+}
+
+
+// >>uris
+//
+// The rule (README "Limits"): a buffer or image URI names a regular file under the folder of the
+// glTF file that references it (after resolving symbolic links), or under --asset-root DIR when one
+// is given; data: URIs are decoded in memory. A URI that leaves the folder is refused before the file
+// system is touched when it does so by its `..` components, and after realpath when by a link. A
+// directory, device or FIFO is refused by what it is, and a file larger than MAX_ASSET_FILE_BYTES by
+// its size; messages quote the URI, never the size or content of a file outside the folder. tinygltf
+// reaches the file system only through these callbacks.
+
+std::string g_asset_root; // realpath of --asset-root, or empty
+uint64_t g_image_budget = GLTF_DEFAULT_IMAGE_PIXELS, g_scene_budget = GLTF_DEFAULT_SCENE_PIXELS;
+uint64_t g_scene_pixels; // declared pixels decoded since gltf_begin_scene
+
+struct uri_state {
+    std::string base_dir;  // as passed to tinygltf ("" = the current directory)
+    std::string root;      // realpath of base_dir
+    std::map<std::string, std::string> refusals; // candidate path -> why it was refused
+    std::string last;      // the last refusal, for a failed buffer
+};
+
+bool path_under(const std::string &p, const std::string &root)
+{
+    if (root.empty())
+        return false;
+    if (root == "/")
+        return true;
+    return p.size() > root.size() && p.compare(0, root.size(), root) == 0 && p[root.size()] == '/';
+}
+
+// The URI part of a candidate path tinygltf built with JoinPath(base_dir, uri); empty when the
+// candidate is not below base_dir (its fallback to the current directory).
+bool uri_of(const uri_state &u, const std::string &path, std::string *uri)
+{
+    if (u.base_dir.empty()) {
+        *uri = path.compare(0, 2, "./") == 0 ? path.substr(2) : path;
+        return true;
+    }
+    const std::string pre = u.base_dir.back() == '/' ? u.base_dir : u.base_dir + "/";
+    if (path.compare(0, pre.size(), pre) != 0)
+        return false;
+    *uri = path.substr(pre.size());
+    return true;
+}
+
+// True when the `..` components of a relative path climb above its start.
+bool climbs_out(const std::string &rel)
+{
+    int depth = 0;
+    size_t b = 0;
+    while (b <= rel.size()) {
+        size_t e = rel.find('/', b);
+        if (e == std::string::npos)
+            e = rel.size();
+        const std::string c = rel.substr(b, e - b);
+        if (c == "..") {
+            if (--depth < 0)
+                return true;
+        } else if (!c.empty() && c != ".") {
+            depth++;
+        }
+        b = e + 1;
+    }
+    return false;
+}
+
+// Checks `path` against the rule; on refusal records why (keyed by the path) and returns false.
+bool uri_allowed(uri_state &u, const std::string &path)
+{
+    std::string uri;
+    if (!uri_of(u, path, &uri))
+        return false; // tinygltf's second guess, the current directory: never
+    auto refuse = [&](const std::string &why) {
+        u.last = strf("URI '%s' %s", uri.c_str(), why.c_str());
+        u.refusals[path] = u.last;
+        return false;
+    };
+    const std::string where = g_asset_root.empty() ? "the glTF file's folder"
+                                                   : "the glTF file's folder or --asset-root";
+    if (!uri.empty() && uri[0] == '/')
+        return refuse("is an absolute path, expected a path relative to the glTF file");
+    if (g_asset_root.empty() && climbs_out(uri))
+        return refuse("leaves " + where + " (URIs name files under it; --asset-root DIR widens that)");
+    char real[PATH_MAX];
+    if (!realpath(path.c_str(), real))
+        return refuse(strf("cannot be opened: %s", strerror(errno)));
+    if (!path_under(real, u.root) && !path_under(real, g_asset_root))
+        return refuse("leaves " + where + " (URIs name files under it; --asset-root DIR widens that)");
+    struct stat sb;
+    if (stat(real, &sb) != 0)
+        return refuse(strf("cannot be opened: %s", strerror(errno)));
+    if (S_ISDIR(sb.st_mode))
+        return refuse("is a directory, expected a file");
+    if (!S_ISREG(sb.st_mode))
+        return refuse("is not a regular file (a device, FIFO or socket), expected a file");
+    if ((unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES)
+        return refuse(strf("is larger than %llu MiB (MAX_ASSET_FILE_BYTES)",
+                           (unsigned long long)MAX_ASSET_FILE_BYTES >> 20));
+    return true;
+}
+
+bool fs_file_exists(const std::string &path, void *user)
+{
+    return uri_allowed(*static_cast<uri_state *>(user), path);
+}
+
+std::string fs_expand(const std::string &path, void *) { return path; } // no ~ or $VAR expansion
+
+bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *user)
+{
+    uri_state &u = *static_cast<uri_state *>(user);
+    if (!uri_allowed(u, path)) { // checked again: FileExists may not have been asked
+        if (err)
+            *err += u.last + "\n";
+        return false;
+    }
+    int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    struct stat sb;
+    if (fd < 0 || fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) ||
+        (unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
+        if (fd >= 0)
+            close(fd);
+        std::string uri;
+        uri_of(u, path, &uri);
+        u.last = strf("URI '%s' cannot be read as a file", uri.c_str());
+        if (err)
+            *err += u.last + "\n";
+        return false;
+    }
+    out->resize((size_t)sb.st_size);
+    size_t got = 0;
+    while (got < out->size()) {
+        ssize_t n = read(fd, out->data() + got, out->size() - got);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        got += (size_t)n;
+    }
+    close(fd);
+    if (got != out->size()) {
+        std::string uri;
+        uri_of(u, path, &uri);
+        u.last = strf("URI '%s' could not be read completely", uri.c_str());
+        if (err)
+            *err += u.last + "\n";
+        return false;
+    }
+    return true;
+}
+
+bool fs_write(std::string *err, const std::string &, const std::vector<unsigned char> &, void *)
+{
+    if (err)
+        *err += "fovsim does not write glTF files\n";
+    return false;
 }
 
 // >>extensions
@@ -412,8 +609,10 @@ std::vector<double> read_accessor(const tinygltf::Model &m, int ai, const char *
 // >>images
 
 // Image failures recorded by the image callback, reported only if the image is actually used.
+struct uri_state;
 struct image_state {
     const tinygltf::Model *model;
+    const uri_state *uris;
     std::map<int, std::string> errors;
 };
 
@@ -486,11 +685,31 @@ bool load_image_cb(tinygltf::Image *image, const int idx, std::string *err, std:
         st->errors[idx] = "no image data";
         return true;
     }
+    // The declared size decides, before anything is decoded (a 1 MB PNG may declare 16384 x 16384).
     uint32_t w = 0, h = 0;
-    if (peek_image_size(bytes, (size_t)size, &w, &h) && (w > MAX_TEXTURE_SIZE || h > MAX_TEXTURE_SIZE)) {
+    if (!peek_image_size(bytes, (size_t)size, &w, &h)) {
+        st->errors[idx] = "expected a PNG or JPEG image (the formats glTF allows), found no PNG or JPEG header";
+        return true;
+    }
+    if (w > MAX_TEXTURE_SIZE || h > MAX_TEXTURE_SIZE) {
         st->errors[idx] = strf("%ux%u is larger than MAX_TEXTURE_SIZE (%d)", w, h, MAX_TEXTURE_SIZE);
         return true;
     }
+    const uint64_t px = (uint64_t)w * h;
+    if (px > g_image_budget) {
+        st->errors[idx] = strf("%ux%u is %.1f Mpixel, over the budget of %.1f Mpixel per image "
+                               "(--max-image-mpixels raises it)", w, h, (double)px / (1 << 20),
+                               (double)g_image_budget / (1 << 20));
+        return true;
+    }
+    if (px > g_scene_budget || g_scene_pixels > g_scene_budget - px) {
+        st->errors[idx] = strf("%ux%u (%.1f Mpixel) would bring the scene's images to %.1f Mpixel, over the "
+                               "budget of %.1f Mpixel per scene (--max-scene-mpixels raises it)", w, h,
+                               (double)px / (1 << 20), (double)(g_scene_pixels + px) / (1 << 20),
+                               (double)g_scene_budget / (1 << 20));
+        return true;
+    }
+    g_scene_pixels += px;
     std::string e;
     if (!tinygltf::LoadImageData(image, idx, &e, warn, req_w, req_h, bytes, size, nullptr)) {
         std::string line = first_line(e);
@@ -520,8 +739,14 @@ image_rgba8 convert_image(const tinygltf::Model &m, const image_state &st, int s
     auto it = st.errors.find(src);
     if (it != st.errors.end())
         fail(where + ": " + it->second);
-    if (im.image.empty() || im.width < 1 || im.height < 1)
+    if (im.image.empty() || im.width < 1 || im.height < 1) {
+        // refused by the URI rule: say why (the key is the path tinygltf built from the URI)
+        for (const auto &kv : st.uris->refusals)
+            if (!im.uri.empty() && kv.first.size() >= im.uri.size() &&
+                kv.first.compare(kv.first.size() - im.uri.size(), im.uri.size(), im.uri) == 0)
+                fail(where + ": " + kv.second);
         fail(where + ": could not be loaded (missing or unreadable file)");
+    }
     if (im.width > MAX_TEXTURE_SIZE || im.height > MAX_TEXTURE_SIZE)
         fail(strf("%s: %dx%d is larger than MAX_TEXTURE_SIZE (%d)", where.c_str(), im.width, im.height,
                   MAX_TEXTURE_SIZE));
@@ -951,13 +1176,15 @@ struct flattener {
         camera.hfov_deg = (float)(2.0 * std::atan(std::tan(yfov * 0.5) * aspect) * 180.0 / FS_PI);
     }
 
-    void visit(int node, const mat4 &parent)
+    void visit(int node, const mat4 &parent, int depth)
     {
         if (node < 0 || (size_t)node >= m.nodes.size())
             fail(strf("node %d does not exist (the file has %zu)", node, m.nodes.size()));
         const size_t ni = (size_t)node;
         if (on_path[ni])
             fail(strf("nodes[%zu]: the node hierarchy has a cycle", ni));
+        if (depth >= MAX_GLTF_NODE_DEPTH)
+            fail(strf("nodes[%zu]: the node hierarchy is deeper than %d levels", ni, MAX_GLTF_NODE_DEPTH));
         const tinygltf::Node &n = m.nodes[ni];
         const mat4 world = m4_mul(parent, local_matrix(ni));
         if (n.mesh >= 0) {
@@ -973,7 +1200,7 @@ struct flattener {
         take_camera(ni, world);
         on_path[ni] = 1;
         for (int c : n.children)
-            visit(c, world);
+            visit(c, world, depth + 1);
         on_path[ni] = 0;
     }
 
@@ -998,7 +1225,7 @@ struct flattener {
         }
         const mat4 id = m4_identity();
         for (int r : roots)
-            visit(r, id);
+            visit(r, id, 0);
     }
 };
 
@@ -1015,16 +1242,37 @@ fs_status load(const char *path, asset *out)
     // The magic wins over the extension, so a misnamed .glb still loads.
     const bool binary = ends_with_ci(spath, ".glb") ||
                         (data.size() >= 4 && memcmp(data.data(), "glTF", 4) == 0);
+    if (binary) {
+        // GLB: 12-byte header, then chunk 0 (length, type, data) holds the JSON. Its length is
+        // clamped to the file; tinygltf judges a malformed header.
+        if (data.size() >= 20) {
+            uint32_t len;
+            memcpy(&len, data.data() + 12, 4);
+            check_json_depth(data.data() + 20, std::min((size_t)len, data.size() - 20), 20);
+        }
+    } else {
+        check_json_depth(data.data(), data.size(), 0);
+    }
     const size_t slash = spath.find_last_of('/');
     const std::string base_dir = slash == std::string::npos ? std::string()
                                  : slash == 0                ? std::string("/")
                                                              : spath.substr(0, slash);
 
+    uri_state u;
+    u.base_dir = base_dir;
+    {
+        char real[PATH_MAX];
+        if (!realpath(base_dir.empty() ? "." : base_dir.c_str(), real))
+            fail(strf("cannot resolve its folder: %s", strerror(errno)), FS_ERR_IO);
+        u.root = real;
+    }
     tinygltf::Model model;
     image_state st;
     st.model = &model;
+    st.uris = &u;
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(load_image_cb, &st);
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_file_exists, fs_expand, fs_read, fs_write, &u});
     std::string err, warn;
     bool ok;
     if (binary)
@@ -1036,11 +1284,14 @@ fs_status load(const char *path, asset *out)
     check_extensions(path, model, ok);
     if (!ok) {
         std::string line = first_line(err);
+        // A buffer refused by the URI rule: say why, not tinygltf's "File not found".
+        if (!u.last.empty() && (line.compare(0, 14, "File not found") == 0 || line.compare(0, 15, "File read error") == 0))
+            fail(u.last);
         fail(line.empty() ? std::string("tinygltf could not load the file") : line);
     }
-    std::string wline = first_line(warn);
-    if (!wline.empty())
-        log_warn("%s: %s", path, wline.c_str());
+    // tinygltf's warning (an image it could not read, say), or why the URI rule refused one: shown
+    // once the asset has loaded, so that a failing load prints only its one error line.
+    const std::string wline = !u.refusals.empty() ? u.refusals.begin()->second : first_line(warn);
 
     builder b;
     convert_materials(path, model, st, b);
@@ -1077,6 +1328,8 @@ fs_status load(const char *path, asset *out)
     b.prims.clear();
     b.images.clear();
     asset_compute_bounds(&a);
+    if (!wline.empty())
+        log_warn("%s: %s", path, wline.c_str());
     log_info("GLTF: [%s] %d prims, %d materials, %d images", a.name, a.prim_count, a.material_count,
              a.image_count);
     *out = a;
@@ -1084,6 +1337,32 @@ fs_status load(const char *path, asset *out)
 }
 
 } // namespace
+
+extern "C" fs_status gltf_set_asset_root(const char *dir)
+{
+    g_asset_root.clear();
+    if (!dir)
+        return FS_OK;
+    char real[PATH_MAX];
+    struct stat sb;
+    const char *why = !realpath(dir, real) || stat(real, &sb) != 0 ? strerror(errno)
+                      : !S_ISDIR(sb.st_mode)                      ? "not a folder"
+                                                                  : nullptr;
+    if (why) {
+        log_error("--asset-root: expected a folder, got '%s' (%s)", dir, why);
+        return FS_ERR_USAGE;
+    }
+    g_asset_root = real;
+    return FS_OK;
+}
+
+extern "C" void gltf_set_pixel_budget(uint64_t per_image, uint64_t per_scene)
+{
+    g_image_budget = per_image ? per_image : GLTF_DEFAULT_IMAGE_PIXELS;
+    g_scene_budget = per_scene ? per_scene : GLTF_DEFAULT_SCENE_PIXELS;
+}
+
+extern "C" void gltf_begin_scene(void) { g_scene_pixels = 0; }
 
 extern "C" fs_status gltf_load(const char *path, asset *out)
 {

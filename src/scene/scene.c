@@ -462,6 +462,7 @@ static fs_status load_gltf_scene(const char *path, scene *out)
     scene_init_defaults(out);
     snprintf(out->path, sizeof out->path, "%s", path);
     asset a = {0};
+    gltf_begin_scene();
     fs_status s = gltf_load(path, &a);
     if (s != FS_OK) {
         asset_free(&a);

@@ -921,6 +921,7 @@ static fs_status parse_instances(const jctx *c, const cJSON *arr, const asset_sp
 
 static fs_status load_assets(const jctx *c, asset_spec *specs, int n)
 {
+    gltf_begin_scene(); /* the per-scene pixel budget counts this scene's images */
     for (int i = 0; i < n; i++) {
         asset a = {0};
         fs_status s;

@@ -805,6 +805,144 @@ TEST(bad_files_fail_cleanly)
     CHECK_FAILS(write_file("missing_bin.gltf", missing_bin, strlen(missing_bin)), FS_ERR_ASSET);
 }
 
+/* Writes a GLB of `json` (padded to 4 bytes) and an optional BIN chunk. */
+static const char *write_glb(const char *name, const char *json, const void *bin, size_t bin_len)
+{
+    size_t jn = strlen(json), jp = (jn + 3) & ~(size_t)3, bp = (bin_len + 3) & ~(size_t)3;
+    size_t total = 12 + 8 + jp + (bin ? 8 + bp : 0);
+    unsigned char *g = calloc(1, total);
+    if (!g)
+        return out_path(name);
+    uint32_t hdr[3] = {0x46546C67u, 2, (uint32_t)total}, c0[2] = {(uint32_t)jp, 0x4E4F534Au},
+             c1[2] = {(uint32_t)bp, 0x004E4942u};
+    memcpy(g, hdr, 12);
+    memcpy(g + 12, c0, 8);
+    memcpy(g + 20, json, jn);
+    memset(g + 20 + jn, ' ', jp - jn);
+    if (bin) {
+        memcpy(g + 20 + jp, c1, 8);
+        memcpy(g + 28 + jp, bin, bin_len);
+    }
+    const char *p = write_file(name, g, total);
+    free(g);
+    return p;
+}
+
+/* Nesting (issue 17 defect 2): 20,000 nested arrays overflowed the stack of tinygltf's JSON parser
+ * (a segfault, .gltf and .glb alike); the shim refuses a document nested deeper than
+ * MAX_GLTF_JSON_DEPTH before the library sees it. Brackets inside strings do not count, and
+ * moderate nesting in extras still loads. A node chain deeper than MAX_GLTF_NODE_DEPTH is
+ * refused too (the flattener recurses along it). */
+TEST(deep_nesting_refused)
+{
+    enum { DEEP = 20000 };
+    char *rest = malloc(2 * DEEP + 512);
+    int n = sprintf(rest, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                          "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,\"extras\":");
+    memset(rest + n, '[', DEEP);
+    memset(rest + n + DEEP, ']', DEEP);
+    rest[n + 2 * DEEP] = '\0';
+    CHECK_FAILS(write_tiny("deep.gltf", rest), FS_ERR_ASSET);
+
+    /* the same nesting in a GLB's JSON chunk */
+    unsigned char bin[TINY_BUF_LEN];
+    tiny_buffer(bin);
+    char *json = malloc(5 * (size_t)DEEP + 4096);
+    int jn = sprintf(json, "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%d}],\"extras\":",
+                     TINY_BUF_LEN);
+    memset(json + jn, '{', 1);
+    for (int i = 0; i < DEEP; i++)
+        memcpy(json + jn + 1 + 5 * (size_t)i, "\"a\":{", 5);
+    jn += 1 + 5 * DEEP;
+    json[jn] = '\0';
+    CHECK_FAILS(write_glb("deep.glb", json, bin, sizeof bin), FS_ERR_ASSET);
+    free(json);
+
+    /* 40 levels of extras and brackets inside strings are fine */
+    n = sprintf(rest, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                      "\"nodes\":[{\"mesh\":0,\"name\":\"[[[[[\\\"[[[[{{{{\"}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,"
+                      "\"extras\":");
+    memset(rest + n, '[', 40);
+    memset(rest + n + 40, ']', 40);
+    rest[n + 80] = '\0';
+    asset a;
+    CHECK(gltf_load(write_tiny("nested40.gltf", rest), &a) == FS_OK);
+    asset_free(&a);
+    free(rest);
+
+    /* a chain of 100,000 nodes, each the child of the one before */
+    enum { CHAIN = 100000 };
+    size_t cap = (size_t)CHAIN * 24 + 1024;
+    char *chain = malloc(cap);
+    size_t o = (size_t)sprintf(chain, "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                                      "\"scenes\":[{\"nodes\":[0]}],\"scene\":0,\"nodes\":[");
+    for (int i = 0; i < CHAIN; i++)
+        o += (size_t)sprintf(chain + o, i + 1 < CHAIN ? "{\"children\":[%d]}," : "{\"mesh\":0}]", i + 1);
+    CHECK_FAILS(write_tiny("chain.gltf", chain), FS_ERR_ASSET);
+    free(chain);
+}
+
+/* URIs (issue 17 defects 7 and 10): a buffer URI naming a directory was "out of memory" (tinygltf
+ * asked for 2^63 bytes); one climbing out of the glTF file's folder read the file. Both are
+ * FS_ERR_ASSET now, decided before reading; a data: URI and a sibling file still load. */
+TEST(uris_name_files_under_the_folder)
+{
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", out_path("uri_dir.bin"));
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "mkdir -p '%s'", dir);
+    CHECK(system(cmd) == 0);
+    const char *dir_json = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":48,\"uri\":\"gltf_uri_dir.bin\"}]}";
+    CHECK_FAILS(write_file("uri_dir.gltf", dir_json, strlen(dir_json)), FS_ERR_ASSET);
+    const char *up = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":48,"
+                     "\"uri\":\"../../../../../../../../../../../../etc/passwd\"}]}";
+    CHECK_FAILS(write_file("uri_up.gltf", up, strlen(up)), FS_ERR_ASSET);
+    const char *abs = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":48,\"uri\":\"/etc/passwd\"}]}";
+    CHECK_FAILS(write_file("uri_abs.gltf", abs, strlen(abs)), FS_ERR_ASSET);
+    /* a sibling .bin in the same folder loads */
+    unsigned char bin[TINY_BUF_LEN];
+    tiny_buffer(bin);
+    write_file("uri_sib.bin", bin, sizeof bin);
+    char json[4096];
+    snprintf(json, sizeof json,
+             "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%d,\"uri\":\"gltf_uri_sib.bin\"}],"
+             TINY_VIEWS TINY_ACCESSORS
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0}",
+             TINY_BUF_LEN);
+    asset a;
+    CHECK(gltf_load(write_file("uri_sib.gltf", json, strlen(json)), &a) == FS_OK);
+    asset_free(&a);
+}
+
+/* Decoded-pixel budgets (issue 17 defect 3): checked against the declared size before decoding. */
+TEST(pixel_budget)
+{
+    char rest[2048];
+    snprintf(rest, sizeof rest,
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3,\"material\":0}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,"
+             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+             "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"data:image/png;base64,%s\"}]",
+             k_png_rgb_2x2);
+    const char *p = write_tiny("budget.gltf", rest);
+    asset a;
+    gltf_begin_scene();
+    CHECK(gltf_load(p, &a) == FS_OK); /* 4 pixels, default budgets */
+    asset_free(&a);
+    gltf_set_pixel_budget(3, 0); /* 3 pixels per image */
+    CHECK_FAILS(p, FS_ERR_ASSET);
+    gltf_set_pixel_budget(0, 6); /* 6 per scene: the first 2x2 fits, the second does not */
+    gltf_begin_scene();
+    CHECK(gltf_load(p, &a) == FS_OK);
+    asset_free(&a);
+    CHECK_FAILS(p, FS_ERR_ASSET);
+    gltf_begin_scene();
+    CHECK(gltf_load(p, &a) == FS_OK);
+    asset_free(&a);
+    gltf_set_pixel_budget(0, 0);
+}
+
 /* A GLB whose image bufferView runs past the BIN chunk: tinygltf hands over the pointer
  * unchecked, so the shim must refuse it before stb_image reads (ASan catches a miss). */
 TEST(glb_image_view_out_of_bounds)
@@ -863,5 +1001,8 @@ int main(void)
     RUN(sparse_and_quantized_accessors);
     RUN(bad_files_fail_cleanly);
     RUN(glb_image_view_out_of_bounds);
+    RUN(deep_nesting_refused);
+    RUN(uris_name_files_under_the_folder);
+    RUN(pixel_budget);
     return test_summary();
 }
