@@ -10,15 +10,6 @@ T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/cli
 rm -rf "$T"; mkdir -p "$T"
 . "$(dirname "$0")/harness.sh"
 
-# expect_exit NAME CODE CMD...: exit status CODE, exactly one line on stderr
-expect_exit() {
-  local name=$1 code=$2; shift 2
-  "$@" >"$T/out.txt" 2>"$T/err.txt"; local rc=$?
-  local lines; lines=$(wc -l <"$T/err.txt")
-  if [ "$rc" -eq "$code" ] && [ "$lines" -eq 1 ]; then ok "$name"
-  else fail "$name (exit $rc, wanted $code; $lines stderr lines:)"; cat "$T/err.txt" >&2; fi
-}
-
 # ---- help and version
 check "help lists commands" bash -c "'$BIN' --help | grep -q 'render' && '$BIN' --help | grep -q 'bench'"
 check "render --help lists options" bash -c "'$BIN' render --help | grep -q -- '--frames'"

@@ -10,15 +10,6 @@ T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/input
 rm -rf "$T"; mkdir -p "$T"
 . "$(dirname "$0")/harness.sh"
 
-# expect_exit NAME CODE CMD...: exit status CODE, exactly one line on stderr, no control bytes in it
-expect_exit() {
-  local name=$1 code=$2; shift 2
-  "$@" >"$T/out.txt" 2>"$T/err.txt"; local rc=$?
-  local lines; lines=$(wc -l <"$T/err.txt")
-  if [ "$rc" -eq "$code" ] && [ "$lines" -eq 1 ] && ! LC_ALL=C grep -q '[[:cntrl:]]' "$T/err.txt"; then ok "$name"
-  else fail "$name (exit $rc, wanted $code; $lines stderr lines:)"; cat -v "$T/err.txt" >&2; fi
-}
-
 # tiny settings, so that a case the old code accepted still ends quickly
 SMALL=(--frames 1 --width 32 --height 32)
 # ---- --modes: an empty list or item is a usage error with a message (defect 6)
