@@ -64,7 +64,6 @@ static void add_define(plan_pass *ps, const char *name, int value)
     qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
 }
 
-
 static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
 {
     plan_pass *ps = (plan_pass *)plan_find(p, kind, mode);
@@ -340,8 +339,11 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             snprintf(fade, sizeof fade, "off");
         else
             snprintf(fade, sizeof fade, "over %.1f mip levels", p->alpha.fade_n);
-        fprintf(f, "hash       %s, scale %.2f px%s, fade-in %s\n", p->alpha.hash_kind == ALPHA_HASH_SINE ? "sine" : "pcg3d",
-                p->alpha.hash_scale, p->alpha.anisotropic ? ", anisotropic" : "", fade);
+        fprintf(f, "hash       %s, scale %.2f px%s, fade-in %s%s\n", p->alpha.hash_kind == ALPHA_HASH_SINE ? "sine" : "pcg3d",
+                p->alpha.hash_scale, p->alpha.anisotropic ? ", anisotropic" : "", fade,
+                !p->taa                    ? ""
+                : p->alpha.no_frame_offset ? "; with TAA no per-frame offset (--no-hash-offset)"
+                                           : "; with TAA a golden-ratio offset per frame");
     }
     fprintf(f, "passes (in draw order):\n");
     if (p->pass_count == 0)

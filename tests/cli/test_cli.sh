@@ -113,6 +113,8 @@ check "CLI --taa-blend wins" bash -c "'$BIN' plan '$T/taa.json' --taa-blend 0.05
 check "CLI --taa-sparse off wins" bash -c "'$BIN' plan '$T/taa.json' --alpha hashed --taa-sparse off | grep -q 'no sparse-coverage slack (off)'"
 check "default sparse-coverage slack" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha stochastic | grep -q 'sparse-coverage slack 0.28'"
 check "no slack where samples are not noise in time" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'no sparse-coverage slack (no alpha test is noise in time)'"
+check "plan shows hashed's frame offset under TAA" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed | grep -q '^hash .*with TAA a golden-ratio offset per frame'"
+check "plan shows --no-hash-offset" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed --no-hash-offset | grep -q '^hash .*with TAA no per-frame offset'"
 check "slack for hashed without its frame offset" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed --no-hash-offset | grep -q 'sparse-coverage slack 0.28'"
 expect_exit "--taa-sparse 0 -> 2" 2 "$BIN" plan --builtin fence --taa-sparse 0
 check "--taa-sparse 0 says what it expects" grep -q "expected off or a number in (0, 1]" "$T/err.txt"
