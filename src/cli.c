@@ -146,6 +146,9 @@ void cli_print_help(command cmd)
            "  --out DIR           output directory (default out/<command>)\n"
            "  --name NAME         file prefix (default frame)\n"
            "  --compression C     zip (default), none or piz\n"
+           "  --resume            keep the complete frames an interrupted run of the same configuration\n"
+           "                      left in DIR and draw the rest (DIR/fovsim-run.txt records it)\n"
+           "  --replace           write into a DIR another configuration wrote, removing its frames\n"
            "  --gpu N             EGL device index (default: first hardware device, else llvmpipe)\n"
            "  --gl-debug          GL debug output on stderr (always on in debug builds)\n"
            "  --quiet             no progress line\n"
@@ -307,6 +310,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                      : !strcmp(opt, "--accuracy")       ? &d->accuracy
                      : !strcmp(opt, "--export-fvvdp")   ? &d->export_fvvdp
                      : !strcmp(opt, "--fvvdp")          ? &d->run_fvvdp
+                     : !strcmp(opt, "--resume")         ? &d->resume
+                     : !strcmp(opt, "--replace")        ? &d->replace
                                                         : NULL;
         if (flag) {
             if (val) {
@@ -617,6 +622,16 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     }
     if (d->split[0] && d->alpha) {
         log_error("--split and --alpha: give one of them, not both (--split A,B sets the left-hand mode)");
+        return FS_ERR_USAGE;
+    }
+    if ((d->resume || d->replace) && d->cmd != CMD_RENDER && d->cmd != CMD_REFERENCE && d->cmd != CMD_COMPARE &&
+        d->cmd != CMD_DEMO) {
+        log_error("--resume and --replace are options of fovsim render, reference, compare and demo");
+        return FS_ERR_USAGE;
+    }
+    if (d->resume && d->replace) {
+        log_error("--resume and --replace: give one of them, not both (--resume keeps the folder's frames, --replace "
+                  "removes them)");
         return FS_ERR_USAGE;
     }
     if (d->quiet && d->verbose) {

@@ -19,6 +19,7 @@
 #include "metrics/warp.h"
 #include "output/fvvdp_export.h"
 #include "output/out_path.h"
+#include "run_record.h"
 
 /* One alpha mode's renderer and what it measured. */
 typedef struct mode_run {
@@ -511,10 +512,17 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     snprintf(csv_path, sizeof csv_path, "%s/metrics.csv", out);
     snprintf(csv_tmp, sizeof csv_tmp, "%s/.metrics.csv.tmp.%ld", out, (long)getpid());
     snprintf(json_path, sizeof json_path, "%s/summary.json", out);
+    char config[8192];
+    run_folder fo = {0};
+    if (st == FS_OK)
+        st = run_record_describe(d, &s, config, sizeof config);
     if (st == FS_OK)
         st = file_make_dirs(out);
-    if (st == FS_OK) /* a killed run's litter, and the frames of an earlier run (issue 17) */
-        st = out_dir_tidy(out, d->name);
+    /* A killed run's litter, another configuration's output, --resume (issue 17): the metrics need
+     * every frame's images, so a resumed compare draws every frame again and writes only the
+     * frames it lacks; the reference of the frames drawn before comes from the cache. */
+    if (st == FS_OK)
+        st = run_folder_open(&fo, out, d, config, frames);
     FILE *csv = NULL;
     if (st == FS_OK && !(csv = fopen(csv_tmp, "w"))) {
         log_error("%s: cannot create: %s", csv_tmp, strerror(errno));
@@ -622,11 +630,15 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         ring_mask_free(&mask);
         if (st != FS_OK)
             break;
-        frame_attrs(&frame, &s, &fr, runs, nm, rf, &ri);
-        char path[1200];
-        snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
-        st = exr_writer_submit(w, path, &frame);
-        done += st == FS_OK;
+        if (fo.kept[i]) {
+            exr_image_free(&frame);
+        } else {
+            frame_attrs(&frame, &s, &fr, runs, nm, rf, &ri);
+            char path[1200];
+            snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
+            st = exr_writer_submit(w, path, &frame);
+            done += st == FS_OK;
+        }
         /* This frame becomes the previous one. */
         for (int m = 0; m < nm; m++) {
             exr_image_free(&runs[m].prev);
@@ -677,9 +689,16 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames, .layout = &ml,
                                    .ref = rf, .ref_err = ref_err, .ref_cached = ref_cached, .out = out,
                                    .json_path = json_path, .seconds = el, .jod = have_jod ? jod : NULL});
+    if (st == FS_OK)
+        st = run_folder_complete(&fo);
+    if (st == FS_OK && fo.kept_count)
+        printf("resumed: kept %d complete frame%s of the earlier run; every frame was drawn again for the metrics "
+               "and the TAA history, and only the missing ones written\n", fo.kept_count,
+               fo.kept_count == 1 ? "" : "s");
     else if (st == FS_ERR_INTERRUPTED)
-        log_error("interrupted after %d complete frames in %s (no partial frame was left; metrics.csv was not written)",
-                  done, out);
+        log_error("interrupted after %d complete frames in %s (no partial frame was left; metrics.csv was not written; "
+                  "--resume continues)", done + fo.kept_count, out);
+    run_folder_close(&fo);
     exr_image_free(&ref);
     exr_image_free(&prev_ref);
     free(band_buf);

@@ -30,8 +30,43 @@
 #include "session.h"
 #include "view/view.h"
 #include "output/out_path.h"
+#include "run_record.h"
 
 /* >>render */
+/* The frames a run must draw: from `start` (where the TAA history of the first missing frame
+ * begins) to the last missing one; frames kept by --resume in between are drawn again without
+ * being written when the history needs them, skipped when it does not (TAA off). */
+typedef struct draw_range {
+    int start, end; /* [start, end) */
+    bool redraw_kept;
+} draw_range;
+
+static draw_range frames_to_draw(const run_folder *rf, const session *s, float fps, bool history)
+{
+    int first = -1, last = -1;
+    for (int i = 0; i < rf->frames; i++)
+        if (!rf->kept[i]) {
+            first = first < 0 ? i : first;
+            last = i;
+        }
+    if (first < 0)
+        return (draw_range){0, 0, false};
+    int start = history ? run_history_start(&s->sc, first, fps, s->pl.width, s->pl.height) : first;
+    return (draw_range){start, last + 1, history};
+}
+
+/* The line that says what a resume kept and what it cost. */
+static void print_resume(const run_folder *rf, int redrawn, double redrawn_s)
+{
+    if (rf->kept_count == 0)
+        return;
+    printf("resumed: kept %d complete frame%s of the earlier run", rf->kept_count, rf->kept_count == 1 ? "" : "s");
+    if (redrawn)
+        printf("; drew %d of them again without writing them, for the TAA history of the next (%.1f s)", redrawn,
+               redrawn_s);
+    printf("\n");
+}
+
 /* Renders the sequence; *frames_out (may be NULL) gets the number of frames asked for. */
 static fs_status run_render(const run_desc *d, const char *default_out, int *frames_out)
 {
@@ -43,21 +78,29 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     int frames = session_frame_count(d, &s.sc);
     if (frames_out)
         *frames_out = frames;
-    st = file_make_dirs(out);
-    if (st == FS_OK) /* a killed run's litter, and the frames of an earlier run (issue 17) */
-        st = out_dir_tidy(out, d->name);
+    char config[8192];
+    run_folder rf = {0};
+    st = run_record_describe(d, &s, config, sizeof config);
+    if (st == FS_OK)
+        st = file_make_dirs(out);
+    if (st == FS_OK) /* a killed run's litter, another configuration's output, --resume (issue 17) */
+        st = run_folder_open(&rf, out, d, config, frames);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
         st = FS_ERR_NOMEM;
+    draw_range dr = st == FS_OK ? frames_to_draw(&rf, &s, d->fps, s.pl.taa) : (draw_range){0, 0, false};
     session_catch_sigint();
-    progress pr = progress_begin("frame", frames, d->quiet);
-    double t0 = time_now();
-    int done = 0;
-    for (int i = 0; i < frames && st == FS_OK; i++) {
+    progress pr = progress_begin("frame", dr.end - dr.start, d->quiet);
+    double t0 = time_now(), redrawn_s = 0;
+    int done = 0, redrawn = 0;
+    for (int i = dr.start; i < dr.end && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
+        if (rf.kept[i] && !dr.redraw_kept)
+            continue;
+        double a = time_now();
         frame_record fr = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
         exr_image img;
         st = renderer_draw(s.r, &fr);
@@ -65,32 +108,43 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
             st = renderer_read(s.r, &img);
         if (st != FS_OK)
             break;
-        session_frame_attrs(&img, &s, &fr);
-        char path[1200];
-        snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
-        st = exr_writer_submit(w, path, &img);
-        done += st == FS_OK;
-        progress_update(&pr, done);
+        if (rf.kept[i]) {
+            exr_image_free(&img);
+            redrawn++;
+            redrawn_s += time_now() - a;
+        } else {
+            session_frame_attrs(&img, &s, &fr);
+            char path[1200];
+            snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
+            st = exr_writer_submit(w, path, &img);
+            done += st == FS_OK;
+        }
+        progress_update(&pr, i + 1 - dr.start);
     }
     if (w) {
         fs_status wst = exr_writer_finish(w);
         if (st == FS_OK)
             st = wst;
     }
+    if (st == FS_OK)
+        st = run_folder_complete(&rf);
     progress_end(&pr);
     double el = time_now() - t0;
     if (st == FS_OK) {
         char rings[256];
         fov_layout_format(&s.pl.layout, rings, sizeof rings);
-        printf("wrote %d frames (%dx%d, alpha %s, rings %s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n",
-               frames, s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode), rings, out, d->name, el,
-               frames / el, gl_device_renderer());
+        printf("wrote %d frame%s (%dx%d, alpha %s, rings %s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n",
+               done, done == 1 ? "" : "s", s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode), rings, out, d->name, el,
+               el > 0 ? (done + redrawn) / el : 0.0, gl_device_renderer());
+        print_resume(&rf, redrawn, redrawn_s);
     } else if (st == FS_ERR_INTERRUPTED) {
-        log_error("interrupted after %d complete frames in %s (no partial frame was left)", done, out);
+        log_error("interrupted after %d complete frames in %s (no partial frame was left; --resume continues)",
+                  done + rf.kept_count, out);
     } else if (done > 0) {
         /* The failing write already printed the one error line; this is context for --verbose. */
         log_info("RENDER: stopped; frames written before the failure in %s are complete, no partial frame was left", out);
     }
+    run_folder_close(&rf);
     session_end(&s);
     return st;
 }
@@ -105,25 +159,31 @@ static fs_status run_reference(const run_desc *d)
     reference *rf = session_reference(d, &s, &rp, &st);
     const char *out = d->out_dir ? d->out_dir : "out/reference";
     int frames = session_frame_count(d, &s.sc);
+    char config[8192];
+    run_folder fo = {0};
+    if (st == FS_OK)
+        st = run_record_describe(d, &s, config, sizeof config);
     if (st == FS_OK)
         st = file_make_dirs(out);
-    if (st == FS_OK)
-        st = out_dir_tidy(out, d->name);
+    if (st == FS_OK) /* reference frames are independent: --resume skips the kept ones */
+        st = run_folder_open(&fo, out, d, config, frames);
     double *errors = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
     if (st == FS_OK && !errors)
         st = FS_ERR_NOMEM;
-    int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0;
+    int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0, measured = 0;
     long overflow = 0, long_lists = 0;
     uint64_t nodes = 0;
     session_catch_sigint();
-    rp.pr = progress_begin("reference pass", frames * passes, d->quiet);
+    rp.pr = progress_begin("reference pass", (frames - fo.kept_count) * passes, d->quiet);
     double t0 = time_now();
     for (int i = 0; i < frames && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
-        rp.base = i * passes;
+        if (fo.kept[i])
+            continue;
+        rp.base = measured * passes;
         frame_record fr = frame_record_at(&s.sc, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f,
                                           s.pl.width, s.pl.height);
         exr_image img;
@@ -131,7 +191,7 @@ static fs_status run_reference(const run_desc *d)
         st = reference_frame(rf, &fr, &img, &info);
         if (st != FS_OK)
             break;
-        errors[i] = info.error;
+        errors[measured++] = info.error;
         overflow += info.overflow_pixels;
         long_lists += info.long_lists;
         nodes = info.list_nodes > nodes ? info.list_nodes : nodes;
@@ -152,16 +212,19 @@ static fs_status run_reference(const run_desc *d)
         st = exr_write_file(path, &img, d->compression);
         exr_image_free(&img);
         done += st == FS_OK;
-        progress_update(&rp.pr, (i + 1) * passes);
+        progress_update(&rp.pr, measured * passes);
     }
     progress_end(&rp.pr);
+    if (st == FS_OK)
+        st = run_folder_complete(&fo);
     if (st == FS_OK) {
         double el = time_now() - t0;
-        qsort(errors, (size_t)frames, sizeof *errors, stats_cmp_double);
+        qsort(errors, (size_t)measured, sizeof *errors, stats_cmp_double);
         char buf[1024];
         const char *cache = session_cache_dir(d, buf, sizeof buf);
-        printf("wrote %d reference frames (%dx%d, %s) to %s/%s.####.exr in %.1f s\n", frames, s.pl.width,
-               s.pl.height, reference_describe(rf), out, d->name, el);
+        printf("wrote %d reference frame%s (%dx%d, %s) to %s/%s.####.exr in %.1f s\n", done, done == 1 ? "" : "s",
+               s.pl.width, s.pl.height, reference_describe(rf), out, d->name, el);
+        print_resume(&fo, 0, 0);
         printf("  %d drawn, %d from the cache%s%s%s", drawn, cached, cache ? " (" : " (no cache)", cache ? cache : "",
                cache ? ")" : "");
         if (rebuilt)
@@ -170,7 +233,7 @@ static fs_status run_reference(const run_desc *d)
             int c = reference_compare_grid(rf);
             printf("\n  convergence, RMS difference of the %dx%d and %dx%d sub-sample frames (linear RGB): median %.5f, "
                    "max %.5f\n", reference_supersample(rf), reference_supersample(rf), c, c,
-                   stats_quantile(errors, frames, 0.5), errors[frames - 1]);
+                   stats_quantile(errors, measured, 0.5), measured ? errors[measured - 1] : 0.0);
             if (drawn > 0)
                 printf("  fragment lists: at most %llu nodes in one pass (%.0f MB); %ld sub-sample pixels had more "
                        "than %d fragments (sorted on the CPU); %ld overflowed sub-sample pixels took %d stochastic "
@@ -179,11 +242,13 @@ static fs_status run_reference(const run_desc *d)
                        overflow, reference_samples(rf));
         } else {
             printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
-                   stats_quantile(errors, frames, 0.5), errors[frames - 1]);
+                   stats_quantile(errors, measured, 0.5), measured ? errors[measured - 1] : 0.0);
         }
     } else if (st == FS_ERR_INTERRUPTED) {
-        log_error("interrupted after %d complete frames in %s (no partial frame was left)", done, out);
+        log_error("interrupted after %d complete frames in %s (no partial frame was left; --resume continues)",
+                  done + fo.kept_count, out);
     }
+    run_folder_close(&fo);
     free(errors);
     reference_destroy(rf);
     session_end(&s);

@@ -223,7 +223,8 @@ for _ in $(seq 1 100); do [ -e "$RR/frame.0003.exr" ] && break; sleep 0.1; done
 kill -KILL "$pid"; wait "$pid" 2>/dev/null
 : >"$RR/.frame.0009.exr.tmp.$pid.77" # what a kill during a write leaves (the timing may not hit one)
 "$BIN" render --builtin fence --frames 1 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>&1
-check "after kill -9 and a rerun: no temporary file, one frame" bash -c "[ -z \"\$(find '$RR' -name '*.tmp*')\" ] && [ \$(ls '$RR' | wc -l) -eq 1 ]"
+check "after kill -9 and a rerun: no temporary file, one frame and the record" bash -c "[ -z \"\$(find '$RR' -name '*.tmp*')\" ] && [ \"\$(ls '$RR' | tr '\n' ' ')\" = 'fovsim-run.txt frame.0000.exr ' ]"
+check "after kill -9 and a rerun: the record says complete" grep -qx 'complete: yes' "$RR/fovsim-run.txt"
 
 # ---- Ctrl-C: stops after the frame in flight, exit 130, every file left is complete
 "$BIN" render --builtin forest --frames 5000 --width 64 --height 36 --out "$T/int" --quiet >/dev/null 2>"$T/err.txt" &
@@ -250,8 +251,10 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   # EXR library held its context lock, and the error handler asked it for the user data: a hang
   # (killed by `timeout`, 124/137) with a 0-byte temporary file. Expected: exit 6, one line, nothing
   # left. render writes through the writer thread; reference writes the frame and its cache entry.
+  # One 4 KiB page is left free: the folder's record (fovsim-run.txt, written first) fits, the first
+  # frame does not; the record of a run that left no frame is removed again.
   mount -t tmpfs -o size=64k tmpfs "$T/full"
-  dd if=/dev/zero of="$T/full/filler" bs=4k count=64 2>/dev/null # fills it: dd fails at ENOSPC
+  dd if=/dev/zero of="$T/full/filler" bs=4k count=15 2>/dev/null
   mkdir -p "$T/full/seq" "$T/full/cache"
   timeout -s KILL 60 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
   rc=$?
@@ -264,6 +267,13 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   check "disk full from the start: reference -> exit 6, no hang (exit $rc)" test $rc -eq 6
   check "disk full from the start: reference, one line" test "$(wc -l <"$T/err.txt")" -eq 1
   check "disk full from the start: reference leaves no file" test -z "$(ls -A "$T/full/seq" "$T/full/cache" | grep -v ':$' | grep .)"
+  # Wholly full: the record cannot be written either; exit 6, one line naming it, nothing left.
+  dd if=/dev/zero of="$T/full/filler2" bs=4k count=1 2>/dev/null
+  timeout -s KILL 60 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
+  rc=$?
+  check "disk wholly full: render -> exit 6 (exit $rc)" test $rc -eq 6
+  check "disk wholly full: one line naming the record" bash -c "grep -q 'seq/fovsim-run.txt: cannot write: No space left' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+  check "disk wholly full: render leaves no file" test -z "$(ls -A "$T/full/seq")"
   umount "$T/full"
 else
   echo "note: cannot mount a small tmpfs here (not root?); full-disk case not exercised" >&2

@@ -1,0 +1,490 @@
+/* run_record.c: the record of what wrote an output folder, --resume and --replace (run_record.h). */
+#include "run_record.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/config.h"
+#include "core/hash.h"
+#include "core/log.h"
+#include "gl/gl_device.h"
+#include "output/exr_write.h"
+#include "output/out_path.h"
+#include "scene/frame.h"
+
+/* Every field of run_desc is either written into the configuration below or listed there as not
+ * changing what a run writes. A new field changes the struct's size and stops the build here until
+ * it is sorted into one of the two (LP64 only: the size is the ABI's). */
+#if defined(__x86_64__) || defined(__aarch64__)
+_Static_assert(sizeof(run_desc) == 296, "run_desc changed: add the new field to run_record_describe (or to its list "
+                                        "of fields that change nothing written), then update this size");
+#endif
+
+#define RECORD_MAX 16384
+#define SEPARATOR "---\n"
+
+/* >>describe */
+
+typedef struct text {
+    char *buf;
+    size_t cap, len;
+    bool full;
+} text;
+
+static void add(text *t, const char *fmt, ...) FS_PRINTF(2, 3);
+static void add(text *t, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(t->buf + t->len, t->cap - t->len, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= t->cap - t->len)
+        t->full = true;
+    else
+        t->len += (size_t)n;
+}
+
+/* FNV-1a of the running executable: a rebuilt fovsim may draw other pixels under the same version. */
+static bool executable_hash(uint64_t *out)
+{
+    FILE *f = fopen("/proc/self/exe", "rb");
+    if (!f)
+        return false;
+    uint64_t h = HASH_FNV_INIT;
+    unsigned char buf[1 << 16];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+        h = hash_bytes(h, buf, n);
+    bool ok = !ferror(f);
+    fclose(f);
+    *out = h;
+    return ok;
+}
+
+static uint64_t gaze_hash(const gaze_trace *g)
+{
+    uint64_t h = hash_u64(HASH_FNV_INIT, (uint64_t)g->count);
+    for (int i = 0; i < g->count; i++) {
+        const gaze_sample *s = &g->samples[i];
+        float v[3] = {s->x, s->y, s->confidence};
+        h = hash_bytes(h, &s->t, sizeof s->t);
+        h = hash_floats(h, v, 3);
+        h = hash_u64(h, s->valid);
+    }
+    h = hash_u64(h, (uint64_t)g->screen_w);
+    return hash_u64(h, (uint64_t)g->screen_h);
+}
+
+static const char *or_default(const char *s)
+{
+    return s ? s : "default";
+}
+
+fs_status run_record_describe(const run_desc *d, const session *s, char *buf, size_t cap)
+{
+    static const char *const k_cmd[] = {[CMD_RENDER] = "render", [CMD_REFERENCE] = "reference",
+                                        [CMD_COMPARE] = "compare", [CMD_DEMO] = "demo"};
+    static const char *const k_compress[] = {"zip", "none", "piz"};
+    uint64_t exe;
+    if (!executable_hash(&exe)) {
+        log_error("/proc/self/exe: cannot read the executable to record which fovsim wrote the output: %s",
+                  strerror(errno));
+        return FS_ERR_IO;
+    }
+    text t = {buf, cap, 0, false};
+    const bool is_ref = d->cmd == CMD_REFERENCE, has_ref = is_ref || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO;
+    add(&t, "command: %s\n", (size_t)d->cmd < sizeof k_cmd / sizeof k_cmd[0] && k_cmd[d->cmd] ? k_cmd[d->cmd] : "?");
+    add(&t, "name: %s\n", d->name);
+    add(&t, "fovsim: %s, executable %016" PRIx64 "\n", FOVSIM_VERSION, exe);
+    add(&t, "renderer: %s\n", gl_device_renderer());
+    add(&t, "scene: %s, content %016" PRIx64 "\n", s->sc.path, scene_content_hash(&s->sc));
+    if (s->gaze.count > 0)
+        add(&t, "gaze: %s, format %d, eye %d, samples %d, content %016" PRIx64 "\n", s->gaze.path,
+            (int)d->gaze_format, (int)d->eye, s->gaze.count, gaze_hash(&s->gaze));
+    else
+        add(&t, "gaze: centre fixation\n");
+    add(&t, "size: %dx%d\n", s->pl.width, s->pl.height);
+    add(&t, "fps: %.9g\n", d->fps);
+    add(&t, "compression: %s\n", k_compress[d->compression]);
+    if (!is_ref) {
+        if (d->bench_mode_count > 0) {
+            add(&t, "modes:");
+            for (int m = 0; m < d->bench_mode_count; m++)
+                add(&t, " %s", alpha_mode_name(d->bench_modes[m]));
+            add(&t, "\n");
+        } else {
+            add(&t, "alpha: %s\n", d->alpha == ALPHA_MODE_DEFAULT ? "default" : alpha_mode_name(d->alpha));
+        }
+        add(&t, "rings: %s\n", or_default(d->rings));
+        add(&t, "overlay: %d, debug channels: %d\n", d->overlay, d->debug_channels);
+        add(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
+            d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");
+        add(&t, "a2c sharpen: %d\n", d->a2c_sharpen);
+        add(&t, "taa: %d, blend %.9g, gamma %.9g, sparse %.9g, jitter %d, neighbourhood %d, history %d, nan %d\n",
+            d->taa, d->taa_blend, d->taa_gamma, d->taa_sparse, d->jitter_length, d->taa_neighbourhood, d->taa_history,
+            d->taa_nan);
+        add(&t, "object motion: %s, ring cull: %s, composite: %s\n", d->no_object_motion ? "off" : "on",
+            d->no_ring_cull ? "off" : "on", d->composite_per_pixel ? "per-pixel" : "tiled");
+    }
+    if (has_ref)
+        add(&t, "reference: kind %d, supersample %d, samples %d, memory %d MB\n", d->reference_kind, d->supersample,
+            d->samples, d->ref_memory_mb);
+    if (d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO)
+        add(&t, "fvvdp export: %d\n", d->export_fvvdp);
+    /* Not recorded, because they change nothing a run writes: frames (the record's second part),
+     * out_dir (the folder itself), builtin/scene_path and asset_root (the scene's content is),
+     * gpu (the renderer is), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
+     * cache (a cached reference frame equals a drawn one), resume/replace, run_fvvdp (runs after
+     * the frames), and the options of other commands: warmup, markdown, json, accuracy, acc_error,
+     * script, record, split, help_for. */
+    if (t.full) {
+        log_error("the configuration of this run is longer than %zu bytes (a bug in fovsim)", cap);
+        return FS_ERR_INTERNAL;
+    }
+    return FS_OK;
+}
+
+/* >>the record file */
+
+static void record_path(const run_folder *f, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/%s", f->dir, RUN_RECORD_FILE);
+}
+
+/* Writes the record atomically: a temporary name, then rename. */
+static fs_status write_record(const run_folder *f, bool complete)
+{
+    char path[1200], tmp[1300];
+    record_path(f, path, sizeof path);
+    snprintf(tmp, sizeof tmp, "%s/.%s.tmp.%ld", f->dir, RUN_RECORD_FILE, (long)getpid());
+    FILE *o = fopen(tmp, "w");
+    if (!o) {
+        log_error("%s: cannot create: %s", tmp, strerror(errno));
+        return FS_ERR_IO;
+    }
+    fprintf(o, "# the configuration that wrote this folder (fovsim, README \"Output folders\")\n%s" SEPARATOR
+               "frames: %d\ncomplete: %s\n", f->config, f->frames, complete ? "yes" : "no");
+    bool bad = ferror(o) != 0;
+    if (fclose(o) != 0 || bad || rename(tmp, path) != 0) {
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        unlink(tmp);
+        return FS_ERR_IO;
+    }
+    return FS_OK;
+}
+
+/* The earlier record's configuration part into *out (malloc'd; NULL when there is none). */
+static fs_status read_record(const run_folder *f, char **out)
+{
+    *out = NULL;
+    char path[1200];
+    record_path(f, path, sizeof path);
+    struct stat sb;
+    if (lstat(path, &sb) != 0)
+        return errno == ENOENT ? FS_OK : (log_error("%s: cannot read: %s", path, strerror(errno)), FS_ERR_IO);
+    if (!S_ISREG(sb.st_mode) || sb.st_size > RECORD_MAX) {
+        log_error("%s: expected fovsim's record of this folder (a text file of at most %d bytes); move it away or "
+                  "choose another --out", path, RECORD_MAX);
+        return FS_ERR_IO;
+    }
+    FILE *in = fopen(path, "rb");
+    char *buf = in ? calloc(1, (size_t)sb.st_size + 1) : NULL;
+    size_t n = buf ? fread(buf, 1, (size_t)sb.st_size, in) : 0;
+    if (in)
+        fclose(in);
+    if (!buf || n != (size_t)sb.st_size) {
+        log_error("%s: cannot read: %s", path, buf ? "short read" : in ? "out of memory" : strerror(errno));
+        free(buf);
+        return FS_ERR_IO;
+    }
+    /* Drop the comment line and everything from the separator on. */
+    char *body = buf[0] == '#' ? strchr(buf, '\n') : buf;
+    body = body ? body + (buf[0] == '#') : buf + n;
+    char *sep = strstr(body, "\n" SEPARATOR);
+    if (sep)
+        sep[1] = '\0';
+    memmove(buf, body, strlen(body) + 1);
+    *out = buf;
+    return FS_OK;
+}
+
+/* The value of `key` in a configuration text, into out ("" when absent). */
+static void value_of(const char *config, const char *key, char *out, size_t cap)
+{
+    size_t kl = strlen(key);
+    out[0] = '\0';
+    for (const char *l = config; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+        if (!strncmp(l, key, kl) && l[kl] == ':' && l[kl + 1] == ' ') {
+            const char *v = l + kl + 2;
+            snprintf(out, cap, "%.*s", (int)strcspn(v, "\n"), v);
+            return;
+        }
+}
+
+/* The first line of `a` that `b` lacks, as its key and both values, for the refusal message. */
+static void first_difference(const char *a, const char *b, char *out, size_t cap)
+{
+    for (const char *l = a; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
+        int len = (int)strcspn(l, "\n"), kl = (int)strcspn(l, ":");
+        char key[64], va[200], vb[200];
+        snprintf(key, sizeof key, "%.*s", kl < len ? kl : len, l);
+        value_of(a, key, va, sizeof va);
+        value_of(b, key, vb, sizeof vb);
+        if (strcmp(va, vb) != 0) {
+            snprintf(out, cap, "%s: '%s' now, '%s' there", key, va, vb[0] ? vb : "(none)");
+            return;
+        }
+    }
+    snprintf(out, cap, "a setting this fovsim does not record");
+}
+
+/* >>frames */
+
+static bool frame_path(const run_folder *f, const char *name, int i, char *out, size_t cap)
+{
+    return snprintf(out, cap, "%s/%s.%04d.exr", f->dir, name, i) < (int)cap;
+}
+
+/* Whether frame i is complete: it reads back whole and says it is frame i. Frames reach their
+ * final name only by rename after a complete write, so this fails only for damaged files. */
+static bool frame_complete(const run_folder *f, int i)
+{
+    char path[1200];
+    struct stat sb;
+    if (!frame_path(f, f->name, i, path, sizeof path) || lstat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
+        return false;
+    exr_image img;
+    log_set_quiet_errors(true);
+    bool ok = exr_read_file(path, &img) == FS_OK;
+    log_set_quiet_errors(false);
+    if (!ok) {
+        log_warn("%s: cannot be read back; it is drawn again", path);
+        return false;
+    }
+    const exr_attr *a = exr_image_attr(&img, "fovsim:frame");
+    ok = a && a->type == FS_EXR_ATTR_INT && a->i == i;
+    exr_image_free(&img);
+    if (!ok)
+        log_warn("%s: does not say it is frame %d; it is drawn again", path, i);
+    return ok;
+}
+
+/* The frame index of a file <name>.<digits>.exr, or -1. */
+static long frame_index(const char *file, const char *name)
+{
+    size_t len = strlen(name), n = strlen(file);
+    if (n <= len + 5 || strncmp(file, name, len) != 0 || file[len] != '.' || strcmp(file + n - 4, ".exr") != 0 ||
+        strspn(file + len + 1, "0123456789") != n - len - 5 || n - len - 5 > 9)
+        return -1;
+    return strtol(file + len + 1, NULL, 10);
+}
+
+/* Whether any frame of `name` is in the folder. */
+static bool has_sequence(const run_folder *f, const char *name)
+{
+    DIR *dd = opendir(f->dir);
+    if (!dd)
+        return false;
+    bool found = false;
+    struct dirent *e;
+    while (!found && (e = readdir(dd)) != NULL)
+        found = frame_index(e->d_name, name) >= 0;
+    closedir(dd);
+    return found;
+}
+
+/* Removes the frames of `name` from index `from` on (what --resume with fewer frames leaves over). */
+static fs_status remove_frames_from(const run_folder *f, const char *name, int from)
+{
+    DIR *dd = opendir(f->dir);
+    if (!dd)
+        return FS_OK;
+    fs_status st = FS_OK;
+    int removed = 0;
+    struct dirent *e;
+    while (st == FS_OK && (e = readdir(dd)) != NULL) {
+        char path[1400];
+        struct stat sb;
+        if (frame_index(e->d_name, name) < from ||
+            snprintf(path, sizeof path, "%s/%s", f->dir, e->d_name) >= (int)sizeof path || lstat(path, &sb) != 0 ||
+            !S_ISREG(sb.st_mode))
+            continue;
+        if (unlink(path) != 0) {
+            log_error("%s: cannot remove the frame of an earlier run: %s", path, strerror(errno));
+            st = FS_ERR_IO;
+        }
+        removed += st == FS_OK;
+    }
+    closedir(dd);
+    if (removed)
+        log_info("OUTPUT: removed %d frame%s from frame %d on of an earlier, longer run", removed,
+                 removed == 1 ? "" : "s", from);
+    return st;
+}
+
+/* >>the files only a finished compare writes */
+
+static fs_status remove_file(const char *path)
+{
+    struct stat sb;
+    if (lstat(path, &sb) != 0 || S_ISDIR(sb.st_mode))
+        return FS_OK;
+    if (unlink(path) != 0) {
+        log_error("%s: cannot remove the output of an earlier run: %s", path, strerror(errno));
+        return FS_ERR_IO;
+    }
+    return FS_OK;
+}
+
+/* DIR/fvvdp/: the files fvvdp_export writes (fvvdp_export.h) and its sequences' PNGs. Anything
+ * else the user put there stays, and so does the folder then. */
+static fs_status remove_fvvdp(const char *dir)
+{
+    static const char *const k_files[] = {"fixation.csv", "display.json", "run_fvvdp.py", "results.json"};
+    char fv[1100];
+    snprintf(fv, sizeof fv, "%s/fvvdp", dir);
+    DIR *d = opendir(fv);
+    if (!d)
+        return FS_OK;
+    fs_status st = FS_OK;
+    struct dirent *e;
+    while (st == FS_OK && (e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.')
+            continue;
+        char p[1400];
+        snprintf(p, sizeof p, "%s/%s", fv, e->d_name);
+        struct stat sb;
+        if (lstat(p, &sb) != 0)
+            continue;
+        if (S_ISREG(sb.st_mode)) {
+            for (size_t k = 0; k < sizeof k_files / sizeof k_files[0]; k++)
+                if (!strcmp(e->d_name, k_files[k]))
+                    st = remove_file(p);
+            continue;
+        }
+        if (!S_ISDIR(sb.st_mode))
+            continue;
+        DIR *sd = opendir(p);
+        struct dirent *x;
+        size_t len = strlen(e->d_name);
+        while (sd && st == FS_OK && (x = readdir(sd)) != NULL) {
+            const char *s = x->d_name;
+            size_t n = strlen(s);
+            /* <seq>.<digits>.png */
+            if (n > len + 5 && !strncmp(s, e->d_name, len) && s[len] == '.' && !strcmp(s + n - 4, ".png") &&
+                strspn(s + len + 1, "0123456789") == n - len - 5) {
+                char q[1700];
+                snprintf(q, sizeof q, "%s/%s", p, s);
+                st = remove_file(q);
+            }
+        }
+        if (sd)
+            closedir(sd);
+        rmdir(p); /* only when empty */
+    }
+    closedir(d);
+    rmdir(fv);
+    return st;
+}
+
+static fs_status remove_compare_outputs(const char *dir)
+{
+    char p[1100];
+    snprintf(p, sizeof p, "%s/metrics.csv", dir);
+    fs_status st = remove_file(p);
+    snprintf(p, sizeof p, "%s/summary.json", dir);
+    if (st == FS_OK)
+        st = remove_file(p);
+    return st == FS_OK ? remove_fvvdp(dir) : st;
+}
+
+/* >>open */
+
+fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const char *config, int frames)
+{
+    memset(f, 0, sizeof *f);
+    snprintf(f->dir, sizeof f->dir, "%s", dir);
+    snprintf(f->name, sizeof f->name, "%s", d->name);
+    f->frames = frames;
+    f->config = strdup(config);
+    f->kept = calloc((size_t)frames, sizeof *f->kept);
+    if (!f->config || !f->kept)
+        return FS_ERR_NOMEM;
+    out_dir_remove_stale_temps(dir);
+    char *prior = NULL;
+    fs_status st = read_record(f, &prior);
+    if (st != FS_OK)
+        return st;
+    bool same = prior && !strcmp(prior, config);
+    char prior_name[256] = "";
+    if (prior)
+        value_of(prior, "name", prior_name, sizeof prior_name);
+    if (!d->replace && prior && !same) {
+        char why[600];
+        first_difference(config, prior, why, sizeof why);
+        log_error("%s: holds the output of another configuration (%s); --replace replaces it, --out chooses another "
+                  "folder", dir, why);
+        st = FS_ERR_USAGE;
+    } else if (!d->replace && !prior && has_sequence(f, d->name)) {
+        log_error("%s: holds frames %s.####.exr that no %s describes (an older fovsim's, or not fovsim's); "
+                  "--replace replaces them, --out chooses another folder", dir, d->name, RUN_RECORD_FILE);
+        st = FS_ERR_USAGE;
+    }
+    /* Keep (--resume, same configuration) or remove the frames of the earlier run. */
+    if (st == FS_OK && same && d->resume) {
+        for (int i = 0; i < frames; i++)
+            f->kept_count += f->kept[i] = frame_complete(f, i);
+        st = remove_frames_from(f, d->name, frames);
+    } else if (st == FS_OK) {
+        if (d->resume)
+            log_info("OUTPUT: nothing to resume in %s; every frame is drawn", dir);
+        if (prior_name[0] && strcmp(prior_name, d->name) != 0)
+            st = out_dir_remove_sequence(dir, prior_name, NULL);
+        if (st == FS_OK)
+            st = out_dir_remove_sequence(dir, d->name, NULL);
+    }
+    free(prior);
+    if (st == FS_OK)
+        st = remove_compare_outputs(dir);
+    if (st == FS_OK)
+        st = write_record(f, false);
+    f->written = st == FS_OK;
+    return st;
+}
+
+fs_status run_folder_complete(run_folder *f)
+{
+    fs_status st = write_record(f, true);
+    f->completed = st == FS_OK;
+    return st;
+}
+
+void run_folder_close(run_folder *f)
+{
+    /* A run that stopped before its first frame leaves no record either: nothing to resume. */
+    if (f->written && !f->completed && !has_sequence(f, f->name)) {
+        char path[1200];
+        record_path(f, path, sizeof path);
+        unlink(path);
+    }
+    free(f->config);
+    free(f->kept);
+    memset(f, 0, sizeof *f);
+}
+
+int run_history_start(const scene *sc, int first, float fps, int width, int height)
+{
+    for (int i = first; i > 0; i--) {
+        frame_record fr = frame_record_at(sc, i, (float)i / fps, (float)(i - 1) / fps, width, height);
+        if (fr.cut)
+            return i;
+    }
+    return 0;
+}

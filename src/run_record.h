@@ -1,0 +1,60 @@
+/* run_record.h: the record of what wrote an output folder, and --resume / --replace (issue 17,
+ * defect 9; README "Output folders").
+ *
+ * render, reference, compare and demo write into DIR (--out) a text file, DIR/fovsim-run.txt:
+ * one "key: value" line per setting that changes what the run writes (the command, --name, every
+ * option that reaches a pixel, the scene's and the gaze trace's content hashes, the executable's
+ * hash, the GL renderer), then "---", then how many frames it draws and whether it finished. It is
+ * written (atomically) before the first frame and rewritten with "complete: yes" after the last.
+ *
+ * At the start of a run, the folder's record decides:
+ *   - no record and no frames of --name: a new folder;
+ *   - the same configuration: the earlier frames are removed and every frame is drawn, or, with
+ *     --resume, the complete frames are kept (run_folder.kept) and only the others are drawn;
+ *   - another configuration, or frames that no record describes (an older fovsim's, or not
+ *     fovsim's): the run refuses with one line naming the first setting that differs, unless
+ *     --replace, which removes the earlier run's frames first.
+ * metrics.csv, summary.json and fvvdp/ are written only by a compare that finishes; they are
+ * removed at the start of every run, so a folder holds them only when its last run completed. */
+#ifndef FOVSIM_RUN_RECORD_H
+#define FOVSIM_RUN_RECORD_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "cli.h"
+#include "session.h"
+
+#define RUN_RECORD_FILE "fovsim-run.txt"
+
+/* The configuration text of a run (the part of the record above "---"). FS_ERR_IO when the
+ * executable cannot be read to hash it (never in practice: /proc/self/exe). */
+fs_status run_record_describe(const run_desc *d, const session *s, char *buf, size_t cap);
+
+typedef struct run_folder {
+    char dir[1024];
+    char name[256];
+    char *config;  /* this run's configuration text (owned) */
+    int frames;    /* frames this run draws */
+    bool *kept;    /* per frame: a complete frame of the same configuration kept by --resume */
+    int kept_count;
+    bool written, completed; /* the record, "complete: no" / "complete: yes" */
+} run_folder;
+
+/* Prepares DIR for a run of `frames` frames named d->name with configuration `config`: removes
+ * stale temporary files, checks the record as above (d->resume, d->replace), removes what the run
+ * replaces and writes the record ("complete: no"). FS_ERR_USAGE with one line when the folder holds
+ * another configuration's output and --replace was not given; FS_ERR_IO when it cannot be
+ * tidied or the record cannot be written. f->kept lists the frames --resume keeps. */
+fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const char *config, int frames);
+/* Rewrites the record with "complete: yes" (after the last frame and file of the run). */
+fs_status run_folder_complete(run_folder *f);
+/* Frees f. A run that did not complete and left no frame of its own removes its record too. */
+void run_folder_close(run_folder *f);
+
+/* The frame the TAA history of frame `first` starts from: the last frame at or before it whose
+ * history is reset (frame 0, or a frame just after a camera cut). Resuming at `first` redraws
+ * from there without writing, so its history equals an uninterrupted run's. */
+int run_history_start(const scene *sc, int first, float fps, int width, int height);
+
+#endif
