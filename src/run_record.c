@@ -20,8 +20,9 @@
 #include "scene/frame.h"
 
 /* Every field of run_desc is either written into the configuration below or listed there as not
- * changing what a run writes. A new field changes the struct's size and stops the build here until
- * it is sorted into one of the two (LP64 only: the size is the ABI's). */
+ * changing what a run writes. A new field usually changes the struct's size, which stops the build
+ * here until it is sorted into one of the two (LP64 only: the size is the ABI's; a bool that fits
+ * into padding slips through, so read the list when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
 _Static_assert(sizeof(run_desc) == 296, "run_desc changed: add the new field to run_record_describe (or to its list "
                                         "of fields that change nothing written), then update this size");
@@ -276,59 +277,6 @@ static bool frame_complete(const run_folder *f, int i)
     return ok;
 }
 
-/* The frame index of a file <name>.<digits>.exr, or -1. */
-static long frame_index(const char *file, const char *name)
-{
-    size_t len = strlen(name), n = strlen(file);
-    if (n <= len + 5 || strncmp(file, name, len) != 0 || file[len] != '.' || strcmp(file + n - 4, ".exr") != 0 ||
-        strspn(file + len + 1, "0123456789") != n - len - 5 || n - len - 5 > 9)
-        return -1;
-    return strtol(file + len + 1, NULL, 10);
-}
-
-/* Whether any frame of `name` is in the folder. */
-static bool has_sequence(const run_folder *f, const char *name)
-{
-    DIR *dd = opendir(f->dir);
-    if (!dd)
-        return false;
-    bool found = false;
-    struct dirent *e;
-    while (!found && (e = readdir(dd)) != NULL)
-        found = frame_index(e->d_name, name) >= 0;
-    closedir(dd);
-    return found;
-}
-
-/* Removes the frames of `name` from index `from` on (what --resume with fewer frames leaves over). */
-static fs_status remove_frames_from(const run_folder *f, const char *name, int from)
-{
-    DIR *dd = opendir(f->dir);
-    if (!dd)
-        return FS_OK;
-    fs_status st = FS_OK;
-    int removed = 0;
-    struct dirent *e;
-    while (st == FS_OK && (e = readdir(dd)) != NULL) {
-        char path[1400];
-        struct stat sb;
-        if (frame_index(e->d_name, name) < from ||
-            snprintf(path, sizeof path, "%s/%s", f->dir, e->d_name) >= (int)sizeof path || lstat(path, &sb) != 0 ||
-            !S_ISREG(sb.st_mode))
-            continue;
-        if (unlink(path) != 0) {
-            log_error("%s: cannot remove the frame of an earlier run: %s", path, strerror(errno));
-            st = FS_ERR_IO;
-        }
-        removed += st == FS_OK;
-    }
-    closedir(dd);
-    if (removed)
-        log_info("OUTPUT: removed %d frame%s from frame %d on of an earlier, longer run", removed,
-                 removed == 1 ? "" : "s", from);
-    return st;
-}
-
 /* >>the files only a finished compare writes */
 
 static fs_status remove_file(const char *path)
@@ -432,7 +380,7 @@ fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, con
         log_error("%s: holds the output of another configuration (%s); --replace replaces it, --out chooses another "
                   "folder", dir, why);
         st = FS_ERR_USAGE;
-    } else if (!d->replace && !prior && has_sequence(f, d->name)) {
+    } else if (!d->replace && !prior && out_dir_has_sequence(f->dir, d->name)) {
         log_error("%s: holds frames %s.####.exr that no %s describes (an older fovsim's, or not fovsim's); "
                   "--replace replaces them, --out chooses another folder", dir, d->name, RUN_RECORD_FILE);
         st = FS_ERR_USAGE;
@@ -441,14 +389,14 @@ fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, con
     if (st == FS_OK && same && d->resume) {
         for (int i = 0; i < frames; i++)
             f->kept_count += f->kept[i] = frame_complete(f, i);
-        st = remove_frames_from(f, d->name, frames);
+        st = out_dir_remove_sequence(dir, d->name, frames, NULL);
     } else if (st == FS_OK) {
         if (d->resume)
             log_info("OUTPUT: nothing to resume in %s; every frame is drawn", dir);
         if (prior_name[0] && strcmp(prior_name, d->name) != 0)
-            st = out_dir_remove_sequence(dir, prior_name, NULL);
+            st = out_dir_remove_sequence(dir, prior_name, 0, NULL);
         if (st == FS_OK)
-            st = out_dir_remove_sequence(dir, d->name, NULL);
+            st = out_dir_remove_sequence(dir, d->name, 0, NULL);
     }
     free(prior);
     if (st == FS_OK)
@@ -469,7 +417,7 @@ fs_status run_folder_complete(run_folder *f)
 void run_folder_close(run_folder *f)
 {
     /* A run that stopped before its first frame leaves no record either: nothing to resume. */
-    if (f->written && !f->completed && !has_sequence(f, f->name)) {
+    if (f->written && !f->completed && !out_dir_has_sequence(f->dir, f->name)) {
         char path[1200];
         record_path(f, path, sizeof path);
         unlink(path);

@@ -163,7 +163,30 @@ int out_dir_remove_stale_temps(const char *dir)
     return removed;
 }
 
-fs_status out_dir_remove_sequence(const char *dir, const char *name, int *removed)
+long out_path_frame_index(const char *file, const char *name)
+{
+    size_t len = strlen(name), n = strlen(file);
+    /* <name> "." digits ".exr" */
+    if (n < len + 1 + 4 + 4 || strncmp(file, name, len) != 0 || file[len] != '.' || strcmp(file + n - 4, ".exr") != 0 ||
+        !all_digits(file + len + 1, n - len - 1 - 4) || n - len - 1 - 4 > 9)
+        return -1;
+    return strtol(file + len + 1, NULL, 10);
+}
+
+bool out_dir_has_sequence(const char *dir, const char *name)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return false;
+    bool found = false;
+    struct dirent *e;
+    while (!found && (e = readdir(d)) != NULL)
+        found = out_path_frame_index(e->d_name, name) >= 0;
+    closedir(d);
+    return found;
+}
+
+fs_status out_dir_remove_sequence(const char *dir, const char *name, int from, int *removed)
 {
     int n = 0;
     if (removed)
@@ -171,15 +194,11 @@ fs_status out_dir_remove_sequence(const char *dir, const char *name, int *remove
     DIR *d = opendir(dir);
     if (!d)
         return FS_OK;
-    size_t len = strlen(name);
     fs_status st = FS_OK;
     struct dirent *e;
     while ((e = readdir(d)) != NULL && st == FS_OK) {
         const char *f = e->d_name;
-        size_t fl = strlen(f);
-        /* <name> "." digits ".exr" */
-        if (fl < len + 1 + 4 + 4 || strncmp(f, name, len) != 0 || f[len] != '.' || strcmp(f + fl - 4, ".exr") != 0 ||
-            !all_digits(f + len + 1, fl - len - 1 - 4))
+        if (out_path_frame_index(f, name) < from)
             continue;
         char path[OUT_PATH_DIR_MAX + NAME_MAX + 2];
         if (snprintf(path, sizeof path, "%s/%s", dir, f) >= (int)sizeof path)
@@ -196,14 +215,9 @@ fs_status out_dir_remove_sequence(const char *dir, const char *name, int *remove
     }
     closedir(d);
     if (n)
-        log_info("OUTPUT: removed %d frame%s of an earlier run (%s/%s.####.exr)", n, n == 1 ? "" : "s", dir, name);
+        log_info("OUTPUT: removed %d frame%s of an earlier run (%s/%s.####.exr%s)", n, n == 1 ? "" : "s", dir, name,
+                 from > 0 ? ", past the frames of this one" : "");
     if (removed)
         *removed = n;
     return st;
-}
-
-fs_status out_dir_tidy(const char *dir, const char *name)
-{
-    out_dir_remove_stale_temps(dir);
-    return out_dir_remove_sequence(dir, name, NULL);
 }

@@ -42,12 +42,14 @@ long out_path_temp_pid(const char *file);
  * live processes (another run writing into the same directory) are kept, and so is anything that
  * is not a regular file. A missing directory is not an error. Returns how many were removed. */
 int out_dir_remove_stale_temps(const char *dir);
-/* Removes the frames `<name>.<4 or more digits>.exr` (regular files only) of an earlier run from
- * `dir`, so that a run leaves exactly its own sequence there, also when it draws fewer frames than
- * the last or is interrupted. FS_ERR_IO with one line when one cannot be removed; *removed (may be
- * NULL) gets the count. */
-fs_status out_dir_remove_sequence(const char *dir, const char *name, int *removed);
-/* Both, at the start of a run that writes the sequence `name` into `dir`. */
-fs_status out_dir_tidy(const char *dir, const char *name);
+/* The frame index of a file named `<name>.<1 to 9 digits>.exr`, or -1. */
+long out_path_frame_index(const char *file, const char *name);
+/* Whether `dir` holds any such frame of `name`. */
+bool out_dir_has_sequence(const char *dir, const char *name);
+/* Removes the frames of `name` with an index >= `from` (regular files only) from `dir`: with 0,
+ * every frame of an earlier run, so that a run leaves exactly its own sequence there, also when it
+ * draws fewer frames than the last or is interrupted. FS_ERR_IO with one line when one cannot be
+ * removed; *removed (may be NULL) gets the count. */
+fs_status out_dir_remove_sequence(const char *dir, const char *name, int from, int *removed);
 
 #endif

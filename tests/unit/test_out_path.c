@@ -176,12 +176,22 @@ TEST(stale_temps_and_old_frames_removed)
     CHECK(exists(dir, name));
 
     int removed = -1;
-    CHECK(out_dir_remove_sequence(dir, "frame", &removed) == FS_OK && removed == 3);
+    CHECK(out_dir_remove_sequence(dir, "frame", 0, &removed) == FS_OK && removed == 3);
     CHECK(!exists(dir, "frame.0000.exr") && !exists(dir, "frame.0011.exr") && !exists(dir, "frame.100000.exr"));
     CHECK(exists(dir, "frame.001.exr") && exists(dir, "frame.0001.exr.bak") && exists(dir, "frames.0001.exr") &&
           exists(dir, "frame.0001.0002.exr") && exists(dir, "notes.txt"));
+    /* From an index on (--resume with fewer frames), and whether a sequence is there. */
+    CHECK(!out_dir_has_sequence(dir, "frame"));
+    touch(dir, "frame.0002.exr");
+    touch(dir, "frame.0005.exr");
+    touch(dir, "frame.0007.exr");
+    CHECK(out_dir_has_sequence(dir, "frame") && !out_dir_has_sequence(dir, "other"));
+    CHECK(out_dir_remove_sequence(dir, "frame", 5, &removed) == FS_OK && removed == 2);
+    CHECK(exists(dir, "frame.0002.exr") && !exists(dir, "frame.0005.exr") && !exists(dir, "frame.0007.exr"));
+    CHECK(out_path_frame_index("frame.0042.exr", "frame") == 42 && out_path_frame_index("frame.042.exr", "frame") == -1);
+    CHECK(out_path_frame_index("frame.1234567890.exr", "frame") == -1); /* more than 9 digits */
     CHECK(out_dir_remove_stale_temps("/nonexistent/fovsim") == 0);
-    CHECK(out_dir_remove_sequence("/nonexistent/fovsim", "frame", &removed) == FS_OK && removed == 0);
+    CHECK(out_dir_remove_sequence("/nonexistent/fovsim", "frame", 0, &removed) == FS_OK && removed == 0);
 }
 
 int main(void)
