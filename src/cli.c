@@ -181,6 +181,11 @@ void cli_print_help(command cmd)
                "                      GL's buffer-texture limit caps it)\n"
                "  --cache DIR         reference frame cache (default $XDG_CACHE_HOME/fovsim/reference)\n"
                "  --no-cache          draw reference frames without reading or writing the cache\n");
+    if (cmd == CMD_COMPARE)
+        printf("  --first-frame F     measure and write frames F.. only (a chunk of a longer sequence); the\n"
+               "                      frames before are drawn without being written, for the TAA history\n"
+               "  --warmup W          with --first-frame: draw at most W frames of history (default: back to\n"
+               "                      frame 0 or the last camera cut, the same frames as an unbroken run)\n");
     if (cmd == CMD_COMPARE || cmd == CMD_DEMO)
         printf("  --modes M,M,...     alpha modes side by side (or all; default traditional,hashed)\n"
                "  --export-fvvdp      also write FovVideoVDP's inputs to DIR/fvvdp/: 16-bit sRGB PNG\n"
@@ -323,7 +328,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         }
         static const char *const with_value[] = {"--scene", "--builtin", "--frames", "--fps", "--out",
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
-                                                 "--warmup", "--markdown", "--compression", "--rings",
+                                                 "--warmup", "--first-frame", "--markdown", "--compression", "--rings",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
@@ -524,7 +529,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         } else if (!strcmp(opt, "--frames"))
             ok = parse_int(opt, val, 1, MAX_FRAMES, &d->frames);
         else if (!strcmp(opt, "--warmup"))
-            ok = parse_int(opt, val, 0, 10000, &d->warmup);
+            ok = parse_int(opt, val, 0, 10000, &d->warmup), d->warmup_set = true;
+        else if (!strcmp(opt, "--first-frame"))
+            ok = parse_int(opt, val, 0, MAX_FRAMES - 1, &d->first_frame);
         else if (!strcmp(opt, "--width"))
             ok = parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->width);
         else if (!strcmp(opt, "--height"))
@@ -627,6 +634,19 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
     if ((d->resume || d->replace) && d->cmd != CMD_RENDER && d->cmd != CMD_REFERENCE && d->cmd != CMD_COMPARE &&
         d->cmd != CMD_DEMO) {
         log_error("--resume and --replace are options of fovsim render, reference, compare and demo");
+        return FS_ERR_USAGE;
+    }
+    if (d->first_frame && d->cmd != CMD_COMPARE) {
+        log_error("--first-frame is an option of fovsim compare (a chunk of a longer sequence, as fovsim sweep "
+                  "--chunk-frames runs it)");
+        return FS_ERR_USAGE;
+    }
+    if (d->warmup_set && d->cmd != CMD_BENCH && !(d->cmd == CMD_COMPARE && d->first_frame)) {
+        log_error("--warmup is an option of fovsim bench, and of compare with --first-frame");
+        return FS_ERR_USAGE;
+    }
+    if (d->first_frame && d->frames && d->first_frame >= d->frames) {
+        log_error("--first-frame %d: expected less than --frames %d", d->first_frame, d->frames);
         return FS_ERR_USAGE;
     }
     if (d->resume && d->replace) {

@@ -86,6 +86,8 @@ typedef struct run_desc {
     const char *script;      /* view: --script FILE, scripted input events (docs/viewer.md) */
     const char *record;      /* view: --record FILE, where gaze recordings go (default out/view/gaze-<n>.csv) */
     alpha_mode split[2];     /* view: --split A,B, left and right alpha modes; DEFAULT = no split */
+    int first_frame;         /* compare: --first-frame F, frames before F drawn only for the TAA history */
+    bool warmup_set;         /* --warmup was given (compare --first-frame: frames of history; default all) */
     bool resume;             /* render/reference/compare/demo: --resume, keep the complete frames (run_record.h) */
     bool replace;            /* --replace: write into a folder another configuration wrote */
 } run_desc;

@@ -356,7 +356,8 @@ typedef struct report_desc {
     int mode_count, frames;
     const fov_layout *layout; /* measurement rings */
     const reference *ref;
-    double *ref_err;          /* per frame (sorted here) */
+    double *ref_err;          /* per measured frame (sorted here) */
+    int first;                /* the first measured frame (--first-frame): frame_ms[first..] */
     int ref_cached;
     const char *out, *json_path;
     double seconds;
@@ -384,7 +385,7 @@ static fs_status report(const report_desc *r)
         double *v = malloc(sizeof(double) * (size_t)r->frames);
         if (!v)
             return FS_ERR_NOMEM;
-        memcpy(v, r->runs[m].frame_ms, sizeof(double) * (size_t)r->frames);
+        memcpy(v, r->runs[m].frame_ms + r->first, sizeof(double) * (size_t)r->frames);
         qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
         med[m] = stats_quantile(v, r->frames, 0.5);
         free(v);
@@ -558,16 +559,33 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         st = temporal_begin(&te, &s);
     bool have_prev_ref = false;
     session_catch_sigint();
-    rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)", frames * passes,
-                           d->quiet);
+    rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)",
+                           (frames - (d->first_frame < frames ? d->first_frame : frames)) * passes, d->quiet);
     double t0 = time_now();
-    for (int i = 0; i < frames && st == FS_OK; i++) {
+    /* --first-frame F (a chunk of a sweep): frames before F are drawn for the TAA history without
+     * being measured or written, from `warm` on; the one just before F also gets its reference, the
+     * previous frame of F's temporal metrics. */
+    const int first = d->first_frame < frames ? d->first_frame : frames;
+    int warm = first;
+    if (first > 0 && s.pl.taa) {
+        warm = run_history_start(&s.sc, first, d->fps, s.pl.width, s.pl.height);
+        if (d->warmup_set && first - d->warmup > warm)
+            warm = first - d->warmup;
+    }
+    warm = warm < first - 1 ? warm : (first > 0 ? first - 1 : 0);
+    for (int i = warm; i < frames && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
-        rp.base = i * passes;
+        rp.base = (i < first ? 0 : i - first) * passes;
         frame_record fr = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+        if (i < first - 1) { /* history only */
+            for (int m = 0; m < nm && st == FS_OK; m++)
+                st = renderer_draw(runs[m].r, &fr);
+            continue;
+        }
+        const bool measured = i >= first;
         if (fr.cut) /* no frame-to-frame change across a cut */
             for (int m = 0; m < nm; m++)
                 runs[m].have_prev = false;
@@ -587,7 +605,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         if (st != FS_OK)
             break;
         ref_err[i] = ri.error;
-        ref_cached += ri.cached;
+        ref_cached += measured && ri.cached;
         display_desc dd = {s.pl.width, s.pl.height, fr.hfov_deg};
         ring_mask mask;
         st = ring_mask_build(&dd, &ml, fr.gaze_px[0], fr.gaze_px[1], &mask);
@@ -609,6 +627,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             if (st == FS_OK)
                 st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask,
                                       reference_noise2(rf, still, ri.error, i > 0 ? ref_err[i - 1] : 0.0), rm);
+            if (!measured)
+                continue;
             accumulate(&runs[m], rm, ml.count, still);
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
@@ -617,7 +637,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
                     st = FS_ERR_IO;
                 }
         }
-        if (st == FS_OK && fx) {
+        if (st == FS_OK && fx && measured) {
             const exr_image *seq[ALPHA_MODE_COUNT + 1];
             for (int m = 0; m < nm; m++)
                 seq[m] = &runs[m].img;
@@ -630,7 +650,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         ring_mask_free(&mask);
         if (st != FS_OK)
             break;
-        if (fo.kept[i]) {
+        if (fo.kept[i] || !measured) {
             exr_image_free(&frame);
         } else {
             frame_attrs(&frame, &s, &fr, runs, nm, rf, &ri);
@@ -651,7 +671,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         memset(&ref, 0, sizeof ref);
         have_prev_ref = true;
         temporal_next(&te, &fr);
-        progress_update(&rp.pr, (i + 1) * passes);
+        progress_update(&rp.pr, (i + 1 - first) * passes);
     }
     progress_end(&rp.pr);
     if (w) {
@@ -686,8 +706,9 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             have_jod = fvvdp_run(out, seq_names, nm + 1, jod) == FS_OK;
     }
     if (st == FS_OK)
-        st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames, .layout = &ml,
-                                   .ref = rf, .ref_err = ref_err, .ref_cached = ref_cached, .out = out,
+        st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames - first,
+                                   .first = first, .layout = &ml, .ref = rf, .ref_err = ref_err + first,
+                                   .ref_cached = ref_cached, .out = out,
                                    .json_path = json_path, .seconds = el, .jod = have_jod ? jod : NULL});
     if (st == FS_OK)
         st = run_folder_complete(&fo);
