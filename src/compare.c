@@ -827,21 +827,6 @@ static void pareto(const double *t, const double *e, int n, bool *front)
     }
 }
 
-static fs_status write_text_atomic(const char *path, const char *text)
-{
-    char tmp[1300];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
-    bool ok = f && fputs(text, f) >= 0;
-    ok = f && fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        log_error("%s: cannot write: %s", path, strerror(errno));
-        unlink(tmp);
-        return FS_ERR_IO;
-    }
-    return FS_OK;
-}
-
 /* Which error bench --accuracy plots and takes its Pareto fronts on (--error). */
 static const char *const k_error_names[4] = {"flip", "alpha_rmse", "rmse", "temporal_error"};
 static const char *const k_error_labels[4] = {"FLIP vs reference (mean)",
@@ -889,7 +874,7 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
                   "t 'TAA off (hollow)', \\\n     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' "
                   "u %s:%d w l lw 2 lc rgb 'black' t 'Pareto front'\n",
                   sort_col, sort_col, out, front_col, x_expr, y_col);
-    fs_status st = o < (int)cap - 1 ? write_text_atomic(gp, buf) : FS_ERR_INTERNAL;
+    fs_status st = o < (int)cap - 1 ? file_write_atomic(gp, buf) : FS_ERR_INTERNAL;
     char cmd[2600];
     snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
     if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
@@ -1197,10 +1182,10 @@ fs_status run_bench_accuracy(const run_desc *d)
 #undef MD
         char path[1200];
         snprintf(path, sizeof path, "%s/accuracy.csv", out);
-        st = write_text_atomic(path, csv);
+        st = file_write_atomic(path, csv);
         snprintf(path, sizeof path, "%s/accuracy.md", out);
         if (st == FS_OK)
-            st = write_text_atomic(path, md);
+            st = file_write_atomic(path, md);
         if (st == FS_OK && d->markdown) {
             FILE *f = fopen(d->markdown, "a");
             if (!f || fprintf(f, "\n%s", md) < 0 || fclose(f) != 0) {

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "core/config.h"
+#include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "gl/gl_device.h"
@@ -161,26 +162,20 @@ static void record_path(const run_folder *f, char *out, size_t cap)
     snprintf(out, cap, "%s/%s", f->dir, RUN_RECORD_FILE);
 }
 
-/* Writes the record atomically: a temporary name, then rename. */
+/* Writes the record atomically (a reader sees the old one or the new one). */
 static fs_status write_record(const run_folder *f, bool complete)
 {
-    char path[1200], tmp[1300];
+    char path[1200];
     record_path(f, path, sizeof path);
-    snprintf(tmp, sizeof tmp, "%s/.%s.tmp.%ld", f->dir, RUN_RECORD_FILE, (long)getpid());
-    FILE *o = fopen(tmp, "w");
-    if (!o) {
-        log_error("%s: cannot create: %s", tmp, strerror(errno));
-        return FS_ERR_IO;
-    }
-    fprintf(o, "# the configuration that wrote this folder (fovsim, README \"Output folders\")\n%s" SEPARATOR
-               "frames: %d\ncomplete: %s\n", f->config, f->frames, complete ? "yes" : "no");
-    bool bad = ferror(o) != 0;
-    if (fclose(o) != 0 || bad || rename(tmp, path) != 0) {
-        log_error("%s: cannot write: %s", path, strerror(errno));
-        unlink(tmp);
-        return FS_ERR_IO;
-    }
-    return FS_OK;
+    size_t cap = strlen(f->config) + 256;
+    char *text = malloc(cap);
+    if (!text)
+        return FS_ERR_NOMEM;
+    snprintf(text, cap, "# the configuration that wrote this folder (fovsim, README \"Output folders\")\n%s" SEPARATOR
+             "frames: %d\ncomplete: %s\n", f->config, f->frames, complete ? "yes" : "no");
+    fs_status st = file_write_atomic(path, text);
+    free(text);
+    return st;
 }
 
 /* The earlier record's configuration part into *out (malloc'd; NULL when there is none). */
