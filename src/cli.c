@@ -92,6 +92,8 @@ void cli_print_help(command cmd)
                FOVSIM_VERSION);
         for (size_t i = 0; i < sizeof k_commands / sizeof k_commands[0]; i++)
             printf("  %-10s %s\n", k_commands[i].name, k_commands[i].summary);
+        printf("  %-10s %s\n  %-10s %s\n", "sweep", "run scenes x gaze traces x configurations: here, as a jobs file or "
+               "on Slurm", "merge", "gather a sweep's metrics into one CSV, summary and plot");
         printf("\nglobal options: --help, --version, --list-gpus\n\n");
         break;
     }
@@ -200,7 +202,8 @@ void cli_print_help(command cmd)
                "  --modes M,M,...     alpha modes to compare in one run (or all); each gets its time\n"
                "                      relative to traditional, A2C modes also traditional+MSAA\n");
     printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 5 bad gaze trace, 6 I/O error,\n"
-           "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 130 interrupted\n");
+           "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 11 a sweep has missing or\n"
+           "             failed tasks, 130 interrupted\n");
 }
 
 /* An option with two values: *which = 0 for `a`, 1 for `b`; anything else is a one-line error. */
@@ -273,7 +276,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         if (!strcmp(c, k_commands[k].name))
             d->cmd = k_commands[k].cmd;
     if (d->cmd == CMD_NONE) {
-        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare, view; see fovsim --help)", c);
+        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare, view, sweep, merge; "
+                  "see fovsim --help)", c);
         return FS_ERR_USAGE;
     }
     for (i = 2; i < argc; i++) {

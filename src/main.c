@@ -2,8 +2,11 @@
 #include <malloc.h>
 #include <stdlib.h>
 
+#include <string.h>
+
 #include "cli.h"
 #include "run.h"
+#include "sweep.h"
 
 /* The frame loop allocates nothing of its own that lives shorter than the session, but Mesa's
  * llvmpipe does: each draw's binned scene takes 64 KiB data blocks from malloc and frees them at
@@ -29,6 +32,11 @@ static void tune_allocator(void)
 int main(int argc, char **argv)
 {
     tune_allocator();
+    /* sweep and merge have options of their own (sweep.h). */
+    if (argc > 1 && !strcmp(argv[1], "sweep"))
+        return fs_status_exit_code(sweep_main(argc, argv));
+    if (argc > 1 && !strcmp(argv[1], "merge"))
+        return fs_status_exit_code(merge_main(argc, argv));
     run_desc d;
     fs_status st = cli_parse(argc, argv, &d);
     if (st == FS_OK)

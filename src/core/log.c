@@ -2,6 +2,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 #include <stdlib.h>
 
 static bool g_verbose;
@@ -63,6 +64,13 @@ void log_escape_write(FILE *f, const char *msg, size_t n)
 /* One line: the message is formatted, then every byte that is not printable text (control
  * characters, DEL, malformed UTF-8, C1 controls) is written as an escape (\n, \x1b, ...), so a
  * file name or JSON key quoted in a message can neither break the line nor drive the terminal. */
+static char g_context[512];
+
+void log_set_context(const char *context)
+{
+    snprintf(g_context, sizeof g_context, "%s", context ? context : "");
+}
+
 static void vline(const char *prefix, const char *fmt, va_list ap)
 {
     char small[1024], *buf = small;
@@ -82,6 +90,8 @@ static void vline(const char *prefix, const char *fmt, va_list ap)
     while (n > 0 && (buf[n - 1] == '\n' || buf[n - 1] == '\r' || buf[n - 1] == ' ' || buf[n - 1] == '\t'))
         n--; /* a driver's or library's trailing newline is not part of the message */
     fputs(prefix, stderr);
+    if (g_context[0] && prefix[0])
+        log_escape_write(stderr, g_context, strlen(g_context));
     if (n > 0)
         log_escape_write(stderr, buf, (size_t)n);
     fputc('\n', stderr);

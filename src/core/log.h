@@ -24,6 +24,9 @@ extern "C" {
 
 void log_set_verbose(bool on);
 bool log_is_verbose(void);
+/* Text put before the message of every error and warning line (NULL or "": none), e.g.
+ * "sweep.json: task 3: " while a sweep checks each task's options with the CLI's own parser. */
+void log_set_context(const char *context);
 /* Tests that feed bad input on purpose can silence the expected error lines. */
 void log_set_quiet_errors(bool on);
 

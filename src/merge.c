@@ -1,0 +1,361 @@
+/* merge.c: `fovsim merge SWEEP_DIR` (sweep.h): every task's metrics into one CSV and one JSON
+ * summary, the tasks that are missing or did not finish, and the accuracy-vs-time plot of the
+ * whole sweep. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/file_read.h"
+#include "core/log.h"
+#include "session.h"
+#include "sweep.h"
+#include "sweep_manifest.h"
+
+/* A growing text buffer. */
+typedef struct sbuf {
+    char *p;
+    size_t len, cap;
+    bool oom;
+} sbuf;
+
+static void sb_add(sbuf *b, const char *s, size_t n)
+{
+    if (b->oom)
+        return;
+    if (b->len + n + 1 > b->cap) {
+        size_t cap = (b->len + n + 1) * 2;
+        char *p = realloc(b->p, cap);
+        if (!p) {
+            b->oom = true;
+            return;
+        }
+        b->p = p;
+        b->cap = cap;
+    }
+    memcpy(b->p + b->len, s, n);
+    b->len += n;
+    b->p[b->len] = '\0';
+}
+
+/* One (configuration, mode) of the sweep: the accuracy-vs-time point. */
+typedef struct point {
+    int config; /* scene, trace, layout, TAA: the task without its chunk */
+    char mode[32];
+    double *ms;
+    int n, cap;
+    double flip, ratio;
+    int rows;
+} point;
+
+typedef struct points {
+    point *v;
+    int n, cap;
+} points;
+
+static point *point_of(points *ps, int config, const char *mode)
+{
+    for (int i = 0; i < ps->n; i++)
+        if (ps->v[i].config == config && !strcmp(ps->v[i].mode, mode))
+            return &ps->v[i];
+    if (ps->n == ps->cap) {
+        int cap = ps->cap ? 2 * ps->cap : 16;
+        point *v = realloc(ps->v, sizeof *v * (size_t)cap);
+        if (!v)
+            return NULL;
+        ps->v = v;
+        ps->cap = cap;
+    }
+    point *p = &ps->v[ps->n++];
+    memset(p, 0, sizeof *p);
+    p->config = config;
+    snprintf(p->mode, sizeof p->mode, "%s", mode);
+    return p;
+}
+
+/* The index of `name` among the comma-separated columns of `header`, or -1. */
+static int column(const char *header, const char *name)
+{
+    int i = 0;
+    size_t l = strlen(name);
+    for (const char *c = header; c; c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL, i++)
+        if (!strncmp(c, name, l) && (c[l] == ',' || c[l] == '\n' || c[l] == '\0'))
+            return i;
+    return -1;
+}
+
+/* Field `i` of a CSV row (no quoting in fovsim's metrics) into out. */
+static void field(const char *row, int i, char *out, size_t n)
+{
+    const char *c = row;
+    for (int k = 0; k < i && c; k++)
+        c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL;
+    if (!c) {
+        out[0] = '\0';
+        return;
+    }
+    snprintf(out, n, "%.*s", (int)strcspn(c, ",\n"), c);
+}
+
+/* Appends task k's metrics rows (prefixed) to csv, and its ring -1 rows to the points. */
+static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char *prefix, int config, char *header,
+                        size_t header_cap, sbuf *csv, points *ps)
+{
+    char dir[PATH_MAX + 300], path[PATH_MAX + 320];
+    sweep_task_dir(m, k, dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/metrics.csv", dir);
+    char *text = NULL;
+    size_t size = 0;
+    fs_status st = file_read_all(path, (size_t)1 << 31, "a task's metrics", FS_ERR_IO, &text, &size);
+    if (st != FS_OK)
+        return st;
+    char *nl = strchr(text, '\n');
+    if (!nl) {
+        log_error("%s: expected a header line and rows", path);
+        free(text);
+        return FS_ERR_IO;
+    }
+    *nl = '\0';
+    if (!header[0]) {
+        snprintf(header, header_cap, "%s", text);
+    } else if (strcmp(header, text) != 0) {
+        log_error("%s: its columns differ from the other tasks' (written by another fovsim?)", path);
+        free(text);
+        return FS_ERR_IO;
+    }
+    int c_mode = column(header, "mode"), c_ring = column(header, "ring"), c_ms = column(header, "frame_ms"),
+        c_flip = column(header, "flip"), c_ratio = column(header, "coverage_ratio");
+    for (char *row = nl + 1; *row && st == FS_OK;) {
+        char *end = strchr(row, '\n');
+        size_t len = end ? (size_t)(end - row) : strlen(row);
+        sb_add(csv, prefix, strlen(prefix));
+        sb_add(csv, row, len);
+        sb_add(csv, "\n", 1);
+        char ring[16], mode[32], v[64];
+        field(row, c_ring, ring, sizeof ring);
+        field(row, c_mode, mode, sizeof mode);
+        if (!strcmp(ring, "-1")) {
+            point *p = point_of(ps, config, mode);
+            if (p && p->n == p->cap) {
+                int cap = p->cap ? 2 * p->cap : 64;
+                double *ms = realloc(p->ms, sizeof(double) * (size_t)cap);
+                p->ms = ms ? ms : p->ms;
+                p->cap = ms ? cap : p->cap;
+            }
+            if (!p || p->n == p->cap) {
+                st = FS_ERR_NOMEM;
+                break;
+            }
+            field(row, c_ms, v, sizeof v);
+            p->ms[p->n++] = atof(v);
+            field(row, c_flip, v, sizeof v);
+            p->flip += atof(v);
+            field(row, c_ratio, v, sizeof v);
+            p->ratio += atof(v);
+            p->rows++;
+        }
+        row = end ? end + 1 : row + len;
+    }
+    free(text);
+    return csv->oom ? FS_ERR_NOMEM : st;
+}
+
+/* The task's summary.json as a JSON value (NULL when unreadable). */
+static cJSON *task_summary(const sweep_manifest *m, const sweep_task *k)
+{
+    char dir[PATH_MAX + 300], path[PATH_MAX + 320];
+    sweep_task_dir(m, k, dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    char *text = NULL;
+    size_t size = 0;
+    if (file_read_all(path, 1 << 24, "a task's summary", FS_ERR_IO, &text, &size) != FS_OK)
+        return NULL;
+    cJSON *j = cJSON_ParseWithLength(text, size);
+    free(text);
+    return j;
+}
+
+static void short_of(const char *s, char *out, size_t n)
+{
+    const char *b = !s ? "centre" : strrchr(s, '/') ? strrchr(s, '/') + 1 : s;
+    snprintf(out, n, "%s", b);
+}
+
+static fs_status plot(const char *dir, const points *ps)
+{
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        printf("(gnuplot is not installed: no accuracy.png; the points are in %s/accuracy.csv)\n", dir);
+        return FS_OK;
+    }
+    char gp[PATH_MAX + 32], script[4 * PATH_MAX];
+    snprintf(gp, sizeof gp, "%s/accuracy.gp", dir);
+    int o = snprintf(script, sizeof script,
+                     "set terminal pngcairo size 1100,750 noenhanced\nset output '%s/.accuracy.png.tmp'\n"
+                     "set datafile separator ','\nset title 'fovsim sweep: error vs frame time, one point per "
+                     "configuration and mode'\nset xlabel 'frame time, median (ms)'\n"
+                     "set ylabel 'FLIP vs reference (mean over frames)'\nset grid\nset key outside right top\nplot ",
+                     dir);
+    /* One series per mode, in the order they first appear. */
+    for (int i = 0, first = 1; i < ps->n && o < (int)sizeof script; i++) {
+        bool seen = false;
+        for (int j = 0; j < i; j++)
+            seen = seen || !strcmp(ps->v[j].mode, ps->v[i].mode);
+        if (seen)
+            continue;
+        o += snprintf(script + o, sizeof script - (size_t)o,
+                      "%s'%s/accuracy.csv' u 6:(strcol(5) eq \"%s\" ? $7 : NaN) w p pt 7 ps 1.3 t '%s'",
+                      first ? "" : ", \\\n     ", dir, ps->v[i].mode, ps->v[i].mode);
+        first = 0;
+    }
+    if (o + 2 >= (int)sizeof script)
+        return FS_ERR_INTERNAL;
+    memcpy(script + o, "\n", 2);
+    fs_status st = file_write_atomic(gp, script);
+    char cmd[2 * PATH_MAX + 64], tmp[PATH_MAX + 32], png[PATH_MAX + 32];
+    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, dir);
+    snprintf(tmp, sizeof tmp, "%s/.accuracy.png.tmp", dir);
+    snprintf(png, sizeof png, "%s/accuracy.png", dir);
+    if (st == FS_OK && (system(cmd) != 0 || rename(tmp, png) != 0)) {
+        log_error("%s: gnuplot failed (see %s/gnuplot.log)", gp, dir);
+        unlink(tmp);
+        return FS_ERR_IO;
+    }
+    snprintf(cmd, sizeof cmd, "%s/gnuplot.log", dir);
+    unlink(cmd);
+    return st;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    return stats_cmp_double(a, b);
+}
+
+fs_status merge_main(int argc, char **argv)
+{
+    const char *dir = NULL;
+    for (int i = 2; i < argc; i++) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            printf("usage: fovsim merge SWEEP_DIR\n\n"
+                   "Gathers every task of a sweep (fovsim sweep) into SWEEP_DIR/metrics.csv (each task's rows,\n"
+                   "after the columns task, scene, gaze, rings, taa), SWEEP_DIR/summary.json (each task's\n"
+                   "summary, and the tasks missing or incomplete) and the accuracy-vs-time plot of the\n"
+                   "whole sweep, SWEEP_DIR/accuracy.png (points in accuracy.csv). Lists the tasks that are\n"
+                   "missing or did not finish, and then exits 11. docs/cluster.md\n");
+            return FS_OK;
+        }
+        if (argv[i][0] == '-' || dir) {
+            log_error("fovsim merge: unexpected argument '%s' (see fovsim merge --help)", argv[i]);
+            return FS_ERR_USAGE;
+        }
+        dir = argv[i];
+    }
+    if (!dir) {
+        log_error("fovsim merge: expected a sweep's folder (see fovsim merge --help)");
+        return FS_ERR_USAGE;
+    }
+    sweep_manifest m;
+    fs_status st = sweep_manifest_load_dir(dir, &m);
+    if (st == FS_OK)
+        st = sweep_build_tasks(&m);
+    sbuf csv = {0}, acc = {0};
+    points ps = {0};
+    char header[2048] = "";
+    cJSON *sum = cJSON_CreateObject(), *results = cJSON_CreateArray(), *missing = cJSON_CreateArray();
+    int done = 0, absent = 0;
+    for (int i = 0; i < m.ntasks && st == FS_OK; i++) {
+        const sweep_task *k = &m.tasks[i];
+        sweep_task_state s = sweep_task_status(&m, k);
+        if (s != TASK_DONE) {
+            printf("task %d (%s): %s\n", i, k->name, s == TASK_TODO ? "missing" : "incomplete (started, not finished)");
+            cJSON_AddItemToArray(missing, cJSON_CreateString(k->name));
+            absent++;
+            continue;
+        }
+        char sc[128], gz[128], prefix[1024];
+        short_of(m.scenes[k->scene], sc, sizeof sc);
+        short_of(m.gaze[k->gaze], gz, sizeof gz);
+        snprintf(prefix, sizeof prefix, "%s,%s,%s,%s,%s,", k->name, sc, gz, m.rings[k->rings], m.taa[k->taa]);
+        int config = ((k->scene * m.ngaze + k->gaze) * m.nrings + k->rings) * m.ntaa + k->taa;
+        st = gather(&m, k, prefix, config, header, sizeof header, &csv, &ps);
+        cJSON *r = cJSON_CreateObject();
+        cJSON_AddStringToObject(r, "task", k->name);
+        cJSON_AddStringToObject(r, "scene", m.scenes[k->scene]);
+        cJSON_AddStringToObject(r, "gaze", m.gaze[k->gaze] ? m.gaze[k->gaze] : "centre");
+        cJSON_AddStringToObject(r, "rings", m.rings[k->rings]);
+        cJSON_AddStringToObject(r, "taa", m.taa[k->taa]);
+        cJSON_AddNumberToObject(r, "first_frame", k->first);
+        if (k->end)
+            cJSON_AddNumberToObject(r, "end_frame", k->end);
+        cJSON *ts = task_summary(&m, k);
+        cJSON_AddItemToObject(r, "summary", ts ? ts : cJSON_CreateNull());
+        cJSON_AddItemToArray(results, r);
+        done++;
+    }
+    if (st == FS_OK && done > 0) {
+        char path[PATH_MAX + 32];
+        sbuf all = {0};
+        const char *cols = "task,scene,gaze,rings,taa,";
+        sb_add(&all, cols, strlen(cols));
+        sb_add(&all, header, strlen(header));
+        sb_add(&all, "\n", 1);
+        sb_add(&all, csv.p, csv.len);
+        snprintf(path, sizeof path, "%s/metrics.csv", dir);
+        st = all.oom ? FS_ERR_NOMEM : file_write_atomic(path, all.p);
+        free(all.p);
+        /* accuracy.csv: one point per configuration and mode */
+        const char *ah = "scene,gaze,rings,taa,mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames\n";
+        sb_add(&acc, ah, strlen(ah));
+        for (int i = 0; i < ps.n && st == FS_OK; i++) {
+            point *p = &ps.v[i];
+            int c = p->config, t = c % m.ntaa, r = (c /= m.ntaa) % m.nrings, g = (c /= m.nrings) % m.ngaze,
+                s = c / m.ngaze;
+            qsort(p->ms, (size_t)p->n, sizeof *p->ms, cmp_double);
+            char sc[128], gz[128], line[1024];
+            short_of(m.scenes[s], sc, sizeof sc);
+            short_of(m.gaze[g], gz, sizeof gz);
+            int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.4f,%.6f,%.5f,%d\n", sc, gz, m.rings[r], m.taa[t],
+                             p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows, p->ratio / p->rows,
+                             p->rows);
+            sb_add(&acc, line, (size_t)l);
+        }
+        snprintf(path, sizeof path, "%s/accuracy.csv", dir);
+        if (st == FS_OK)
+            st = acc.oom ? FS_ERR_NOMEM : file_write_atomic(path, acc.p);
+        if (st == FS_OK)
+            st = plot(dir, &ps);
+    }
+    if (st == FS_OK) {
+        cJSON_AddStringToObject(sum, "sweep", m.out);
+        cJSON_AddNumberToObject(sum, "tasks", m.ntasks);
+        cJSON_AddNumberToObject(sum, "complete", done);
+        cJSON_AddItemToObject(sum, "missing_or_incomplete", missing);
+        cJSON_AddItemToObject(sum, "results", results);
+        missing = results = NULL;
+        char *text = cJSON_Print(sum), path[PATH_MAX + 32];
+        snprintf(path, sizeof path, "%s/summary.json", dir);
+        st = text ? file_write_atomic(path, text) : FS_ERR_NOMEM;
+        cJSON_free(text);
+    }
+    if (st == FS_OK) {
+        printf("merged %d of %d tasks into %s/metrics.csv, summary.json and accuracy.csv%s\n", done, m.ntasks, dir,
+               done ? "" : " (no task has finished)");
+        if (absent) {
+            log_error("%s: %d of %d tasks missing or incomplete (listed above); run the sweep again to finish them",
+                      dir, absent, m.ntasks);
+            st = FS_ERR_INCOMPLETE;
+        }
+    }
+    cJSON_Delete(sum);
+    cJSON_Delete(missing);
+    cJSON_Delete(results);
+    for (int i = 0; i < ps.n; i++)
+        free(ps.v[i].ms);
+    free(ps.v);
+    free(csv.p);
+    free(acc.p);
+    sweep_manifest_free(&m);
+    return st;
+}

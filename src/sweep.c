@@ -1,0 +1,639 @@
+/* sweep.c: `fovsim sweep MANIFEST` (sweep.h): the manifest, its task list and the three ways to
+ * run it. `fovsim merge` is in merge.c. */
+#include "sweep.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <inttypes.h>
+#include <limits.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "core/config.h"
+#include "core/file_read.h"
+#include "core/hash.h"
+#include "core/log.h"
+#include "fov/fov_ring.h"
+#include "run.h"
+#include "run_record.h"
+#include "scene/frame.h"
+#include "session.h"
+#include "sweep_manifest.h"
+
+/* >>task list */
+
+/* A file or folder name from `s`: letters, digits, '-' and '_' kept, the rest '_', at most n - 1. */
+static void slug(const char *s, char *out, size_t n)
+{
+    size_t k = 0;
+    for (; *s && k + 1 < n; s++)
+        out[k++] = (*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') || *s == '-' ||
+                           *s == '_'
+                       ? *s
+                       : '_';
+    out[k] = '\0';
+}
+
+/* A scene's or trace's short name: "builtin:forest" -> forest, "/a/b/p01.csv" -> p01. */
+static void short_name(const char *s, char *out, size_t n)
+{
+    if (!s) {
+        snprintf(out, n, "centre");
+        return;
+    }
+    const char *b = strncmp(s, "builtin:", 8) == 0 ? s + 8 : strrchr(s, '/') ? strrchr(s, '/') + 1 : s;
+    char tmp[128];
+    snprintf(tmp, sizeof tmp, "%s", b);
+    char *dot = strrchr(tmp, '.');
+    if (dot && dot != tmp)
+        *dot = '\0';
+    slug(tmp, out, n > 41 ? 41 : n);
+}
+
+/* The chunks of a sequence of `frames` frames: boundaries every `chunk` frames, each moved to a
+ * camera cut within a quarter chunk of it (the history starts afresh there: no warm-up needed).
+ * starts[0..*count) and the end, starts[*count] = frames. */
+static fs_status chunk_bounds(const scene *sc, int frames, float fps, int chunk, int width, int height, int **starts,
+                              int *count)
+{
+    int cap = frames / chunk + 2;
+    int *b = malloc(sizeof(int) * (size_t)cap);
+    if (!b)
+        return FS_ERR_NOMEM;
+    int n = 0;
+    b[n++] = 0;
+    for (int nominal = chunk; nominal < frames; nominal += chunk) {
+        int best = -1, reach = chunk / 4;
+        for (int c = nominal - reach; c <= nominal + reach; c++) {
+            if (c <= b[n - 1] || c >= frames)
+                continue;
+            frame_record fr = frame_record_at(sc, c, (float)c / fps, (float)(c - 1) / fps, width, height);
+            if (fr.cut && (best < 0 || abs(c - nominal) < abs(best - nominal)))
+                best = c;
+        }
+        best = best < 0 ? nominal : best;
+        if (best > b[n - 1])
+            b[n++] = best;
+    }
+    b[n] = frames;
+    *starts = b;
+    *count = n;
+    return FS_OK;
+}
+
+/* The task list: scenes x traces x ring layouts x TAA settings x chunks, in that nesting. */
+fs_status sweep_build_tasks(sweep_manifest *m)
+{
+    int per_chunkless = m->nscenes * m->ngaze * m->nrings * m->ntaa;
+    int cap = per_chunkless;
+    m->tasks = NULL;
+    m->ntasks = 0;
+    fs_status st = FS_OK;
+    for (int s = 0; s < m->nscenes && st == FS_OK; s++) {
+        int *starts = NULL, nchunks = 1;
+        int frames = m->frames;
+        if (m->chunk_frames > 0) {
+            /* The scene's length and cuts, with the options the tasks use (asset root, size). */
+            scene sc;
+            run_desc d;
+            char *argv[SWEEP_MAX_ARGS];
+            int argc = sweep_task_argv(m, &(sweep_task){.scene = s}, argv, SWEEP_MAX_ARGS);
+            st = argc > 0 ? cli_parse(argc, argv, &d) : FS_ERR_USAGE;
+            if (st == FS_OK)
+                st = session_load_scene(&d, &sc);
+            if (st != FS_OK)
+                break;
+            frames = session_frame_count(&d, &sc);
+            int w = d.width ? d.width : sc.display.width, h = d.height ? d.height : sc.display.height;
+            st = chunk_bounds(&sc, frames, d.fps, m->chunk_frames, w, h, &starts, &nchunks);
+            scene_free(&sc);
+            if (st != FS_OK)
+                break;
+            cap += per_chunkless / m->nscenes * (nchunks - 1);
+        }
+        sweep_task *grown = realloc(m->tasks, sizeof *grown * (size_t)cap);
+        if (!grown) {
+            free(starts);
+            st = FS_ERR_NOMEM;
+            break;
+        }
+        m->tasks = grown;
+        for (int g = 0; g < m->ngaze; g++)
+            for (int r = 0; r < m->nrings; r++)
+                for (int t = 0; t < m->ntaa; t++)
+                    for (int c = 0; c < nchunks; c++) {
+                        sweep_task *k = &m->tasks[m->ntasks++];
+                        *k = (sweep_task){.scene = s, .gaze = g, .rings = r, .taa = t,
+                                          .first = starts ? starts[c] : 0, .end = starts ? starts[c + 1] : frames};
+                        char sn[48], gn[48], rn[48];
+                        short_name(m->scenes[s], sn, sizeof sn);
+                        short_name(m->gaze[g], gn, sizeof gn);
+                        slug(m->rings[r], rn, 24);
+                        /* The parameters in full, hashed: two scenes named alike in two folders differ. */
+                        uint64_t h = hash_str(HASH_FNV_INIT, m->scenes[s]);
+                        h = hash_str(h, m->gaze[g] ? m->gaze[g] : "centre");
+                        h = hash_str(h, m->rings[r]);
+                        h = hash_str(h, m->taa[t]);
+                        h = hash_u64(hash_u64(h, (uint64_t)k->first), (uint64_t)k->end);
+                        int o = snprintf(k->name, sizeof k->name, "%s.%s.rings-%s.taa-%s", sn, gn, rn, m->taa[t]);
+                        if (starts)
+                            o += snprintf(k->name + o, sizeof k->name - (size_t)o, ".f%05d-%05d", k->first,
+                                          k->end - 1);
+                        snprintf(k->name + o, sizeof k->name - (size_t)o, ".%08" PRIx32, (uint32_t)(h ^ (h >> 32)));
+                    }
+        free(starts);
+    }
+    if (st == FS_OK && m->ntasks == 0) {
+        log_error("%s: the sweep has no task", m->path);
+        st = FS_ERR_USAGE;
+    }
+    return st;
+}
+
+/* >>the state of a task */
+
+void sweep_task_dir(const sweep_manifest *m, const sweep_task *k, char *out, size_t n)
+{
+    snprintf(out, n, "%s/tasks/%s", m->out, k->name);
+}
+
+/* Done when its folder's record says complete (compare writes it last, after metrics and summary). */
+sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k)
+{
+    char path[PATH_MAX + 300];
+    sweep_task_dir(m, k, path, sizeof path);
+    size_t l = strlen(path);
+    snprintf(path + l, sizeof path - l, "/%s", RUN_RECORD_FILE);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return TASK_TODO;
+    char line[512];
+    bool done = false;
+    while (fgets(line, sizeof line, f))
+        done = done || strcmp(line, "complete: yes\n") == 0;
+    fclose(f);
+    return done ? TASK_DONE : TASK_INCOMPLETE;
+}
+
+static const char *const k_state_names[] = {"todo", "incomplete", "done"};
+
+/* >>running one task (--task I) */
+
+static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
+{
+    const sweep_task *k = &m->tasks[index];
+    if (sweep_task_status(m, k) == TASK_DONE) {
+        printf("task %d (%s): complete, skipped\n", index, k->name);
+        return FS_OK;
+    }
+    char *argv[SWEEP_MAX_ARGS];
+    int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
+    if (argc <= 0)
+        return FS_ERR_INTERNAL;
+    int owned = argc;
+    argv[argc++] = "--replace"; /* an incomplete folder of this task (a killed run): drawn anew */
+    if (quiet)
+        argv[argc++] = "--quiet";
+    argv[argc] = NULL;
+    char dir[PATH_MAX + 300];
+    sweep_task_dir(m, k, dir, sizeof dir);
+    printf("task %d (%s) -> %s\n", index, k->name, dir);
+    fflush(stdout);
+    run_desc d;
+    fs_status st = cli_parse(argc, argv, &d);
+    if (st == FS_OK)
+        st = run(&d);
+    sweep_task_argv_free(argv, owned);
+    return st;
+}
+
+/* >>shell quoting */
+
+/* `s` in single quotes for a POSIX shell, appended to buf. */
+static void shq(char *buf, size_t n, const char *s)
+{
+    size_t l = strlen(buf);
+    if (l + 1 < n)
+        buf[l++] = '\'';
+    for (; *s && l + 5 < n; s++) {
+        if (*s == '\'') {
+            memcpy(buf + l, "'\\''", 4);
+            l += 4;
+        } else {
+            buf[l++] = *s;
+        }
+    }
+    if (l + 1 < n)
+        buf[l++] = '\'';
+    buf[l] = '\0';
+}
+
+/* The command that runs task I, as a shell line (also how --list shows it). */
+static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, char *out, size_t n)
+{
+    out[0] = '\0';
+    shq(out, n, exe);
+    strncat(out, " sweep ", n - strlen(out) - 1);
+    shq(out, n, m->frozen);
+    strncat(out, " --task ", n - strlen(out) - 1);
+    strncat(out, i_expr, n - strlen(out) - 1);
+}
+
+/* >>--list */
+
+static fs_status list_tasks(const sweep_manifest *m)
+{
+    int state_count[3] = {0};
+    printf("%d task%s (%d scene%s x %d trace%s x %d ring layout%s x %d TAA setting%s%s), modes %s, in %s/tasks/\n",
+           m->ntasks, m->ntasks == 1 ? "" : "s", m->nscenes, m->nscenes == 1 ? "" : "s", m->ngaze,
+           m->ngaze == 1 ? "" : "s", m->nrings, m->nrings == 1 ? "" : "s", m->ntaa, m->ntaa == 1 ? "" : "s",
+           m->chunk_frames ? " x frame chunks" : "", m->modes, m->out);
+    for (int i = 0; i < m->ntasks; i++) {
+        const sweep_task *k = &m->tasks[i];
+        sweep_task_state s = sweep_task_status(m, k);
+        state_count[s]++;
+        char *argv[SWEEP_MAX_ARGS];
+        int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
+        char cmd[8192] = "";
+        for (int a = 0; a < argc; a++) {
+            if (a)
+                strncat(cmd, " ", sizeof cmd - strlen(cmd) - 1);
+            shq(cmd, sizeof cmd, a == 0 ? "fovsim" : argv[a]);
+        }
+        sweep_task_argv_free(argv, argc);
+        printf("%4d  %-10s %s\n      %s\n", i, k_state_names[s], k->name, cmd);
+    }
+    printf("%d done, %d incomplete, %d to do\n", state_count[TASK_DONE], state_count[TASK_INCOMPLETE],
+           state_count[TASK_TODO]);
+    return FS_OK;
+}
+
+/* >>--jobs-file */
+
+static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char *path)
+{
+    size_t cap = (size_t)m->ntasks * (2 * PATH_MAX + 200) + 1;
+    char *text = malloc(cap), line[3 * PATH_MAX + 400];
+    if (!text)
+        return FS_ERR_NOMEM;
+    size_t len = 0;
+    for (int i = 0; i < m->ntasks; i++) {
+        char idx[16], log[PATH_MAX + 64] = "";
+        snprintf(idx, sizeof idx, "%d", i);
+        task_command(m, exe, idx, line, sizeof line);
+        char lp[PATH_MAX + 64];
+        snprintf(lp, sizeof lp, "%s/logs/task-%04d.log", m->out, i);
+        shq(log, sizeof log, lp);
+        len += (size_t)snprintf(text + len, cap - len, "%s >%s 2>&1\n", line, log);
+    }
+    fs_status st = file_write_atomic(path, text);
+    free(text);
+    if (st == FS_OK)
+        printf("wrote %d commands to %s (one task each; a completed task is skipped, so running the file again "
+               "resumes it)\n  e.g.: parallel --jobs 4 --joblog %s/joblog --resume-failed < %s\n",
+               m->ntasks, path, m->out, path);
+    return st;
+}
+
+/* >>--slurm */
+
+static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *script, size_t n)
+{
+    snprintf(script, n, "%s/sweep.sbatch", m->out);
+    char text[16384], cmd[3 * PATH_MAX];
+    int o = snprintf(text, sizeof text,
+                     "#!/bin/bash\n"
+                     "# fovsim sweep: one task per array index (fovsim sweep --list shows them). A completed task\n"
+                     "# is skipped, so submitting this script again resumes the sweep. docs/cluster.md\n"
+                     "#SBATCH --job-name=fovsim-sweep\n#SBATCH --array=0-%d", m->ntasks - 1);
+    if (m->slurm.max_running > 0)
+        o += snprintf(text + o, sizeof text - (size_t)o, "%%%d", m->slurm.max_running);
+    o += snprintf(text + o, sizeof text - (size_t)o, "\n#SBATCH --cpus-per-task=%d\n", m->slurm.cpus_per_task);
+    if (m->slurm.mem[0])
+        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH --mem=%s\n", m->slurm.mem);
+    if (m->slurm.time[0])
+        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH --time=%s\n", m->slurm.time);
+    if (m->slurm.partition[0])
+        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH --partition=%s\n", m->slurm.partition);
+    for (int i = 0; i < m->slurm.nextra; i++)
+        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH %s\n", m->slurm.extra[i]);
+    o += snprintf(text + o, sizeof text - (size_t)o,
+                  "#SBATCH --output=%s/logs/slurm-%%A_%%a.out\n#SBATCH --error=%s/logs/slurm-%%A_%%a.err\n"
+                  "# llvmpipe draws with as many threads as the task has cores\n"
+                  "export LP_NUM_THREADS=${LP_NUM_THREADS:-${SLURM_CPUS_PER_TASK:-1}}\n",
+                  m->out, m->out);
+    task_command(m, exe, "\"$SLURM_ARRAY_TASK_ID\"", cmd, sizeof cmd);
+    o += snprintf(text + o, sizeof text - (size_t)o, "exec %s\n", cmd);
+    if (o >= (int)sizeof text) {
+        log_error("%s: the Slurm script is longer than %zu bytes (too many \"extra\" lines?)", script, sizeof text);
+        return FS_ERR_USAGE;
+    }
+    fs_status st = file_write_atomic(script, text);
+    if (st == FS_OK && chmod(script, 0755) != 0)
+        log_warn("%s: cannot make it executable: %s", script, strerror(errno));
+    return st;
+}
+
+/* Runs argv (a program on PATH) and waits; its exit status, or -1 when it could not run. */
+static int spawn_wait(char *const argv[], const char *log_path)
+{
+    pid_t pid = fork();
+    if (pid < 0)
+        return -1;
+    if (pid == 0) {
+        if (log_path) {
+            FILE *f = freopen(log_path, "w", stdout);
+            if (!f || dup2(fileno(stdout), STDERR_FILENO) < 0)
+                _exit(126);
+        }
+        execvp(argv[0], argv);
+        _exit(127);
+    }
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0)
+        if (errno != EINTR)
+            return -1;
+    return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
+}
+
+static fs_status submit(const char *script, bool wait)
+{
+    char *argv[] = {"sbatch", wait ? "--wait" : NULL, NULL, NULL};
+    argv[wait ? 2 : 1] = (char *)script;
+    fflush(stdout);
+    int rc = spawn_wait(argv, NULL);
+    if (rc == 127 || rc < 0) {
+        log_error("sbatch: cannot run it (is Slurm's client installed and on PATH?); the script is %s", script);
+        return FS_ERR_IO;
+    }
+    if (rc != 0) {
+        log_error("sbatch %s%s: exit status %d%s", wait ? "--wait " : "", script, rc,
+                  wait ? " (a task failed: fovsim merge lists which)" : "");
+        return FS_ERR_INCOMPLETE;
+    }
+    return FS_OK;
+}
+
+/* >>--local N */
+
+static volatile sig_atomic_t g_stop;
+static void on_sigint(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, bool quiet)
+{
+    pid_t *pids = calloc((size_t)jobs, sizeof *pids);
+    int *which = calloc((size_t)jobs, sizeof *which);
+    double *started = calloc((size_t)jobs, sizeof *started);
+    if (!pids || !which || !started) {
+        free(pids);
+        free(which);
+        free(started);
+        return FS_ERR_NOMEM;
+    }
+    /* Each task's llvmpipe gets its share of the cores, unless the user set it. */
+    char threads[24];
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    snprintf(threads, sizeof threads, "%ld", cores / jobs > 1 ? cores / jobs : 1);
+    setenv("LP_NUM_THREADS", threads, 0);
+    signal(SIGINT, on_sigint);
+    int next = 0, running = 0, finished = 0, failed = 0, skipped = 0;
+    int todo = m->ntasks;
+    struct timespec ts;
+    while ((next < m->ntasks && !g_stop) || running > 0) {
+        while (running < jobs && next < m->ntasks && !g_stop) {
+            int i = next++;
+            if (sweep_task_status(m, &m->tasks[i]) == TASK_DONE) {
+                skipped++;
+                todo--;
+                continue;
+            }
+            char idx[16], log[PATH_MAX + 64];
+            snprintf(idx, sizeof idx, "%d", i);
+            snprintf(log, sizeof log, "%s/logs/task-%04d.log", m->out, i);
+            int slot = 0;
+            while (pids[slot])
+                slot++;
+            fflush(stdout);
+            pid_t pid = fork();
+            if (pid == 0) {
+                FILE *f = freopen(log, "w", stdout);
+                if (!f || dup2(fileno(stdout), STDERR_FILENO) < 0)
+                    _exit(126);
+                char *argv[] = {(char *)exe, "sweep", (char *)m->frozen, "--task", idx, "--quiet", NULL};
+                execv(exe, argv);
+                _exit(127);
+            }
+            if (pid < 0) {
+                log_error("cannot start a task: %s", strerror(errno));
+                g_stop = 1;
+                break;
+            }
+            clock_gettime(CLOCK_MONOTONIC, &ts);
+            pids[slot] = pid;
+            which[slot] = i;
+            started[slot] = (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+            running++;
+        }
+        if (running == 0)
+            break;
+        int ws;
+        pid_t pid = waitpid(-1, &ws, 0);
+        if (pid < 0) {
+            if (errno == EINTR)
+                continue;
+            break;
+        }
+        int slot = 0;
+        while (slot < jobs && pids[slot] != pid)
+            slot++;
+        if (slot == jobs)
+            continue;
+        pids[slot] = 0;
+        running--;
+        finished++;
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        double el = (double)ts.tv_sec + ts.tv_nsec * 1e-9 - started[slot];
+        bool ok = WIFEXITED(ws) && WEXITSTATUS(ws) == 0;
+        failed += !ok;
+        const sweep_task *k = &m->tasks[which[slot]];
+        if (ok && !quiet)
+            printf("[%d/%d] task %d (%s) done in %.1f s\n", finished, todo, which[slot], k->name, el);
+        else if (!ok)
+            log_error("task %d (%s) failed with exit status %d after %.1f s; see %s/logs/task-%04d.log",
+                      which[slot], k->name, WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + WTERMSIG(ws), el, m->out,
+                      which[slot]);
+        fflush(stdout);
+    }
+    signal(SIGINT, SIG_DFL);
+    free(pids);
+    free(which);
+    free(started);
+    if (g_stop) {
+        log_error("interrupted: %d of %d tasks finished; run the sweep again to resume", finished, todo);
+        return FS_ERR_INTERRUPTED;
+    }
+    printf("%d task%s run, %d already complete, %d failed; fovsim merge %s gathers the metrics\n", finished,
+           finished == 1 ? "" : "s", skipped, failed, m->out);
+    return failed ? FS_ERR_INCOMPLETE : FS_OK;
+}
+
+/* >>the command */
+
+static void sweep_help(void)
+{
+    printf("usage: fovsim sweep MANIFEST.json [--list | --local N | --jobs-file FILE | --slurm [--submit [--wait]]]\n"
+           "                    [--out DIR] [--chunk-frames N [--warmup W]] [--cpus-per-task N] [--mem M]\n"
+           "                    [--time T] [--partition P] [--max-running M]\n\n"
+           "Runs the product of the manifest's scenes, gaze traces, ring layouts and TAA settings (and frame\n"
+           "chunks), each task one fovsim compare of the manifest's modes into DIR/tasks/<task>/. The same\n"
+           "task list runs three ways; a completed task is skipped, so running it again resumes it. Then\n"
+           "`fovsim merge DIR` gathers the metrics. Manifest format and cluster use: docs/cluster.md.\n\n"
+           "  --list              the tasks, their state (todo, incomplete, done) and commands (default)\n"
+           "  --local N           run the tasks here, N at a time (each with its share of the cores)\n"
+           "  --jobs-file FILE    one shell command per task, for GNU parallel or any farm\n"
+           "  --slurm             write DIR/sweep.sbatch, a Slurm array job of the tasks\n"
+           "  --submit            with --slurm: submit it with sbatch; --wait: wait for the array to end\n"
+           "  --task I            run task I (what the three ways call)\n"
+           "  --out DIR           the sweep's folder (default: the manifest's \"out\", else\n"
+           "                      out/sweep/<manifest name>)\n"
+           "  --chunk-frames N    split each sequence into chunks of about N frames (moved to a camera cut\n"
+           "                      within N/4); each chunk draws up to --warmup W earlier frames (default %d)\n"
+           "                      for the TAA history without writing them\n"
+           "  --cpus-per-task N, --mem M, --time T, --partition P, --max-running M   Slurm resources\n"
+           "                      (default: the manifest's \"slurm\" object; cpus 2)\n"
+           "  --quiet             no per-task lines\n",
+           SWEEP_DEFAULT_WARMUP);
+}
+
+typedef enum sweep_action { ACT_LIST, ACT_LOCAL, ACT_JOBS, ACT_SLURM, ACT_TASK } sweep_action;
+
+static bool int_arg(const char *opt, const char *v, int lo, int hi, int *out)
+{
+    char *end;
+    long x = v ? strtol(v, &end, 10) : 0;
+    if (!v || end == v || *end || x < lo || x > hi) {
+        log_error("%s: expected an integer in [%d, %d], got '%s'", opt, lo, hi, v ? v : "nothing");
+        return false;
+    }
+    *out = (int)x;
+    return true;
+}
+
+fs_status sweep_main(int argc, char **argv)
+{
+    const char *manifest = NULL, *jobs_file = NULL;
+    sweep_overrides ov = {.warmup = -1};
+    sweep_action act = ACT_LIST;
+    int jobs = 1, task = -1;
+    bool submit_it = false, wait = false, quiet = false;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        bool ok = true, takes = true;
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            sweep_help();
+            return FS_OK;
+        } else if (!strcmp(a, "--list")) {
+            act = ACT_LIST, takes = false;
+        } else if (!strcmp(a, "--local")) {
+            act = ACT_LOCAL, ok = int_arg(a, v, 1, 256, &jobs);
+        } else if (!strcmp(a, "--jobs-file")) {
+            act = ACT_JOBS, jobs_file = v, ok = v != NULL;
+        } else if (!strcmp(a, "--slurm")) {
+            act = ACT_SLURM, takes = false;
+        } else if (!strcmp(a, "--submit")) {
+            submit_it = true, takes = false;
+        } else if (!strcmp(a, "--wait")) {
+            wait = true, takes = false;
+        } else if (!strcmp(a, "--quiet")) {
+            quiet = true, takes = false;
+        } else if (!strcmp(a, "--task")) {
+            act = ACT_TASK, ok = int_arg(a, v, 0, INT_MAX, &task);
+        } else if (!strcmp(a, "--out")) {
+            ov.out = v, ok = v != NULL;
+        } else if (!strcmp(a, "--chunk-frames")) {
+            ok = int_arg(a, v, 1, MAX_FRAMES, &ov.chunk_frames);
+        } else if (!strcmp(a, "--warmup")) {
+            ok = int_arg(a, v, 0, MAX_FRAMES, &ov.warmup);
+        } else if (!strcmp(a, "--cpus-per-task")) {
+            ok = int_arg(a, v, 1, 4096, &ov.cpus_per_task);
+        } else if (!strcmp(a, "--max-running")) {
+            ok = int_arg(a, v, 1, 100000, &ov.max_running);
+        } else if (!strcmp(a, "--mem")) {
+            ov.mem = v, ok = v != NULL;
+        } else if (!strcmp(a, "--time")) {
+            ov.time = v, ok = v != NULL;
+        } else if (!strcmp(a, "--partition")) {
+            ov.partition = v, ok = v != NULL;
+        } else if (a[0] != '-' && !manifest) {
+            manifest = a, takes = false;
+        } else {
+            log_error("fovsim sweep: unexpected argument '%s' (see fovsim sweep --help)", a);
+            return FS_ERR_USAGE;
+        }
+        if (!ok) {
+            if (!v)
+                log_error("%s: expected a value", a);
+            return FS_ERR_USAGE;
+        }
+        i += takes;
+    }
+    if (!manifest) {
+        log_error("fovsim sweep: expected a manifest file (see fovsim sweep --help)");
+        return FS_ERR_USAGE;
+    }
+    if ((submit_it || wait) && act != ACT_SLURM) {
+        log_error("--submit and --wait go with --slurm");
+        return FS_ERR_USAGE;
+    }
+    if (wait && !submit_it) {
+        log_error("--wait goes with --submit (it waits for the submitted array)");
+        return FS_ERR_USAGE;
+    }
+    char exe[PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0) {
+        log_error("/proc/self/exe: cannot find this program's path: %s", strerror(errno));
+        return FS_ERR_IO;
+    }
+    exe[n] = '\0';
+    sweep_manifest m;
+    fs_status st = sweep_manifest_load(manifest, &ov, act != ACT_TASK, &m);
+    if (st == FS_OK)
+        st = sweep_build_tasks(&m);
+    if (st == FS_OK && act == ACT_TASK && task >= m.ntasks) {
+        log_error("--task %d: the sweep has %d tasks (0 to %d)", task, m.ntasks, m.ntasks - 1);
+        st = FS_ERR_USAGE;
+    }
+    if (st == FS_OK) {
+        char script[PATH_MAX + 64];
+        switch (act) {
+        case ACT_LIST: st = list_tasks(&m); break;
+        case ACT_TASK: st = run_task(&m, task, quiet); break;
+        case ACT_JOBS: st = write_jobs(&m, exe, jobs_file); break;
+        case ACT_LOCAL: st = run_local(&m, exe, jobs, quiet); break;
+        case ACT_SLURM:
+            st = write_sbatch(&m, exe, script, sizeof script);
+            if (st == FS_OK)
+                printf("wrote %s: a Slurm array of %d tasks (%d cores each); submit it with sbatch %s\n", script,
+                       m.ntasks, m.slurm.cpus_per_task, script);
+            if (st == FS_OK && submit_it)
+                st = submit(script, wait);
+            break;
+        }
+    }
+    sweep_manifest_free(&m);
+    return st;
+}

@@ -1,0 +1,599 @@
+/* sweep_manifest.c: a sweep's manifest (sweep_manifest.h). */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include "sweep_manifest.h"
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <inttypes.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/config.h"
+#include "core/file_read.h"
+#include "core/hash.h"
+#include "core/log.h"
+#include "scene/scene.h"
+
+#define MANIFEST_MAX_BYTES (1 << 20)
+
+/* >>messages */
+
+static fs_status bad(const sweep_manifest *m, const char *jpath, const char *fmt, ...) FS_PRINTF(3, 4);
+static fs_status bad(const sweep_manifest *m, const char *jpath, const char *fmt, ...)
+{
+    char msg[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    log_error("%s: %s: %s", m->path, jpath, msg);
+    return FS_ERR_USAGE;
+}
+
+/* >>paths */
+
+/* Copies s into out[n] when it fits; false (out unchanged) when not. */
+static bool put(char *out, size_t n, const char *s)
+{
+    size_t l = strlen(s);
+    if (l >= n)
+        return false;
+    memcpy(out, s, l + 1);
+    return true;
+}
+
+/* `p` relative to `dir` (unless absolute), made absolute and, when it exists, resolved. False
+ * when the result does not fit in out[n]. */
+static bool absolute(const char *dir, const char *p, char *out, size_t n)
+{
+    char joined[2 * PATH_MAX + 2], real[PATH_MAX];
+    size_t dl = strlen(dir), pl = strlen(p);
+    if (p[0] == '/' || dl + 1 + pl >= sizeof joined)
+        return put(out, n, p) && p[0] == '/';
+    memcpy(joined, dir, dl);
+    joined[dl] = '/';
+    memcpy(joined + dl + 1, p, pl + 1);
+    return put(out, n, realpath(joined, real) ? real : joined);
+}
+
+static bool is_builtin_scene(const char *name)
+{
+    const char *list = scene_builtin_list();
+    size_t l = strlen(name);
+    for (const char *p = strstr(list, name); p; p = strstr(p + 1, name))
+        if ((p == list || p[-1] == ' ') && (p[l] == ' ' || p[l] == '\0'))
+            return true;
+    return false;
+}
+
+/* >>lists */
+
+/* A list of non-empty strings at obj[key]: an array, or one string. Absent or []: *count = 0. */
+static fs_status strings(const sweep_manifest *m, const cJSON *obj, const char *key, const char **out, int *count)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    *count = 0;
+    if (!v)
+        return FS_OK;
+    if (cJSON_IsString(v)) {
+        out[(*count)++] = v->valuestring;
+        return v->valuestring[0] ? FS_OK : bad(m, key, "expected a non-empty string");
+    }
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) > SWEEP_MAX_LIST)
+        return bad(m, key, "expected an array of at most %d strings", SWEEP_MAX_LIST);
+    int i = 0;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        if (!cJSON_IsString(e) || !e->valuestring[0])
+            return bad(m, key, "[%d]: expected a non-empty string", i);
+        out[(*count)++] = e->valuestring;
+    }
+    return FS_OK;
+}
+
+static fs_status integer(const sweep_manifest *m, const cJSON *obj, const char *key, const char *jpath, int lo, int hi,
+                         int *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v)
+        return FS_OK;
+    if (!cJSON_IsNumber(v) || v->valuedouble != (double)(long long)v->valuedouble || v->valuedouble < lo ||
+        v->valuedouble > hi)
+        return bad(m, jpath, "expected an integer in [%d, %d]", lo, hi);
+    *out = (int)v->valuedouble;
+    return FS_OK;
+}
+
+static fs_status text(const sweep_manifest *m, const cJSON *obj, const char *key, const char *jpath, char *out,
+                      size_t n)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v)
+        return FS_OK;
+    if (!cJSON_IsString(v) || !v->valuestring[0] || strlen(v->valuestring) >= n || strchr(v->valuestring, '\n'))
+        return bad(m, jpath, "expected a one-line string of 1 to %zu characters", n - 1);
+    snprintf(out, n, "%s", v->valuestring);
+    return FS_OK;
+}
+
+/* Every key of obj is one of `allowed` (NULL-terminated). */
+static fs_status known_keys(const sweep_manifest *m, const cJSON *obj, const char *where, const char *const *allowed)
+{
+    for (const cJSON *c = obj->child; c; c = c->next) {
+        bool ok = false;
+        for (int i = 0; allowed[i]; i++)
+            ok = ok || !strcmp(c->string, allowed[i]);
+        if (!ok) {
+            char list[512] = "", jp[256];
+            for (int i = 0; allowed[i]; i++)
+                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", allowed[i]);
+            snprintf(jp, sizeof jp, "%s%s%s", where, where[0] ? "." : "", c->string);
+            return bad(m, jp, "unknown key (expected one of: %s)", list);
+        }
+    }
+    return FS_OK;
+}
+
+/* >>load */
+
+static char *dup_or_null(const char *s, bool *oom)
+{
+    char *d = s ? strdup(s) : NULL;
+    *oom = *oom || (s && !d);
+    return d;
+}
+
+static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, const sweep_overrides *ov)
+{
+    static const char *const k_top[] = {"scenes", "gaze", "modes", "rings", "taa", "width", "height", "fps",
+                                        "frames", "reference", "cache", "chunk_frames", "warmup", "options",
+                                        "slurm", "out", NULL};
+    static const char *const k_ref[] = {"kind", "supersample", "samples", NULL};
+    static const char *const k_slurm[] = {"cpus_per_task", "mem", "time", "partition", "max_running", "extra", NULL};
+    if (!cJSON_IsObject(root))
+        return bad(m, "(top level)", "expected an object");
+    fs_status st = known_keys(m, root, "", k_top);
+    const char *list[SWEEP_MAX_LIST];
+    int n = 0;
+    bool oom = false;
+    char abs_path[PATH_MAX];
+    /* scenes: built-in names or files */
+    if (st == FS_OK && (st = strings(m, root, "scenes", list, &n)) == FS_OK && n == 0)
+        st = bad(m, "scenes", "expected an array of scene files or built-in names (%s)", scene_builtin_list());
+    for (int i = 0; i < n && st == FS_OK; i++) {
+        const char *s = list[i];
+        if (!strncmp(s, "builtin:", 8) || (is_builtin_scene(s) && !strchr(s, '/'))) {
+            char b[128];
+            snprintf(b, sizeof b, "builtin:%s", strncmp(s, "builtin:", 8) ? s : s + 8);
+            if (!is_builtin_scene(b + 8))
+                st = bad(m, "scenes", "[%d]: '%s': no such built-in scene (%s)", i, s, scene_builtin_list());
+            m->scenes[m->nscenes++] = dup_or_null(b, &oom);
+            continue;
+        }
+        if (!absolute(dir, s, abs_path, sizeof abs_path)) {
+            st = bad(m, "scenes", "[%d]: the path is too long", i);
+            break;
+        }
+        struct stat sb;
+        int rc = stat(abs_path, &sb);
+        if (rc != 0 || !S_ISREG(sb.st_mode))
+            st = bad(m, "scenes", "[%d]: %s: expected a scene file or built-in name (%s): %s", i, abs_path,
+                     scene_builtin_list(), rc != 0 ? strerror(errno) : "not a regular file");
+        m->scenes[m->nscenes++] = dup_or_null(abs_path, &oom);
+    }
+    /* gaze: "centre", builtin:NAME or files; default the centre */
+    if (st == FS_OK && (st = strings(m, root, "gaze", list, &n)) == FS_OK && n == 0)
+        m->gaze[m->ngaze++] = NULL;
+    for (int i = 0; i < n && st == FS_OK; i++) {
+        const char *g = list[i];
+        if (!strcmp(g, "centre") || !strcmp(g, "center")) {
+            m->gaze[m->ngaze++] = NULL;
+            continue;
+        }
+        if (!strncmp(g, "builtin:", 8)) {
+            m->gaze[m->ngaze++] = dup_or_null(g, &oom); /* the task's gaze loader says if it is unknown */
+            continue;
+        }
+        if (!absolute(dir, g, abs_path, sizeof abs_path)) {
+            st = bad(m, "gaze", "[%d]: the path is too long", i);
+            break;
+        }
+        if (access(abs_path, R_OK) != 0)
+            st = bad(m, "gaze", "[%d]: %s: expected a readable gaze trace, builtin:NAME or \"centre\": %s", i,
+                     abs_path, strerror(errno));
+        m->gaze[m->ngaze++] = dup_or_null(abs_path, &oom);
+    }
+    /* modes, compared together in every task */
+    if (st == FS_OK && (st = strings(m, root, "modes", list, &n)) == FS_OK && n == 0) {
+        list[0] = "traditional", list[1] = "hashed";
+        n = 2;
+    }
+    for (int i = 0; i < n && st == FS_OK; i++) {
+        if (alpha_mode_parse(list[i]) == ALPHA_MODE_DEFAULT && strcmp(list[i], "all") != 0)
+            st = bad(m, "modes", "[%d]: '%s': expected an alpha mode (%s) or all", i, list[i], alpha_mode_list());
+        snprintf(m->modes + strlen(m->modes), sizeof m->modes - strlen(m->modes), "%s%s", i ? "," : "", list[i]);
+    }
+    /* ring layouts and TAA settings: the task's compare checks each value */
+    if (st == FS_OK && (st = strings(m, root, "rings", list, &n)) == FS_OK && n == 0)
+        list[0] = "default", n = 1;
+    for (int i = 0; i < n && st == FS_OK; i++)
+        m->rings[m->nrings++] = dup_or_null(list[i], &oom);
+    if (st == FS_OK && (st = strings(m, root, "taa", list, &n)) == FS_OK && n == 0)
+        list[0] = "default", n = 1;
+    if (st == FS_OK && n > 3)
+        st = bad(m, "taa", "expected at most 3 of \"on\", \"off\", \"default\"");
+    for (int i = 0; i < n && st == FS_OK; i++) {
+        static const char *const k_taa[] = {"default", "on", "off"};
+        int k = 0;
+        while (k < 3 && strcmp(list[i], k_taa[k]) != 0)
+            k++;
+        if (k == 3)
+            st = bad(m, "taa", "[%d]: '%s': expected \"on\", \"off\" or \"default\" (the scene's)", i, list[i]);
+        else
+            m->taa[m->ntaa++] = k_taa[k];
+    }
+    /* display and sequence */
+    if (st == FS_OK)
+        st = integer(m, root, "width", "width", 1, 16384, &m->width);
+    if (st == FS_OK)
+        st = integer(m, root, "height", "height", 1, 16384, &m->height);
+    if (st == FS_OK && (m->width > 0) != (m->height > 0))
+        st = bad(m, m->width ? "height" : "width", "expected width and height together, or neither");
+    if (st == FS_OK)
+        st = integer(m, root, "frames", "frames", 1, MAX_FRAMES, &m->frames);
+    const cJSON *fps = cJSON_GetObjectItemCaseSensitive(root, "fps");
+    if (st == FS_OK && fps) {
+        if (!cJSON_IsNumber(fps) || !(fps->valuedouble > 0.0 && fps->valuedouble <= 1000.0))
+            st = bad(m, "fps", "expected a number in (0, 1000]");
+        else
+            m->fps = fps->valuedouble;
+    }
+    /* the reference */
+    const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
+    if (st == FS_OK && ref && !cJSON_IsObject(ref))
+        st = bad(m, "reference", "expected an object with kind, supersample, samples");
+    if (st == FS_OK && ref)
+        st = known_keys(m, ref, "reference", k_ref);
+    if (st == FS_OK && ref)
+        st = text(m, ref, "kind", "reference.kind", m->reference, sizeof m->reference);
+    if (st == FS_OK && m->reference[0] && strcmp(m->reference, "exact") && strcmp(m->reference, "stochastic"))
+        st = bad(m, "reference.kind", "expected \"exact\" or \"stochastic\", got '%s'", m->reference);
+    if (st == FS_OK && ref)
+        st = integer(m, ref, "supersample", "reference.supersample", 1, 16, &m->supersample);
+    if (st == FS_OK && ref)
+        st = integer(m, ref, "samples", "reference.samples", 2, 4096, &m->samples);
+    /* chunks */
+    if (st == FS_OK)
+        st = integer(m, root, "chunk_frames", "chunk_frames", 1, MAX_FRAMES, &m->chunk_frames);
+    m->warmup = SWEEP_DEFAULT_WARMUP;
+    if (st == FS_OK)
+        st = integer(m, root, "warmup", "warmup", 0, MAX_FRAMES, &m->warmup);
+    /* further compare options */
+    if (st == FS_OK && (st = strings(m, root, "options", list, &n)) == FS_OK)
+        for (int i = 0; i < n; i++)
+            m->options[m->noptions++] = dup_or_null(list[i], &oom);
+    /* Slurm */
+    m->slurm.cpus_per_task = 2;
+    const cJSON *sl = cJSON_GetObjectItemCaseSensitive(root, "slurm");
+    if (st == FS_OK && sl && !cJSON_IsObject(sl))
+        st = bad(m, "slurm", "expected an object");
+    if (st == FS_OK && sl)
+        st = known_keys(m, sl, "slurm", k_slurm);
+    if (st == FS_OK && sl)
+        st = integer(m, sl, "cpus_per_task", "slurm.cpus_per_task", 1, 4096, &m->slurm.cpus_per_task);
+    if (st == FS_OK && sl)
+        st = integer(m, sl, "max_running", "slurm.max_running", 1, 100000, &m->slurm.max_running);
+    if (st == FS_OK && sl)
+        st = text(m, sl, "mem", "slurm.mem", m->slurm.mem, sizeof m->slurm.mem);
+    if (st == FS_OK && sl)
+        st = text(m, sl, "time", "slurm.time", m->slurm.time, sizeof m->slurm.time);
+    if (st == FS_OK && sl)
+        st = text(m, sl, "partition", "slurm.partition", m->slurm.partition, sizeof m->slurm.partition);
+    if (st == FS_OK && sl && (st = strings(m, sl, "extra", list, &n)) == FS_OK) {
+        if (n > 16)
+            st = bad(m, "slurm.extra", "expected at most 16 lines");
+        for (int i = 0; i < n && st == FS_OK; i++) {
+            if (strchr(list[i], '\n') || list[i][0] != '-')
+                st = bad(m, "slurm.extra", "[%d]: expected one sbatch option such as \"--account=lab\"", i);
+            m->slurm.extra[m->slurm.nextra++] = dup_or_null(list[i], &oom);
+        }
+    }
+    /* The command line's settings win. */
+    if (ov->chunk_frames)
+        m->chunk_frames = ov->chunk_frames;
+    if (ov->warmup >= 0)
+        m->warmup = ov->warmup;
+    if (ov->cpus_per_task)
+        m->slurm.cpus_per_task = ov->cpus_per_task;
+    if (ov->max_running)
+        m->slurm.max_running = ov->max_running;
+    if (ov->mem)
+        snprintf(m->slurm.mem, sizeof m->slurm.mem, "%s", ov->mem);
+    if (ov->time)
+        snprintf(m->slurm.time, sizeof m->slurm.time, "%s", ov->time);
+    if (ov->partition)
+        snprintf(m->slurm.partition, sizeof m->slurm.partition, "%s", ov->partition);
+    /* The sweep's folder and its cache. */
+    char out[PATH_MAX] = "";
+    if (st == FS_OK)
+        st = text(m, root, "out", "out", out, sizeof out);
+    bool fits;
+    char cwd[PATH_MAX];
+    if (!getcwd(cwd, sizeof cwd))
+        snprintf(cwd, sizeof cwd, ".");
+    if (ov->out) {
+        fits = absolute(cwd, ov->out, m->out, sizeof m->out);
+    } else if (out[0]) {
+        fits = absolute(dir, out, m->out, sizeof m->out);
+    } else {
+        const char *b = strrchr(m->path, '/') ? strrchr(m->path, '/') + 1 : m->path;
+        char rel[128] = "out/sweep/";
+        size_t l = strlen(rel), bl = strcspn(b, ".");
+        bl = bl < sizeof rel - l - 1 ? bl : sizeof rel - l - 1;
+        memcpy(rel + l, b, bl);
+        rel[l + bl] = '\0';
+        fits = absolute(cwd, rel, m->out, sizeof m->out);
+    }
+    if (st == FS_OK && !fits)
+        st = bad(m, "out", "the sweep's folder, made absolute, is longer than %zu characters", sizeof m->out - 1);
+    char cache[PATH_MAX] = "";
+    if (st == FS_OK)
+        st = text(m, root, "cache", "cache", cache, sizeof cache);
+    if (cache[0])
+        fits = absolute(dir, cache, m->cache, sizeof m->cache);
+    else
+        fits = strlen(m->out) + 6 < sizeof m->cache && (strcat(strcpy(m->cache, m->out), "/cache"), true);
+    if (st == FS_OK && !fits)
+        st = bad(m, "cache", "the cache folder, made absolute, is longer than %zu characters", sizeof m->cache - 1);
+    if (oom)
+        return FS_ERR_NOMEM;
+    return st;
+}
+
+/* The manifest as loaded, with absolute paths and every default written out. */
+static char *normalised(const sweep_manifest *m)
+{
+    cJSON *o = cJSON_CreateObject(), *a;
+    a = cJSON_AddArrayToObject(o, "scenes");
+    for (int i = 0; i < m->nscenes; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateString(m->scenes[i]));
+    a = cJSON_AddArrayToObject(o, "gaze");
+    for (int i = 0; i < m->ngaze; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateString(m->gaze[i] ? m->gaze[i] : "centre"));
+    a = cJSON_AddArrayToObject(o, "modes");
+    char modes[sizeof m->modes];
+    snprintf(modes, sizeof modes, "%s", m->modes);
+    for (char *save = NULL, *t = strtok_r(modes, ",", &save); t; t = strtok_r(NULL, ",", &save))
+        cJSON_AddItemToArray(a, cJSON_CreateString(t));
+    a = cJSON_AddArrayToObject(o, "rings");
+    for (int i = 0; i < m->nrings; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateString(m->rings[i]));
+    a = cJSON_AddArrayToObject(o, "taa");
+    for (int i = 0; i < m->ntaa; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateString(m->taa[i]));
+    if (m->width) {
+        cJSON_AddNumberToObject(o, "width", m->width);
+        cJSON_AddNumberToObject(o, "height", m->height);
+    }
+    if (m->fps > 0)
+        cJSON_AddNumberToObject(o, "fps", m->fps);
+    if (m->frames)
+        cJSON_AddNumberToObject(o, "frames", m->frames);
+    cJSON *r = cJSON_AddObjectToObject(o, "reference");
+    if (m->reference[0])
+        cJSON_AddStringToObject(r, "kind", m->reference);
+    if (m->supersample)
+        cJSON_AddNumberToObject(r, "supersample", m->supersample);
+    if (m->samples)
+        cJSON_AddNumberToObject(r, "samples", m->samples);
+    cJSON_AddStringToObject(o, "cache", m->cache);
+    if (m->chunk_frames)
+        cJSON_AddNumberToObject(o, "chunk_frames", m->chunk_frames);
+    cJSON_AddNumberToObject(o, "warmup", m->warmup);
+    a = cJSON_AddArrayToObject(o, "options");
+    for (int i = 0; i < m->noptions; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateString(m->options[i]));
+    cJSON *s = cJSON_AddObjectToObject(o, "slurm");
+    cJSON_AddNumberToObject(s, "cpus_per_task", m->slurm.cpus_per_task);
+    if (m->slurm.max_running)
+        cJSON_AddNumberToObject(s, "max_running", m->slurm.max_running);
+    if (m->slurm.mem[0])
+        cJSON_AddStringToObject(s, "mem", m->slurm.mem);
+    if (m->slurm.time[0])
+        cJSON_AddStringToObject(s, "time", m->slurm.time);
+    if (m->slurm.partition[0])
+        cJSON_AddStringToObject(s, "partition", m->slurm.partition);
+    a = cJSON_AddArrayToObject(s, "extra");
+    for (int i = 0; i < m->slurm.nextra; i++)
+        cJSON_AddItemToArray(a, cJSON_CreateString(m->slurm.extra[i]));
+    cJSON_AddStringToObject(o, "out", m->out);
+    char *text = cJSON_Print(o);
+    cJSON_Delete(o);
+    return text;
+}
+
+static fs_status write_copies(sweep_manifest *m)
+{
+    char *text = normalised(m);
+    if (!text)
+        return FS_ERR_NOMEM;
+    size_t len = strlen(text);
+    char *withnl = realloc(text, len + 2);
+    if (!withnl) {
+        free(text);
+        return FS_ERR_NOMEM;
+    }
+    text = withnl;
+    memcpy(text + len, "\n", 2);
+    uint64_t h = hash_str(HASH_FNV_INIT, text);
+    char logs[PATH_MAX + 16], latest[PATH_MAX + 32];
+    snprintf(logs, sizeof logs, "%s/logs", m->out);
+    snprintf(latest, sizeof latest, "%s/manifest.json", m->out);
+    snprintf(m->frozen, sizeof m->frozen, "%s/manifest-%08" PRIx32 ".json", m->out, (uint32_t)(h ^ (h >> 32)));
+    fs_status st = file_make_dirs(logs);
+    struct stat sb;
+    if (st == FS_OK && stat(m->frozen, &sb) != 0)
+        st = file_write_atomic(m->frozen, text);
+    if (st == FS_OK)
+        st = file_write_atomic(latest, text);
+    free(text);
+    return st;
+}
+
+fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, bool write_out, sweep_manifest *m)
+{
+    memset(m, 0, sizeof *m);
+    snprintf(m->path, sizeof m->path, "%s", path);
+    char *buf = NULL;
+    size_t size = 0;
+    fs_status st = file_read_all(path, MANIFEST_MAX_BYTES, "a sweep manifest", FS_ERR_USAGE, &buf, &size);
+    if (st != FS_OK)
+        return st;
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(buf, size + 1, &end, true); /* with the NUL */
+    if (!root) {
+        size_t off = end ? (size_t)(end - buf) : 0;
+        int line = 1, col = 1;
+        for (size_t i = 0; i < off && i < size; i++)
+            buf[i] == '\n' ? (line++, col = 1) : col++;
+        log_error("%s:%d:%d: not valid JSON", path, line, col);
+        free(buf);
+        return FS_ERR_USAGE;
+    }
+    char dir[PATH_MAX], real[PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        *slash = '\0';
+    else
+        snprintf(dir, sizeof dir, ".");
+    if (realpath(dir, real))
+        snprintf(dir, sizeof dir, "%s", real);
+    st = parse(m, root, dir, ov);
+    cJSON_Delete(root);
+    free(buf);
+    if (st == FS_OK && write_out)
+        st = write_copies(m);
+    else
+        snprintf(m->frozen, sizeof m->frozen, "%s", m->path);
+    return st;
+}
+
+fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m)
+{
+    char path[PATH_MAX + 32];
+    snprintf(path, sizeof path, "%s/manifest.json", sweep_dir);
+    if (access(path, R_OK) != 0) {
+        log_error("%s: cannot read: %s (is %s a sweep's folder?)", path, strerror(errno), sweep_dir);
+        return FS_ERR_IO;
+    }
+    return sweep_manifest_load(path, &(sweep_overrides){.warmup = -1}, false, m);
+}
+
+void sweep_manifest_free(sweep_manifest *m)
+{
+    for (int i = 0; i < m->nscenes; i++)
+        free(m->scenes[i]);
+    for (int i = 0; i < m->ngaze; i++)
+        free(m->gaze[i]);
+    for (int i = 0; i < m->nrings; i++)
+        free(m->rings[i]);
+    for (int i = 0; i < m->noptions; i++)
+        free(m->options[i]);
+    for (int i = 0; i < m->slurm.nextra; i++)
+        free(m->slurm.extra[i]);
+    free(m->tasks);
+    memset(m, 0, sizeof *m);
+}
+
+/* >>a task's compare */
+
+int sweep_task_argv(const sweep_manifest *m, const sweep_task *k, char **argv, int cap)
+{
+    int n = 0;
+    bool oom = false;
+#define ARG(...)                                                                                                       \
+    do {                                                                                                               \
+        char b_[PATH_MAX + 64];                                                                                        \
+        snprintf(b_, sizeof b_, __VA_ARGS__);                                                                          \
+        if (n < cap - 3)                                                                                               \
+            oom = oom || !(argv[n++] = strdup(b_));                                                                    \
+        else                                                                                                           \
+            oom = true;                                                                                                \
+    } while (0)
+    ARG("fovsim");
+    ARG("compare");
+    ARG("%s", m->scenes[k->scene]);
+    if (m->gaze[k->gaze]) {
+        ARG("--gaze");
+        ARG("%s", m->gaze[k->gaze]);
+    }
+    ARG("--modes");
+    ARG("%s", m->modes);
+    if (strcmp(m->rings[k->rings], "default") != 0) {
+        ARG("--rings");
+        ARG("%s", m->rings[k->rings]);
+    }
+    if (strcmp(m->taa[k->taa], "default") != 0) {
+        ARG("--taa");
+        ARG("%s", m->taa[k->taa]);
+    }
+    if (m->width) {
+        ARG("--width");
+        ARG("%d", m->width);
+        ARG("--height");
+        ARG("%d", m->height);
+    }
+    if (m->fps > 0) {
+        ARG("--fps");
+        ARG("%.9g", m->fps);
+    }
+    if (k->end > 0 && (k->first > 0 || m->chunk_frames)) {
+        ARG("--frames");
+        ARG("%d", k->end);
+        if (k->first > 0) {
+            ARG("--first-frame");
+            ARG("%d", k->first);
+            ARG("--warmup");
+            ARG("%d", m->warmup);
+        }
+    } else if (m->frames) {
+        ARG("--frames");
+        ARG("%d", m->frames);
+    }
+    if (m->reference[0]) {
+        ARG("--reference");
+        ARG("%s", m->reference);
+    }
+    if (m->supersample) {
+        ARG("--supersample");
+        ARG("%d", m->supersample);
+    }
+    if (m->samples) {
+        ARG("--samples");
+        ARG("%d", m->samples);
+    }
+    ARG("--cache");
+    ARG("%s", m->cache);
+    ARG("--out");
+    ARG("%.*s/tasks/%.*s", 700, m->out, 199, k->name);
+    for (int i = 0; i < m->noptions; i++)
+        ARG("%s", m->options[i]);
+#undef ARG
+    argv[n] = NULL;
+    if (oom) {
+        sweep_task_argv_free(argv, n);
+        log_error("a task's command line: out of memory, or more than %d arguments", cap - 3);
+        return -1;
+    }
+    return n;
+}
+
+void sweep_task_argv_free(char **argv, int argc)
+{
+    for (int i = 0; i < argc; i++)
+        free(argv[i]);
+}

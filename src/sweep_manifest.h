@@ -1,0 +1,85 @@
+/* sweep_manifest.h: a sweep's manifest (JSON, docs/cluster.md "The manifest") and the argv of
+ * each task's `fovsim compare`. Paths in the manifest are relative to its folder; a loaded
+ * manifest holds them absolute, and so does the copy it writes into the sweep's folder, which is
+ * what the tasks read (they may run in another working directory, on another machine). */
+#ifndef FOVSIM_SWEEP_MANIFEST_H
+#define FOVSIM_SWEEP_MANIFEST_H
+
+#include <limits.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "core/status.h"
+
+#define SWEEP_MAX_LIST 256     /* entries per list (scenes, traces, layouts, options) */
+#define SWEEP_MAX_ARGS 200     /* arguments of one task's compare */
+#define SWEEP_DEFAULT_WARMUP 64 /* frames of TAA history before a chunk: 0.9^64 = 0.1 % at blend 0.1 */
+
+typedef struct sweep_task {
+    int scene, gaze, rings, taa; /* indices into the manifest's lists */
+    int first, end;              /* frames [first, end); end = 0: the scene's whole sequence */
+    char name[200];              /* its folder under tasks/, from its parameters */
+} sweep_task;
+
+typedef struct sweep_slurm {
+    int cpus_per_task, max_running; /* max_running 0: no limit */
+    char mem[32], time[32], partition[64];
+    char *extra[16];                /* further "#SBATCH" lines, e.g. "--account=lab" */
+    int nextra;
+} sweep_slurm;
+
+/* Command-line settings that replace the manifest's (NULL / 0 / -1: the manifest's). */
+typedef struct sweep_overrides {
+    const char *out;
+    int chunk_frames, warmup, cpus_per_task, max_running;
+    const char *mem, *time, *partition;
+} sweep_overrides;
+
+typedef struct sweep_manifest {
+    char path[PATH_MAX];           /* as given */
+    char out[700];                 /* the sweep's folder, absolute (short enough for a task's --out) */
+    char frozen[PATH_MAX];         /* out/manifest-<hash>.json, what the tasks read */
+    char *scenes[SWEEP_MAX_LIST];  /* "builtin:NAME" or an absolute path */
+    int nscenes;
+    char *gaze[SWEEP_MAX_LIST];    /* NULL: fixation at the centre; "builtin:NAME" or an absolute path */
+    int ngaze;
+    char modes[512];               /* "traditional,hashed" */
+    char *rings[SWEEP_MAX_LIST];   /* "default" (the scene's) or a --rings value */
+    int nrings;
+    const char *taa[3];            /* "default", "on", "off" */
+    int ntaa;
+    int width, height, frames;     /* 0: the scene's */
+    double fps;                    /* 0: 24 */
+    char reference[16];            /* "" (exact), "exact", "stochastic" */
+    int supersample, samples;      /* 0: compare's defaults */
+    char cache[800];               /* absolute; default out/cache */
+    int chunk_frames, warmup;      /* 0: no chunks */
+    char *options[SWEEP_MAX_LIST]; /* further compare options, e.g. "--hash-scale", "0.5" */
+    int noptions;
+    sweep_slurm slurm;
+    sweep_task *tasks;             /* built by the sweep */
+    int ntasks;
+} sweep_manifest;
+
+/* Reads and checks the manifest at `path` (one line naming the JSON path of what is wrong, and
+ * FS_ERR_USAGE). With `write_out`, creates the sweep's folder (and logs/) and writes the
+ * absolute-path copies manifest.json and manifest-<hash>.json into it. */
+fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, bool write_out, sweep_manifest *m);
+void sweep_manifest_free(sweep_manifest *m);
+/* Reads the absolute-path copy in a sweep's folder (merge). */
+fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m);
+
+/* The task list (sweep.c): scenes x traces x ring layouts x TAA settings x frame chunks, in that
+ * nesting; with chunk_frames each scene is loaded to find its length and camera cuts. */
+fs_status sweep_build_tasks(sweep_manifest *m);
+/* A task's folder, and whether its record says it completed (compare writes it last). */
+void sweep_task_dir(const sweep_manifest *m, const sweep_task *k, char *out, size_t n);
+typedef enum sweep_task_state { TASK_TODO, TASK_INCOMPLETE, TASK_DONE } sweep_task_state;
+sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k);
+
+/* The argv of task k's compare ("fovsim", "compare", ...), each string malloc'd, NULL-terminated
+ * with room for two more arguments; returns argc, or -1 (no memory, or more than cap - 3). */
+int sweep_task_argv(const sweep_manifest *m, const sweep_task *k, char **argv, int cap);
+void sweep_task_argv_free(char **argv, int argc);
+
+#endif
