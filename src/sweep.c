@@ -59,8 +59,8 @@ static void short_name(const char *s, char *out, size_t n)
     slug(tmp, out, n > 41 ? 41 : n);
 }
 
-/* The chunks of a sequence of `frames` frames: boundaries every `chunk` frames, each moved to a
- * camera cut within a quarter chunk of it (the history starts afresh there: no warm-up needed).
+/* The chunks of a sequence of `frames` frames: each boundary `chunk` frames after the last, moved
+ * to a camera cut within a quarter chunk of it (the history starts afresh there: no warm-up needed).
  * starts[0..*count) and the end, starts[*count] = frames. */
 static fs_status chunk_bounds(const scene *sc, int frames, float fps, int chunk, int width, int height, int **starts,
                               int *count)
@@ -71,7 +71,7 @@ static fs_status chunk_bounds(const scene *sc, int frames, float fps, int chunk,
         return FS_ERR_NOMEM;
     int n = 0;
     b[n++] = 0;
-    for (int nominal = chunk; nominal < frames; nominal += chunk) {
+    for (int nominal = chunk; nominal < frames; nominal = b[n - 1] + chunk) {
         int best = -1, reach = chunk / 4;
         for (int c = nominal - reach; c <= nominal + reach; c++) {
             if (c <= b[n - 1] || c >= frames)
@@ -185,6 +185,33 @@ sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k)
 }
 
 static const char *const k_state_names[] = {"todo", "incomplete", "done"};
+
+/* Every task's command line through the CLI's own checks, and its ring layout through the
+ * layout parser, before anything runs: a bad option fails the sweep at once, not task by task on
+ * a cluster. Messages say which task. */
+static fs_status check_tasks(const sweep_manifest *m)
+{
+    fs_status st = FS_OK;
+    for (int i = 0; i < m->ntasks && st == FS_OK; i++) {
+        const sweep_task *k = &m->tasks[i];
+        char context[420], err[256];
+        snprintf(context, sizeof context, "%.150s: task %d (%.200s): ", m->path, i, k->name);
+        log_set_context(context);
+        char *argv[SWEEP_MAX_ARGS];
+        int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
+        run_desc d;
+        st = argc > 0 ? cli_parse(argc, argv, &d) : FS_ERR_NOMEM;
+        fov_layout l;
+        display_desc dd = {1280, 720, 90.0f}; /* "auto" is resolved per scene; this checks the syntax */
+        if (st == FS_OK && d.rings && fov_layout_parse(d.rings, &dd, &l, err, sizeof err) != FS_OK) {
+            log_error("--rings %s: %s", d.rings, err);
+            st = FS_ERR_USAGE;
+        }
+        sweep_task_argv_free(argv, argc > 0 ? argc : 0);
+    }
+    log_set_context(NULL);
+    return st;
+}
 
 /* >>running one task (--task I) */
 
@@ -613,6 +640,8 @@ fs_status sweep_main(int argc, char **argv)
     fs_status st = sweep_manifest_load(manifest, &ov, act != ACT_TASK, &m);
     if (st == FS_OK)
         st = sweep_build_tasks(&m);
+    if (st == FS_OK && act != ACT_TASK)
+        st = check_tasks(&m);
     if (st == FS_OK && act == ACT_TASK && task >= m.ntasks) {
         log_error("--task %d: the sweep has %d tasks (0 to %d)", task, m.ntasks, m.ntasks - 1);
         st = FS_ERR_USAGE;

@@ -484,13 +484,15 @@ fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, bool 
 
 fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m)
 {
+    memset(m, 0, sizeof *m);
     char path[PATH_MAX + 32];
     snprintf(path, sizeof path, "%s/manifest.json", sweep_dir);
     if (access(path, R_OK) != 0) {
         log_error("%s: cannot read: %s (is %s a sweep's folder?)", path, strerror(errno), sweep_dir);
         return FS_ERR_IO;
     }
-    return sweep_manifest_load(path, &(sweep_overrides){.warmup = -1}, false, m);
+    /* The folder as given, not the "out" it was written with: a sweep's folder may be moved. */
+    return sweep_manifest_load(path, &(sweep_overrides){.out = sweep_dir, .warmup = -1}, false, m);
 }
 
 void sweep_manifest_free(sweep_manifest *m)
