@@ -99,30 +99,31 @@ fs_status sweep_build_tasks(sweep_manifest *m)
     m->ntasks = 0;
     fs_status st = FS_OK;
     for (int s = 0; s < m->nscenes && st == FS_OK; s++) {
-        int *starts = NULL, nchunks = 1;
         int frames = m->frames;
-        if (m->chunk_frames > 0) {
+        if (m->chunk_frames > 0 && !m->chunks[s]) {
             /* The scene's length and cuts, with the options the tasks use (asset root, size). */
             scene sc;
             run_desc d;
             char *argv[SWEEP_MAX_ARGS];
             int argc = sweep_task_argv(m, &(sweep_task){.scene = s}, argv, SWEEP_MAX_ARGS);
-            st = argc > 0 ? cli_parse(argc, argv, &d) : FS_ERR_USAGE;
+            st = argc > 0 ? cli_parse(argc, argv, &d) : FS_ERR_NOMEM;
             if (st == FS_OK)
                 st = session_load_scene(&d, &sc);
+            if (st == FS_OK) {
+                frames = session_frame_count(&d, &sc);
+                int w = d.width ? d.width : sc.display.width, h = d.height ? d.height : sc.display.height;
+                st = chunk_bounds(&sc, frames, d.fps, m->chunk_frames, w, h, &m->chunks[s], &m->nchunks[s]);
+                scene_free(&sc);
+            }
+            sweep_task_argv_free(argv, argc > 0 ? argc : 0);
             if (st != FS_OK)
                 break;
-            frames = session_frame_count(&d, &sc);
-            int w = d.width ? d.width : sc.display.width, h = d.height ? d.height : sc.display.height;
-            st = chunk_bounds(&sc, frames, d.fps, m->chunk_frames, w, h, &starts, &nchunks);
-            scene_free(&sc);
-            if (st != FS_OK)
-                break;
-            cap += per_chunkless / m->nscenes * (nchunks - 1);
         }
+        const int *starts = m->chunk_frames > 0 ? m->chunks[s] : NULL;
+        int nchunks = starts ? m->nchunks[s] : 1;
+        cap += per_chunkless / m->nscenes * (nchunks - 1);
         sweep_task *grown = realloc(m->tasks, sizeof *grown * (size_t)cap);
         if (!grown) {
-            free(starts);
             st = FS_ERR_NOMEM;
             break;
         }
@@ -133,7 +134,8 @@ fs_status sweep_build_tasks(sweep_manifest *m)
                     for (int c = 0; c < nchunks; c++) {
                         sweep_task *k = &m->tasks[m->ntasks++];
                         *k = (sweep_task){.scene = s, .gaze = g, .rings = r, .taa = t,
-                                          .first = starts ? starts[c] : 0, .end = starts ? starts[c + 1] : frames};
+                                          .first = starts ? starts[c] : 0,
+                                          .end = starts ? starts[c + 1] : frames};
                         char sn[48], gn[48], rn[48];
                         short_name(m->scenes[s], sn, sizeof sn);
                         short_name(m->gaze[g], gn, sizeof gn);
@@ -150,7 +152,6 @@ fs_status sweep_build_tasks(sweep_manifest *m)
                                           k->end - 1);
                         snprintf(k->name + o, sizeof k->name - (size_t)o, ".%08" PRIx32, (uint32_t)(h ^ (h >> 32)));
                     }
-        free(starts);
     }
     if (st == FS_OK && m->ntasks == 0) {
         log_error("%s: the sweep has no task", m->path);
@@ -308,7 +309,7 @@ static fs_status list_tasks(const sweep_manifest *m)
 
 static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char *path)
 {
-    size_t cap = (size_t)m->ntasks * (2 * PATH_MAX + 200) + 1;
+    size_t cap = (size_t)m->ntasks * (2 * (strlen(exe) + strlen(m->frozen) + strlen(m->out)) + 128) + 1;
     char *text = malloc(cap), line[3 * PATH_MAX + 400];
     if (!text)
         return FS_ERR_NOMEM;
@@ -637,9 +638,11 @@ fs_status sweep_main(int argc, char **argv)
     }
     exe[n] = '\0';
     sweep_manifest m;
-    fs_status st = sweep_manifest_load(manifest, &ov, act != ACT_TASK, &m);
+    fs_status st = sweep_manifest_load(manifest, &ov, &m);
     if (st == FS_OK)
         st = sweep_build_tasks(&m);
+    if (st == FS_OK && act != ACT_TASK)
+        st = sweep_manifest_write(&m);
     if (st == FS_OK && act != ACT_TASK)
         st = check_tasks(&m);
     if (st == FS_OK && act == ACT_TASK && task >= m.ntasks) {

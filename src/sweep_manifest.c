@@ -150,7 +150,7 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
 {
     static const char *const k_top[] = {"scenes", "gaze", "modes", "rings", "taa", "width", "height", "fps",
                                         "frames", "reference", "cache", "chunk_frames", "warmup", "options",
-                                        "slurm", "out", NULL};
+                                        "slurm", "out", "chunk_starts", NULL};
     static const char *const k_ref[] = {"kind", "supersample", "samples", NULL};
     static const char *const k_slurm[] = {"cpus_per_task", "mem", "time", "partition", "max_running", "extra", NULL};
     if (!cJSON_IsObject(root))
@@ -271,6 +271,29 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
     m->warmup = SWEEP_DEFAULT_WARMUP;
     if (st == FS_OK)
         st = integer(m, root, "warmup", "warmup", 0, MAX_FRAMES, &m->warmup);
+    /* the chunks a sweep found (written into its copies; not for people to write) */
+    const cJSON *cs = cJSON_GetObjectItemCaseSensitive(root, "chunk_starts");
+    if (st == FS_OK && cs && m->chunk_frames &&
+        (!cJSON_IsArray(cs) || cJSON_GetArraySize(cs) != m->nscenes))
+        st = bad(m, "chunk_starts", "expected one array per scene (written by fovsim sweep; remove it)");
+    int si = 0;
+    for (const cJSON *e = cs && m->chunk_frames ? cs->child : NULL; e && st == FS_OK; e = e->next, si++) {
+        int len = cJSON_GetArraySize(e), prev = -1;
+        if (!cJSON_IsArray(e) || len < 2 || !(m->chunks[si] = malloc(sizeof(int) * (size_t)len))) {
+            st = bad(m, "chunk_starts", "[%d]: expected increasing frame numbers (written by fovsim sweep)", si);
+            break;
+        }
+        int j = 0;
+        for (const cJSON *f = e->child; f; f = f->next, j++) {
+            if (!cJSON_IsNumber(f) || f->valuedouble <= prev || f->valuedouble > MAX_FRAMES) {
+                st = bad(m, "chunk_starts", "[%d][%d]: expected increasing frame numbers (written by fovsim sweep)",
+                         si, j);
+                break;
+            }
+            prev = m->chunks[si][j] = (int)f->valuedouble;
+        }
+        m->nchunks[si] = len - 1;
+    }
     /* further compare options */
     if (st == FS_OK && (st = strings(m, root, "options", list, &n)) == FS_OK)
         for (int i = 0; i < n; i++)
@@ -302,8 +325,13 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
         }
     }
     /* The command line's settings win. */
-    if (ov->chunk_frames)
+    if (ov->chunk_frames && ov->chunk_frames != m->chunk_frames) {
+        for (int i = 0; i < m->nscenes; i++) { /* found for another length: found again */
+            free(m->chunks[i]);
+            m->chunks[i] = NULL;
+        }
         m->chunk_frames = ov->chunk_frames;
+    }
     if (ov->warmup >= 0)
         m->warmup = ov->warmup;
     if (ov->cpus_per_task)
@@ -409,13 +437,18 @@ static char *normalised(const sweep_manifest *m)
     a = cJSON_AddArrayToObject(s, "extra");
     for (int i = 0; i < m->slurm.nextra; i++)
         cJSON_AddItemToArray(a, cJSON_CreateString(m->slurm.extra[i]));
+    if (m->chunk_frames) {
+        a = cJSON_AddArrayToObject(o, "chunk_starts");
+        for (int i = 0; i < m->nscenes; i++)
+            cJSON_AddItemToArray(a, cJSON_CreateIntArray(m->chunks[i], m->chunks[i] ? m->nchunks[i] + 1 : 0));
+    }
     cJSON_AddStringToObject(o, "out", m->out);
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
     return text;
 }
 
-static fs_status write_copies(sweep_manifest *m)
+fs_status sweep_manifest_write(sweep_manifest *m)
 {
     char *text = normalised(m);
     if (!text)
@@ -443,7 +476,7 @@ static fs_status write_copies(sweep_manifest *m)
     return st;
 }
 
-fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, bool write_out, sweep_manifest *m)
+fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, sweep_manifest *m)
 {
     memset(m, 0, sizeof *m);
     snprintf(m->path, sizeof m->path, "%s", path);
@@ -475,10 +508,7 @@ fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, bool 
     st = parse(m, root, dir, ov);
     cJSON_Delete(root);
     free(buf);
-    if (st == FS_OK && write_out)
-        st = write_copies(m);
-    else
-        snprintf(m->frozen, sizeof m->frozen, "%s", m->path);
+    snprintf(m->frozen, sizeof m->frozen, "%s", m->path);
     return st;
 }
 
@@ -492,7 +522,7 @@ fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m)
         return FS_ERR_IO;
     }
     /* The folder as given, not the "out" it was written with: a sweep's folder may be moved. */
-    return sweep_manifest_load(path, &(sweep_overrides){.out = sweep_dir, .warmup = -1}, false, m);
+    return sweep_manifest_load(path, &(sweep_overrides){.out = sweep_dir, .warmup = -1}, m);
 }
 
 void sweep_manifest_free(sweep_manifest *m)
@@ -507,6 +537,8 @@ void sweep_manifest_free(sweep_manifest *m)
         free(m->options[i]);
     for (int i = 0; i < m->slurm.nextra; i++)
         free(m->slurm.extra[i]);
+    for (int i = 0; i < m->nscenes; i++)
+        free(m->chunks[i]);
     free(m->tasks);
     memset(m, 0, sizeof *m);
 }

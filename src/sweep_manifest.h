@@ -57,14 +57,21 @@ typedef struct sweep_manifest {
     char *options[SWEEP_MAX_LIST]; /* further compare options, e.g. "--hash-scale", "0.5" */
     int noptions;
     sweep_slurm slurm;
+    int *chunks[SWEEP_MAX_LIST];   /* per scene with chunk_frames: its chunks' first frames and the
+                                      end (nchunks[s] + 1 values); from the written copy's
+                                      "chunk_starts", else found by sweep_build_tasks */
+    int nchunks[SWEEP_MAX_LIST];
     sweep_task *tasks;             /* built by the sweep */
     int ntasks;
 } sweep_manifest;
 
 /* Reads and checks the manifest at `path` (one line naming the JSON path of what is wrong, and
- * FS_ERR_USAGE). With `write_out`, creates the sweep's folder (and logs/) and writes the
- * absolute-path copies manifest.json and manifest-<hash>.json into it. */
-fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, bool write_out, sweep_manifest *m);
+ * FS_ERR_USAGE). m->frozen is `path` until sweep_manifest_write. */
+fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, sweep_manifest *m);
+/* After sweep_build_tasks: creates the sweep's folder (and logs/) and writes the absolute-path
+ * copies manifest.json and manifest-<hash>.json (with the chunks, so that no task loads a scene
+ * to find them), and points m->frozen at the latter. */
+fs_status sweep_manifest_write(sweep_manifest *m);
 void sweep_manifest_free(sweep_manifest *m);
 /* Reads the absolute-path copy in a sweep's folder (merge). */
 fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m);
