@@ -11,35 +11,10 @@
 
 #include "core/file_read.h"
 #include "core/log.h"
+#include "core/strbuf.h"
 #include "session.h"
 #include "sweep.h"
 #include "sweep_manifest.h"
-
-/* A growing text buffer. */
-typedef struct sbuf {
-    char *p;
-    size_t len, cap;
-    bool oom;
-} sbuf;
-
-static void sb_add(sbuf *b, const char *s, size_t n)
-{
-    if (b->oom)
-        return;
-    if (b->len + n + 1 > b->cap) {
-        size_t cap = (b->len + n + 1) * 2;
-        char *p = realloc(b->p, cap);
-        if (!p) {
-            b->oom = true;
-            return;
-        }
-        b->p = p;
-        b->cap = cap;
-    }
-    memcpy(b->p + b->len, s, n);
-    b->len += n;
-    b->p[b->len] = '\0';
-}
 
 /* One (configuration, mode) of the sweep: the accuracy-vs-time point. */
 typedef struct point {
@@ -131,9 +106,9 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     for (char *row = nl + 1; *row && st == FS_OK;) {
         char *end = strchr(row, '\n');
         size_t len = end ? (size_t)(end - row) : strlen(row);
-        sb_add(csv, prefix, strlen(prefix));
-        sb_add(csv, row, len);
-        sb_add(csv, "\n", 1);
+        sb_append(csv, prefix, strlen(prefix));
+        sb_append(csv, row, len);
+        sb_append(csv, "\n", 1);
         char ring[16], mode[32], v[64];
         field(row, c_ring, ring, sizeof ring);
         field(row, c_mode, mode, sizeof mode);
@@ -298,16 +273,16 @@ fs_status merge_main(int argc, char **argv)
         char path[PATH_MAX + 32];
         sbuf all = {0};
         const char *cols = "task,scene,gaze,rings,taa,";
-        sb_add(&all, cols, strlen(cols));
-        sb_add(&all, header, strlen(header));
-        sb_add(&all, "\n", 1);
-        sb_add(&all, csv.p, csv.len);
+        sb_append(&all, cols, strlen(cols));
+        sb_append(&all, header, strlen(header));
+        sb_append(&all, "\n", 1);
+        sb_append(&all, csv.p, csv.len);
         snprintf(path, sizeof path, "%s/metrics.csv", dir);
         st = all.oom ? FS_ERR_NOMEM : file_write_atomic(path, all.p);
         free(all.p);
         /* accuracy.csv: one point per configuration and mode */
         const char *ah = "scene,gaze,rings,taa,mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames\n";
-        sb_add(&acc, ah, strlen(ah));
+        sb_append(&acc, ah, strlen(ah));
         for (int i = 0; i < ps.n && st == FS_OK; i++) {
             point *p = &ps.v[i];
             int c = p->config, t = c % m.ntaa, r = (c /= m.ntaa) % m.nrings, g = (c /= m.nrings) % m.ngaze,
@@ -319,7 +294,7 @@ fs_status merge_main(int argc, char **argv)
             int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.4f,%.6f,%.5f,%d\n", sc, gz, m.rings[r], m.taa[t],
                              p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows, p->ratio / p->rows,
                              p->rows);
-            sb_add(&acc, line, (size_t)l);
+            sb_append(&acc, line, (size_t)l);
         }
         snprintf(path, sizeof path, "%s/accuracy.csv", dir);
         if (st == FS_OK)
