@@ -164,8 +164,7 @@ static fs_status write_record(const run_folder *f, bool complete)
 {
     char path[1200], tmp[1300];
     record_path(f, path, sizeof path);
-    snprintf(tmp, sizeof tmp, "%s/.%s.tmp.%ld", f->dir, RUN_RECORD_FILE, (long)getpid());
-    FILE *o = fopen(tmp, "w");
+    FILE *o = out_path_temp_name(path, tmp, sizeof tmp) ? fopen(tmp, "w") : NULL;
     if (!o) {
         log_error("%s: cannot create: %s", tmp, strerror(errno));
         return FS_ERR_IO;
