@@ -427,8 +427,7 @@ static fs_status report(const report_desc *r)
     }
 
     char tmp[1300];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", r->json_path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
+    FILE *f = out_path_temp_name(r->json_path, tmp, sizeof tmp) ? fopen(tmp, "w") : NULL;
     if (!f) {
         log_error("%s: cannot create: %s", tmp, strerror(errno));
         return FS_ERR_IO;
@@ -511,7 +510,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     const char *out = d->out_dir ? d->out_dir : co->default_out;
     char csv_path[1200], csv_tmp[1300], json_path[1200];
     snprintf(csv_path, sizeof csv_path, "%s/metrics.csv", out);
-    snprintf(csv_tmp, sizeof csv_tmp, "%s/.metrics.csv.tmp.%ld", out, (long)getpid());
+    bool csv_tmp_ok = out_path_temp_name(csv_path, csv_tmp, sizeof csv_tmp);
     snprintf(json_path, sizeof json_path, "%s/summary.json", out);
     char config[8192];
     run_folder fo = {0};
@@ -525,7 +524,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     if (st == FS_OK)
         st = run_folder_open(&fo, out, d, config, frames);
     FILE *csv = NULL;
-    if (st == FS_OK && !(csv = fopen(csv_tmp, "w"))) {
+    if (st == FS_OK && !(csv = csv_tmp_ok ? fopen(csv_tmp, "w") : NULL)) {
         log_error("%s: cannot create: %s", csv_tmp, strerror(errno));
         st = FS_ERR_IO;
     }
@@ -848,7 +847,10 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
     char gp[1200], png[1200], pngtmp[1300];
     snprintf(gp, sizeof gp, "%s/%s.gp", out, stem);
     snprintf(png, sizeof png, "%s/%s.png", out, stem);
-    snprintf(pngtmp, sizeof pngtmp, "%s/.%s.png.tmp.%ld", out, stem, (long)getpid());
+    if (!out_path_temp_name(png, pngtmp, sizeof pngtmp)) {
+        log_error("%s: cannot write: the path is too long", png);
+        return FS_ERR_IO;
+    }
     size_t cap = 1 << 16;
     int o = 0;
     o += snprintf(buf + o, cap - (size_t)o,
@@ -874,7 +876,7 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
                   "t 'TAA off (hollow)', \\\n     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' "
                   "u %s:%d w l lw 2 lc rgb 'black' t 'Pareto front'\n",
                   sort_col, sort_col, out, front_col, x_expr, y_col);
-    fs_status st = o < (int)cap - 1 ? file_write_atomic(gp, buf) : FS_ERR_INTERNAL;
+    fs_status st = o < (int)cap - 1 ? out_write_atomic(gp, buf) : FS_ERR_INTERNAL;
     char cmd[2600];
     snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
     if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
@@ -1182,10 +1184,10 @@ fs_status run_bench_accuracy(const run_desc *d)
 #undef MD
         char path[1200];
         snprintf(path, sizeof path, "%s/accuracy.csv", out);
-        st = file_write_atomic(path, csv);
+        st = out_write_atomic(path, csv);
         snprintf(path, sizeof path, "%s/accuracy.md", out);
         if (st == FS_OK)
-            st = file_write_atomic(path, md);
+            st = out_write_atomic(path, md);
         if (st == FS_OK && d->markdown) {
             FILE *f = fopen(d->markdown, "a");
             if (!f || fprintf(f, "\n%s", md) < 0 || fclose(f) != 0) {

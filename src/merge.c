@@ -11,6 +11,7 @@
 
 #include "core/file_read.h"
 #include "core/log.h"
+#include "output/out_path.h"
 #include "core/strbuf.h"
 #include "session.h"
 #include "sweep.h"
@@ -188,7 +189,7 @@ static fs_status plot(const char *dir, const points *ps)
     if (o + 2 >= (int)sizeof script)
         return FS_ERR_INTERNAL;
     memcpy(script + o, "\n", 2);
-    fs_status st = file_write_atomic(gp, script);
+    fs_status st = out_write_atomic(gp, script);
     char cmd[2 * PATH_MAX + 64], tmp[PATH_MAX + 32], png[PATH_MAX + 32];
     snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, dir);
     snprintf(tmp, sizeof tmp, "%s/.accuracy.png.tmp", dir);
@@ -278,7 +279,7 @@ fs_status merge_main(int argc, char **argv)
         sb_append(&all, "\n", 1);
         sb_append(&all, csv.p, csv.len);
         snprintf(path, sizeof path, "%s/metrics.csv", dir);
-        st = all.oom ? FS_ERR_NOMEM : file_write_atomic(path, all.p);
+        st = all.oom ? FS_ERR_NOMEM : out_write_atomic(path, all.p);
         free(all.p);
         /* accuracy.csv: one point per configuration and mode */
         const char *ah = "scene,gaze,rings,taa,mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames\n";
@@ -298,7 +299,7 @@ fs_status merge_main(int argc, char **argv)
         }
         snprintf(path, sizeof path, "%s/accuracy.csv", dir);
         if (st == FS_OK)
-            st = acc.oom ? FS_ERR_NOMEM : file_write_atomic(path, acc.p);
+            st = acc.oom ? FS_ERR_NOMEM : out_write_atomic(path, acc.p);
         if (st == FS_OK)
             st = plot(dir, &ps);
     }
@@ -311,7 +312,7 @@ fs_status merge_main(int argc, char **argv)
         missing = results = NULL;
         char *text = cJSON_Print(sum), path[PATH_MAX + 32];
         snprintf(path, sizeof path, "%s/summary.json", dir);
-        st = text ? file_write_atomic(path, text) : FS_ERR_NOMEM;
+        st = text ? out_write_atomic(path, text) : FS_ERR_NOMEM;
         cJSON_free(text);
     }
     if (st == FS_OK) {

@@ -173,7 +173,7 @@ static fs_status write_record(const run_folder *f, bool complete)
         return FS_ERR_NOMEM;
     snprintf(text, cap, "# the configuration that wrote this folder (fovsim, README \"Output folders\")\n%s" SEPARATOR
              "frames: %d\ncomplete: %s\n", f->config, f->frames, complete ? "yes" : "no");
-    fs_status st = file_write_atomic(path, text);
+    fs_status st = out_write_atomic(path, text);
     free(text);
     return st;
 }

@@ -22,6 +22,7 @@
 #include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "output/out_path.h"
 #include "fov/fov_ring.h"
 #include "run.h"
 #include "run_record.h"
@@ -323,7 +324,7 @@ static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char
         shq(log, sizeof log, lp);
         len += (size_t)snprintf(text + len, cap - len, "%s >%s 2>&1\n", line, log);
     }
-    fs_status st = file_write_atomic(path, text);
+    fs_status st = out_write_atomic(path, text);
     free(text);
     if (st == FS_OK)
         printf("wrote %d commands to %s (one task each; a completed task is skipped, so running the file again "
@@ -365,7 +366,7 @@ static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *sc
         log_error("%s: the Slurm script is longer than %zu bytes (too many \"extra\" lines?)", script, sizeof text);
         return FS_ERR_USAGE;
     }
-    fs_status st = file_write_atomic(script, text);
+    fs_status st = out_write_atomic(script, text);
     if (st == FS_OK && chmod(script, 0755) != 0)
         log_warn("%s: cannot make it executable: %s", script, strerror(errno));
     return st;

@@ -16,6 +16,7 @@
 #include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "output/out_path.h"
 #include "scene/scene.h"
 
 #define MANIFEST_MAX_BYTES (1 << 20)
@@ -469,9 +470,9 @@ fs_status sweep_manifest_write(sweep_manifest *m)
     fs_status st = file_make_dirs(logs);
     struct stat sb;
     if (st == FS_OK && stat(m->frozen, &sb) != 0)
-        st = file_write_atomic(m->frozen, text);
+        st = out_write_atomic(m->frozen, text);
     if (st == FS_OK)
-        st = file_write_atomic(latest, text);
+        st = out_write_atomic(latest, text);
     free(text);
     return st;
 }

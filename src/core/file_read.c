@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "core/log.h"
 
@@ -102,24 +101,6 @@ fs_status file_make_dirs(const char *path)
         }
         if (c == '\0')
             break;
-    }
-    return FS_OK;
-}
-
-fs_status file_write_atomic(const char *path, const char *text)
-{
-    char tmp[4200];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid()) >= (int)sizeof tmp) {
-        log_error("%.80s...: cannot write: the path is too long", path);
-        return FS_ERR_IO;
-    }
-    FILE *f = fopen(tmp, "w");
-    bool ok = f && fputs(text, f) >= 0;
-    ok = f && fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        log_error("%s: cannot write: %s", path, strerror(errno));
-        unlink(tmp);
-        return FS_ERR_IO;
     }
     return FS_OK;
 }

@@ -21,11 +21,6 @@ extern "C" {
 fs_status file_read_all(const char *path, size_t max_bytes, const char *what, fs_status too_big_status, char **out,
                         size_t *size);
 
-/* Writes `text` to `path` through a temporary name in the same folder and rename(2), so a reader
- * sees the old file or the whole new one, never a part. One line and FS_ERR_IO on failure, and
- * nothing is left at the temporary name. */
-fs_status file_write_atomic(const char *path, const char *text);
-
 /* mkdir -p: creates `path` and its missing parents. One line naming the failing component and
  * FS_ERR_IO when one cannot be made or exists as something other than a directory. */
 fs_status file_make_dirs(const char *path);

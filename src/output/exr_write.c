@@ -7,7 +7,6 @@
 #include <limits.h>
 #include <pthread.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +19,7 @@
 
 #include "core/config.h"
 #include "core/log.h"
+#include "output/out_path.h"
 
 /* Names the EXR format or OpenEXR itself gives a meaning; a custom attribute may not use them,
  * and the reader does not copy them into exr_image.attrs. */
@@ -386,24 +386,20 @@ static exr_compression_t core_compression(exr_compression_kind k)
     }
 }
 
-/* Numbers the temporary files of this process. */
-static atomic_ulong g_temp_seq;
-
-/* `<dir>/.<base>.tmp.<pid>.<n>` next to `path`, so the final rename(2) stays on one file system.
- * <n> is new for every call: two writes in flight at once (writer threads, or callers of
- * exr_write_file on their own threads) never share a temporary file, even when their paths name
- * the same file in different spellings ("a/x.exr", "a//x.exr", a symlinked directory).
+/* The temporary name next to `path` (out_path_temp_name: `<dir>/.<base>.tmp.<host>.<pid>.<n>`), so
+ * the final rename(2) stays on one file system. <n> is new for every call: two writes in flight at
+ * once (writer threads, or callers of exr_write_file on their own threads) never share a temporary
+ * file, even when their paths name the same file in different spellings ("a/x.exr", "a//x.exr", a
+ * symlinked directory); the host and pid keep other processes' and machines' writes apart.
  * Returns a malloc'd string or NULL. */
 static char *temp_path_for(const char *path)
 {
-    const char *slash = strrchr(path, '/');
-    size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
-    const char *base = path + dir_len;
-    unsigned long n = atomic_fetch_add_explicit(&g_temp_seq, 1, memory_order_relaxed);
-    size_t cap = strlen(path) + 64;
+    size_t cap = strlen(path) + 128;
     char *tmp = malloc(cap);
-    if (tmp)
-        snprintf(tmp, cap, "%.*s.%s.tmp.%ld.%lu", (int)dir_len, path, base, (long)getpid(), n);
+    if (tmp && !out_path_temp_name(path, tmp, cap)) {
+        free(tmp);
+        tmp = NULL;
+    }
     return tmp;
 }
 

@@ -4,9 +4,9 @@
  * attributes. exr_write_file stores it as a scanline EXR with half-float pixels and ZIP
  * compression (default) — values beyond ±65504 are clamped and NaN becomes 0, so a file never
  * holds Inf or NaN. ZIP uses deflate level EXR_ZIP_LEVEL_DEFAULT. The file is written to a
- * temporary name in the same directory (`.<name>.tmp.<pid>.<n>`, <n> new for every write) and
- * renamed over the final name only when complete: an interrupted or failed write (a full disk)
- * never leaves a truncated frame under the final name. That holds also when the disk is full
+ * temporary name in the same directory (`.<name>.tmp.<host>.<pid>.<n>`, out_path_temp_name, <n>
+ * new for every write) and renamed over the final name only when complete: an interrupted or
+ * failed write (a full disk) never leaves a truncated frame under the final name. That holds also when the disk is full
  * before the first byte (the header write fails): the Core's error callback never calls back into
  * the Core, whose context lock is held then (see tl_stream in exr_write.c).
  *

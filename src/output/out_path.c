@@ -4,15 +4,20 @@
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
+#include <inttypes.h>
 #include <limits.h>
 #include <signal.h>
+#include <stdatomic.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/config.h"
+#include "core/hash.h"
 #include "core/log.h"
 
 #ifndef NAME_MAX
@@ -23,8 +28,8 @@ int out_path_temp_overhead(void)
 {
     char digits[32];
     int frame = snprintf(digits, sizeof digits, "%04d", MAX_FRAMES - 1);
-    /* "." name "." frame ".exr" ".tmp." pid "." n */
-    return 1 + 1 + frame + 4 + 5 + 7 + 1 + 10;
+    /* "." name "." frame ".exr" ".tmp." host "." pid "." n */
+    return 1 + 1 + frame + 4 + 5 + OUT_PATH_HOST_MAX + 1 + 7 + 1 + 10;
 }
 
 int out_path_name_max(void)
@@ -83,7 +88,7 @@ bool out_path_check(const char *dir, const char *name, const char *cache_dir, ch
         return false;
     if (name && (int)strlen(name) > out_path_name_max()) {
         snprintf(why, cap,
-                 "--name %s: expected at most %d characters (a frame is written as .<name>.<frame>.exr.tmp.<pid>.<n>, "
+                 "--name %s: expected at most %d characters (a frame is written as .<name>.<frame>.exr.tmp.<host>.<pid>.<n>, "
                  "and a file name has at most %d)",
                  shown(name, b, sizeof b), out_path_name_max(), NAME_MAX);
         return false;
@@ -102,6 +107,50 @@ bool out_path_check(const char *dir, const char *name, const char *cache_dir, ch
     return true;
 }
 
+/* >>temporary names */
+
+/* c when it is one of [A-Za-z0-9-], else '-'. */
+static char host_char(char c)
+{
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ? c : '-';
+}
+
+void out_path_host(char out[OUT_PATH_HOST_MAX + 1])
+{
+    char raw[256];
+    if (gethostname(raw, sizeof raw) != 0)
+        raw[0] = '\0';
+    raw[sizeof raw - 1] = '\0'; /* POSIX leaves a truncated name unterminated */
+    size_t n = strlen(raw);
+    if (n == 0) {
+        snprintf(out, OUT_PATH_HOST_MAX + 1, "unknown-host");
+        return;
+    }
+    /* Longer: the first 23 characters, '-' and 8 hex digits of a hash of the whole name (32). */
+    enum { KEEP = OUT_PATH_HOST_MAX - 9 };
+    size_t keep = n <= OUT_PATH_HOST_MAX ? n : KEEP;
+    for (size_t i = 0; i < keep; i++)
+        out[i] = host_char(raw[i]);
+    out[keep] = '\0';
+    if (n > OUT_PATH_HOST_MAX)
+        snprintf(out + KEEP, OUT_PATH_HOST_MAX + 1 - KEEP, "-%08" PRIx32, (uint32_t)hash_str(HASH_FNV_INIT, raw));
+}
+
+/* Numbers the temporary files of this process (32 bits: at most 10 digits, as
+ * out_path_temp_overhead counts). */
+static atomic_uint g_temp_seq;
+
+bool out_path_temp_name(const char *path, char *out, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    int dir_len = slash ? (int)(slash - path) + 1 : 0;
+    char host[OUT_PATH_HOST_MAX + 1];
+    out_path_host(host);
+    unsigned n = atomic_fetch_add_explicit(&g_temp_seq, 1, memory_order_relaxed);
+    int len = snprintf(out, cap, "%.*s.%s.tmp.%s.%ld.%u", dir_len, path, path + dir_len, host, (long)getpid(), n);
+    return len >= 0 && (size_t)len < cap;
+}
+
 /* >>housekeeping */
 
 /* Whether s[0..n) is one or more decimal digits. */
@@ -115,20 +164,64 @@ static bool all_digits(const char *s, size_t n)
     return true;
 }
 
+/* The start of the '.'-separated field of `s` that ends at `end`, or NULL when no '.' precedes it. */
+static const char *field_before(const char *s, const char *end)
+{
+    const char *p = end;
+    while (p > s && p[-1] != '.')
+        p--;
+    return p > s ? p : NULL;
+}
+
+/* Whether ".tmp." ends right before `field`, with something before it. */
+static bool tmp_before(const char *s, const char *field)
+{
+    return field && field - s >= 6 && !memcmp(field - 5, ".tmp.", 5);
+}
+
+static bool host_ok(const char *h, size_t n)
+{
+    if (n == 0 || n > OUT_PATH_HOST_MAX)
+        return false;
+    for (size_t i = 0; i < n; i++)
+        if (host_char(h[i]) != h[i])
+            return false;
+    return true;
+}
+
+static bool pid_ok(const char *p, size_t n, long *pid)
+{
+    if (!all_digits(p, n) || n > 9)
+        return false;
+    *pid = strtol(p, NULL, 10);
+    return *pid > 0;
+}
+
+bool out_path_temp_parse(const char *file, out_temp_name *t)
+{
+    /* From the end: ... ".tmp." host "." pid "." n, else ".tmp." pid "." n, else ".tmp." pid. */
+    const char *end = file + strlen(file);
+    const char *n = field_before(file, end);
+    const char *b = n ? field_before(file, n - 1) : NULL;
+    const char *a = b ? field_before(file, b - 1) : NULL;
+    memset(t, 0, sizeof *t);
+    if (tmp_before(file, a) && host_ok(a, (size_t)(b - 1 - a)) && pid_ok(b, (size_t)(n - 1 - b), &t->pid) &&
+        all_digits(n, (size_t)(end - n))) {
+        memcpy(t->host, a, (size_t)(b - 1 - a));
+        return true;
+    }
+    if (tmp_before(file, b) && pid_ok(b, (size_t)(n - 1 - b), &t->pid) && all_digits(n, (size_t)(end - n)))
+        return true;
+    if (tmp_before(file, n) && pid_ok(n, (size_t)(end - n), &t->pid))
+        return true;
+    memset(t, 0, sizeof *t);
+    return false;
+}
+
 long out_path_temp_pid(const char *file)
 {
-    /* The last ".tmp." followed by digits, or digits "." digits, to the end. */
-    const char *t = NULL;
-    for (const char *p = strstr(file, ".tmp."); p; p = strstr(p + 1, ".tmp."))
-        t = p;
-    if (!t || t == file)
-        return 0;
-    const char *pid = t + 5, *dot = strchr(pid, '.');
-    size_t pid_len = dot ? (size_t)(dot - pid) : strlen(pid);
-    if (!all_digits(pid, pid_len) || pid_len > 9 || (dot && !all_digits(dot + 1, strlen(dot + 1))))
-        return 0;
-    long v = strtol(pid, NULL, 10);
-    return v > 0 ? v : 0;
+    out_temp_name t;
+    return out_path_temp_parse(file, &t) ? t.pid : 0;
 }
 
 int out_dir_remove_stale_temps(const char *dir)
@@ -136,31 +229,43 @@ int out_dir_remove_stale_temps(const char *dir)
     DIR *d = opendir(dir);
     if (!d)
         return 0;
-    int removed = 0;
+    int dead = 0, old = 0;
     const long self = (long)getpid();
+    char here[OUT_PATH_HOST_MAX + 1];
+    out_path_host(here);
+    const time_t now = time(NULL);
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
-        long pid = out_path_temp_pid(e->d_name);
-        if (pid <= 0 || pid == self || (pid_t)pid != pid)
+        out_temp_name t;
+        if (!out_path_temp_parse(e->d_name, &t))
             continue;
-        if (!(kill((pid_t)pid, 0) == -1 && errno == ESRCH))
-            continue; /* alive (or not ours to signal: EPERM means it exists) */
         char path[OUT_PATH_DIR_MAX + NAME_MAX + 2];
         if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path)
             continue;
         struct stat sb;
         if (lstat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
             continue;
+        /* A clock ahead of ours (another machine, the file server) makes a file look younger:
+         * the age is generous for that too. */
+        bool aged = difftime(now, sb.st_mtime) > OUT_PATH_TEMP_MAX_AGE_S;
+        bool ours = !t.host[0] || !strcmp(t.host, here);
+        /* Alive, or not ours to signal (EPERM means it exists): kept. */
+        bool gone = ours && t.pid != self && (pid_t)t.pid == t.pid && kill((pid_t)t.pid, 0) == -1 && errno == ESRCH;
+        if (!aged && !gone)
+            continue;
         if (unlink(path) == 0)
-            removed++;
+            *(gone ? &dead : &old) += 1;
         else
             log_warn("%s: cannot remove the temporary file of an earlier run: %s", path, strerror(errno));
     }
     closedir(d);
-    if (removed)
-        log_info("OUTPUT: removed %d temporary file%s of runs that no longer exist from %s", removed,
-                 removed == 1 ? "" : "s", dir);
-    return removed;
+    if (dead)
+        log_info("OUTPUT: removed %d temporary file%s of runs that no longer exist from %s", dead,
+                 dead == 1 ? "" : "s", dir);
+    if (old)
+        log_info("OUTPUT: removed %d temporary file%s older than %d h (of runs on any machine) from %s", old,
+                 old == 1 ? "" : "s", OUT_PATH_TEMP_MAX_AGE_S / 3600, dir);
+    return dead + old;
 }
 
 long out_path_frame_index(const char *file, const char *name)
@@ -220,4 +325,22 @@ fs_status out_dir_remove_sequence(const char *dir, const char *name, int from, i
     if (removed)
         *removed = n;
     return st;
+}
+
+fs_status out_write_atomic(const char *path, const char *text)
+{
+    char tmp[4200];
+    if (!out_path_temp_name(path, tmp, sizeof tmp)) {
+        log_error("%s: cannot write: the path is too long", path);
+        return FS_ERR_IO;
+    }
+    FILE *f = fopen(tmp, "w");
+    bool ok = f && fputs(text, f) >= 0;
+    ok = f && fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        unlink(tmp);
+        return FS_ERR_IO;
+    }
+    return FS_OK;
 }

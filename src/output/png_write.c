@@ -12,6 +12,7 @@
 #include <zlib.h>
 
 #include "core/log.h"
+#include "output/out_path.h"
 
 uint16_t png_srgb_quantise(float l, int bits)
 {
@@ -79,8 +80,12 @@ fs_status png_write_srgb(const char *path, int width, int height, const float *c
     ihdr[8] = (unsigned char)bits;
     ihdr[9] = 2; /* truecolour RGB */
     ihdr[10] = ihdr[11] = ihdr[12] = 0;
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    char tmp[1400];
+    if (!out_path_temp_name(path, tmp, sizeof tmp)) {
+        free(z);
+        log_error("%s: cannot write: the path is too long", path);
+        return FS_ERR_IO;
+    }
     FILE *f = fopen(tmp, "wb");
     bool ok = f != NULL;
     static const unsigned char sig[8] = {137, 'P', 'N', 'G', 13, 10, 26, 10};

@@ -13,14 +13,16 @@
 #include "core/hash.h"
 #include "core/log.h"
 #include "core/progress.h"
+#include "gl/gl_device.h"
 #include "passes/abuffer.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "output/out_path.h"
 
 /* Bump when the method changes what a reference frame holds: old cache files then miss.
- * 3: entries carry fovsim:ref_checksum (issue 17). */
-#define REFERENCE_FORMAT_VERSION 3
+ * 3: entries carry fovsim:ref_checksum (issue 17). 4: the key holds the GL renderer and version
+ * (issue 18). */
+#define REFERENCE_FORMAT_VERSION 4
 
 enum { REF_CHANNELS = 5 }; /* R, G, B, A, coverage */
 static const char *const k_channels[REF_CHANNELS] = {"R", "G", "B", "A", "coverage"};
@@ -145,6 +147,11 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     h = hash_str(h, reference_kind_name(rf->kind)); /* exact and stochastic frames never collide */
     h = hash_u64(h, scene_content_hash(sc));
     h = hash_shaders(h);
+    /* The GL that draws it: another GPU or driver can rasterise and filter slightly differently, and
+     * a key must mean the same bytes also in a cache that many machines share (issue 18). */
+    const char *gl_renderer = gl_device_renderer(), *gl_version = gl_device_version();
+    h = hash_str(h, gl_renderer ? gl_renderer : "");
+    h = hash_str(h, gl_version ? gl_version : "");
     uint64_t dims[5] = {(uint64_t)rf->width, (uint64_t)rf->height, (uint64_t)rf->ss, (uint64_t)rf->k,
                         exact ? rf->budget_nodes : 0};
     for (int i = 0; i < 5; i++)

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "core/log.h"
+#include "output/out_path.h"
 
 void gaze_recorder_begin(gaze_recorder *r, const char *path, const char *comment)
 {
@@ -35,14 +36,16 @@ fs_status gaze_recorder_add(gaze_recorder *r, double t, float x, float y, bool v
         return FS_OK;
     if (r->samples > 0 && !(t > r->last_t))
         return FS_OK; /* the loader needs strictly increasing time */
-    char buf[1024], tmp[1100] = "";
+    char buf[1024], tmp[1200] = "";
     int n = 0;
     if (!r->f) {
         /* Created under a temporary name and renamed once it holds its first sample, so the final
          * name never shows an empty file; the stream stays open on the renamed file. */
-        const char *slash = strrchr(r->path, '/');
-        int dir = slash ? (int)(slash - r->path + 1) : 0;
-        snprintf(tmp, sizeof tmp, "%.*s.%s.tmp.%ld", dir, r->path, r->path + dir, (long)getpid());
+        if (!out_path_temp_name(r->path, tmp, sizeof tmp)) {
+            tmp[0] = '\0';
+            errno = ENAMETOOLONG;
+            return fail(r, "create");
+        }
         r->f = fopen(tmp, "w");
         if (!r->f)
             return fail(r, "create");

@@ -190,7 +190,7 @@ check "no GL context creates nothing" test ! -e "$T/bad8"
 # first write with exit 6, a message cut short and an empty folder left behind.
 long_name=$(printf 'n%.0s' $(seq 250))
 expect_exit "--name of 250 characters -> 2" 2 "$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$long_name" --out "$T/bad14"
-check "--name too long: the message says the limit" grep -q -- "--name 'nnnn.*(250 characters): expected at most 221 characters" "$T/err.txt"
+check "--name too long: the message says the limit" grep -q -- "--name 'nnnn.*(250 characters): expected at most 188 characters" "$T/err.txt"
 check "--name too long creates nothing" test ! -e "$T/bad14"
 expect_exit "compare --name of 250 characters -> 2" 2 "$BIN" compare fence --frames 1 --width 32 --height 18 --name "$long_name" --out "$T/bad15"
 check "compare --name too long creates nothing" test ! -e "$T/bad15"
@@ -199,23 +199,39 @@ expect_exit "--out of 1100 characters -> 2" 2 "$BIN" render --builtin fence --fr
 check "--out too long creates nothing" test -z "$(ls -d "$T"/ddd* "$T"/d 2>/dev/null)"
 expect_exit "--cache of 1000 characters -> 2" 2 "$BIN" reference fence --frames 1 --cache "$T/$(printf 'c%.0s/' $(seq 500))"
 # The longest --name accepted does write (its temporary names fit in 255 characters).
-max_name=$(printf 'm%.0s' $(seq 221))
+max_name=$(printf 'm%.0s' $(seq 188))
 "$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$max_name" --out "$T/maxname" --quiet >/dev/null 2>"$T/err.txt"
-check "--name of 221 characters renders" test $? -eq 0 -a -f "$T/maxname/$max_name.0000.exr"
+check "--name of 188 characters renders" test $? -eq 0 -a -f "$T/maxname/$max_name.0000.exr"
 
 # ---- a rerun tidies the folder (issue 17, defect 9): the temporary files of killed runs (their
 # pid gone) are removed, those of a live process kept, and the frames of an earlier, longer run
-# removed, so the folder holds exactly the new sequence. The old code left all of it.
+# removed, so the folder holds exactly the new sequence. The old code left all of it. Temporary
+# names carry the host (issue 18, `.tmp.<host>.<pid>.<n>`): another host's are kept (a run there
+# may be writing them; its pids mean nothing here); names without a host (older fovsim) are
+# taken as this host's.
 RR="$T/rerun"
 "$BIN" render --builtin fence --frames 4 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>&1
 sleep 0 & dead=$!; wait $dead
 : >"$RR/.frame.0002.exr.tmp.$dead.0"; : >"$RR/.metrics.csv.tmp.$dead"; : >"$RR/.frame.0003.exr.tmp.$$.1"
+host=$(uname -n | tr -c 'A-Za-z0-9\n-' '-')
+[ ${#host} -le 32 ] || host="" # longer names are shortened with a hash (out_path_host): not redone here
+other=x${host:1}; [ "$other" != "$host" ] || other=y${host:1} # another valid host name
+if [ -n "$host" ]; then
+  : >"$RR/.frame.0001.exr.tmp.$host.$dead.4"; : >"$RR/.frame.0001.exr.tmp.$other.$dead.5"
+fi
 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>"$T/err.txt"
 check "rerun with fewer frames exits 0" test $? -eq 0
 check "rerun: frames 0-1 only" test -f "$RR/frame.0000.exr" -a -f "$RR/frame.0001.exr" -a ! -e "$RR/frame.0002.exr" -a ! -e "$RR/frame.0003.exr"
 check "rerun: temporary files of dead processes removed" test ! -e "$RR/.frame.0002.exr.tmp.$dead.0" -a ! -e "$RR/.metrics.csv.tmp.$dead"
 check "rerun: a live process's temporary file kept" test -e "$RR/.frame.0003.exr.tmp.$$.1"
 rm -f "$RR/.frame.0003.exr.tmp.$$.1"
+if [ -n "$host" ]; then
+  check "rerun: this host's temporary file of a dead process removed" test ! -e "$RR/.frame.0001.exr.tmp.$host.$dead.4"
+  check "rerun: another host's temporary file kept" test -e "$RR/.frame.0001.exr.tmp.$other.$dead.5"
+  rm -f "$RR/.frame.0001.exr.tmp.$other.$dead.5"
+else
+  echo "note: host name over 32 characters; the host-named temporary checks did not run" >&2
+fi
 # kill -9 in the middle of a run, then a rerun: nothing of the killed run's temporaries is left.
 "$BIN" render --builtin fence --frames 5000 --width 32 --height 18 --out "$RR" --quiet >/dev/null 2>&1 &
 pid=$!
