@@ -3,8 +3,13 @@
 # then configures and builds. Usage:
 #   scripts/setup.sh               # build/ (RelWithDebInfo)
 #   scripts/setup.sh --sanitize    # build-asan/ (ASan + UBSan, Debug)
+#   scripts/setup.sh --cluster     # only the packages of the cluster tests (ctest -L slurm); no build
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+# The cluster tests (tests/cluster, docs/cluster.md) start a one-node Slurm of their own; without
+# systemd (or runlevel) the packages' init scripts start nothing. GNU parallel: the jobs-file sweep.
+cluster_packages=(slurmctld slurmd slurm-client munge parallel)
 
 packages=(
   build-essential cmake pkg-config
@@ -20,6 +25,8 @@ packages=(
   gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
 )
 
+[ "${1:-}" != "--cluster" ] || packages=("${cluster_packages[@]}")
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -33,7 +40,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-if [ "${1:-}" = "--sanitize" ]; then
+if [ "${1:-}" = "--cluster" ]; then
+  exit 0
+elif [ "${1:-}" = "--sanitize" ]; then
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFOVSIM_SANITIZE=ON -DFOVSIM_WERROR=ON >/dev/null
   cmake --build build-asan -j"$(nproc)"
 else
