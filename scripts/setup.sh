@@ -23,6 +23,7 @@ packages=(
   zlib1g-dev                                                        # PNG export (FovVideoVDP input)
   python3                                                           # tests: checks bench JSON
   gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
+  parallel                                                          # tests: a sweep's jobs file through GNU parallel
 )
 
 [ "${1:-}" != "--cluster" ] || packages=("${cluster_packages[@]}")
