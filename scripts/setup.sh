@@ -3,6 +3,7 @@
 # then configures and builds. Usage:
 #   scripts/setup.sh               # build/ (RelWithDebInfo)
 #   scripts/setup.sh --sanitize    # build-asan/ (ASan + UBSan, Debug)
+#   scripts/setup.sh --fuzz        # build-fuzz/: the libFuzzer targets only (clang, ASan + UBSan; tests/fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,6 +20,9 @@ packages=(
   python3                                                           # tests: checks bench JSON
   gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
 )
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-14-dev)                              # libFuzzer + the sanitizer runtimes
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -33,7 +37,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-if [ "${1:-}" = "--sanitize" ]; then
+if [ "${1:-}" = "--fuzz" ]; then
+  cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+        -DFOVSIM_FUZZ=ON >/dev/null
+  cmake --build build-fuzz --target fuzz -j"$(nproc)"
+elif [ "${1:-}" = "--sanitize" ]; then
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFOVSIM_SANITIZE=ON -DFOVSIM_WERROR=ON >/dev/null
   cmake --build build-asan -j"$(nproc)"
 else
