@@ -4,7 +4,8 @@
  *
  * Input: one selector byte, then the file. gltf_load takes a path, so the file is written to this
  * process's scratch folder (fuzz_common.h; /dev/shm, one file reused every run) as in.gltf when the
- * selector's low bit is 0, in.glb when it is 1 (the "glTF" magic also makes a .gltf load as binary).
+ * selector's low bit is 0, in.glb when it is 1 (the "glTF" magic also makes a .gltf load as binary),
+ * and removed after the load.
  * The folder also holds buf.bin and tex.png (fuzz_assets.h), so relative URIs that name them load;
  * any other URI is refused or missing, as the URI rule says.
  * To run a file through fovsim itself: `tail -c +2 FILE > x.gltf` (or x.glb), `fovsim render x.gltf`.
@@ -13,6 +14,7 @@
  */
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "fuzz_assets.h"
 #include "fuzz_common.h"
@@ -42,5 +44,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FUZZ_CHECK(s == FS_ERR_ASSET || s == FS_ERR_IO || s == FS_ERR_NOMEM);
     }
     scene_free(&sc);
+    unlink(path); /* the next input must not see this one (as in.gltf or in.glb, or via a URI) */
     return 0;
 }

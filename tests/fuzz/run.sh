@@ -35,9 +35,9 @@ for t in "${targets[@]}"; do
 done
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/fovsim-fuzz-run.XXXXXX")
-pids=()
 cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  local f
+  for f in "$work"/*/pid; do [ -f "$f" ] && kill "$(cat "$f")" 2>/dev/null || true; done
   wait 2>/dev/null || true
   rm -rf "$work"
 }
@@ -57,7 +57,10 @@ run_one() {
     timeout -k 10 $((secs + 90)) "build-fuzz/fuzz_$t" "$d/corpus" \
       -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len="${max_len[$t]}" \
       -close_fd_mask=2 -print_final_stats=1 -artifact_prefix="$d/artifacts/" \
-      </dev/null >"$d/log" 2>&1 || rc=$?
+      </dev/null >"$d/log" 2>&1 &
+  echo $! >"$d/pid" # timeout's: the cleanup stops it (it passes the signal on to the fuzzer)
+  wait $! || rc=$?
+  rm -f "$d/pid"
   echo "$rc $(( $(date +%s) - start ))" >"$d/status"
 }
 
@@ -65,10 +68,8 @@ run_one() {
 for t in "${targets[@]}"; do
   while [ "$(jobs -rp | wc -l)" -ge 2 ]; do wait -n || true; done
   run_one "$t" &
-  pids+=($!)
 done
 wait || true
-pids=()
 
 failed=0
 for t in "${targets[@]}"; do
