@@ -1072,12 +1072,13 @@ struct flattener {
     builder &b;
     std::map<size_t, std::vector<decoded_prim>> cache; // mesh -> decoded primitives
     std::vector<char> on_path;                          // cycle detection
+    std::vector<char> visited;                          // nodes reached so far: each at most once
     int default_material = -1;
     asset_camera camera{};
     bool warned_skin = false;
 
     flattener(const char *p, const tinygltf::Model &model, builder &bl)
-        : path(p), m(model), b(bl), on_path(model.nodes.size(), 0)
+        : path(p), m(model), b(bl), on_path(model.nodes.size(), 0), visited(model.nodes.size(), 0)
     {
     }
 
@@ -1225,6 +1226,13 @@ struct flattener {
         const size_t ni = (size_t)node;
         if (on_path[ni])
             fail(strf("nodes[%zu]: the node hierarchy has a cycle", ni));
+        // glTF 2.0 ("Nodes and Hierarchy"): the hierarchy is a set of disjoint trees, no node has
+        // two parents. A node reached twice would be drawn twice, and a chain of nodes that each
+        // list the next one twice doubles the work at every level (40 levels in 1 KB: a hang).
+        if (visited[ni])
+            fail(strf("nodes[%zu]: the node is reached twice (a second parent, or listed twice); "
+                      "glTF node hierarchies are disjoint trees", ni));
+        visited[ni] = 1;
         if (depth >= MAX_GLTF_NODE_DEPTH)
             fail(strf("nodes[%zu]: the node hierarchy is deeper than %d levels", ni, MAX_GLTF_NODE_DEPTH));
         const tinygltf::Node &n = m.nodes[ni];

@@ -146,7 +146,7 @@ def features_doc():
         "scene": 0,
         "scenes": [{"nodes": [0]}],
         "nodes": [
-            {"children": [1, 2, 3], "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0, -2, 1]},
+            {"children": [1, 2], "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0, -2, 1]},
             {"mesh": 0, "translation": [1, 2, 3], "rotation": [0, 0.7071068, 0, 0.7071068], "scale": [2, 2, 2]},
             {"mesh": 1, "children": [3]},
             {"camera": 0, "translation": [0, 1, 5]},

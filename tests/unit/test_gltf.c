@@ -1060,6 +1060,43 @@ TEST(jpeg_oversized_huffman_table_refused)
     asset_free(&a);
 }
 
+/* A node with two parents (glTF 2.0: node hierarchies are disjoint trees). Such a DAG was walked once
+ * per path: 40 nodes that each list the next one twice (1.2 KB) ran for minutes and gigabytes (found
+ * while sizing the fuzz targets, tests/fuzz). Now the second visit of a node fails the load. */
+TEST(node_with_two_parents_refused)
+{
+    /* nodes 0 and 1 both list node 2 (mesh 0); node 3 lists node 4 twice */
+    const char *two_parents = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                              "\"nodes\":[{\"children\":[2]},{\"children\":[2]},{\"mesh\":0}],"
+                              "\"scenes\":[{\"nodes\":[0,1]}],\"scene\":0";
+    CHECK_FAILS(write_tiny("two_parents.gltf", two_parents), FS_ERR_ASSET);
+    const char *twice = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                        "\"nodes\":[{\"children\":[1,1]},{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0";
+    CHECK_FAILS(write_tiny("child_twice.gltf", twice), FS_ERR_ASSET);
+    const char *root_twice = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0,0]}],\"scene\":0";
+    CHECK_FAILS(write_tiny("root_twice.gltf", root_twice), FS_ERR_ASSET);
+
+    /* 12 levels of "children":[next, next]: 4096 paths to the mesh (fast enough to load without
+     * the check, 4096 primitives), refused at the second visit. */
+    char rest[4096];
+    int n = snprintf(rest, sizeof rest,
+                     "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],\"nodes\":[");
+    for (int i = 0; i < 12; i++)
+        n += snprintf(rest + n, sizeof rest - (size_t)n, "{\"children\":[%d,%d]},", i + 1, i + 1);
+    snprintf(rest + n, sizeof rest - (size_t)n, "{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0");
+    CHECK_FAILS(write_tiny("dag_12.gltf", rest), FS_ERR_ASSET);
+
+    /* A tree (each node one parent) with the same mesh on several nodes still loads. */
+    const char *shared_mesh = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                              "\"nodes\":[{\"children\":[1,2]},{\"mesh\":0},{\"mesh\":0,\"translation\":[2,0,0]}],"
+                              "\"scenes\":[{\"nodes\":[0]}],\"scene\":0";
+    asset a;
+    CHECK(gltf_load(write_tiny("shared_mesh.gltf", shared_mesh), &a) == FS_OK);
+    CHECK(a.prim_count == 2);
+    asset_free(&a);
+}
+
 int main(void)
 {
     RUN(megakit_all_load);
@@ -1077,5 +1114,6 @@ int main(void)
     RUN(uris_name_files_under_the_folder);
     RUN(pixel_budget);
     RUN(jpeg_oversized_huffman_table_refused);
+    RUN(node_with_two_parents_refused);
     return test_summary();
 }
