@@ -4,6 +4,7 @@
 #   scripts/setup.sh               # build/ (RelWithDebInfo)
 #   scripts/setup.sh --sanitize    # build-asan/ (ASan + UBSan, Debug)
 #   scripts/setup.sh --cluster     # only the packages of the cluster tests (ctest -L slurm); no build
+#   scripts/setup.sh --fuzz        # build-fuzz/: the libFuzzer targets only (clang, ASan + UBSan; tests/fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -25,6 +26,9 @@ packages=(
   gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
   parallel                                                          # tests: a sweep's jobs file through GNU parallel
 )
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-14-dev)                              # libFuzzer + the sanitizer runtimes
+fi
 
 [ "${1:-}" != "--cluster" ] || packages=("${cluster_packages[@]}")
 
@@ -43,6 +47,10 @@ fi
 
 if [ "${1:-}" = "--cluster" ]; then
   exit 0
+elif [ "${1:-}" = "--fuzz" ]; then
+  cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug \
+        -DFOVSIM_FUZZ=ON >/dev/null
+  cmake --build build-fuzz --target fuzz -j"$(nproc)"
 elif [ "${1:-}" = "--sanitize" ]; then
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DFOVSIM_SANITIZE=ON -DFOVSIM_WERROR=ON >/dev/null
   cmake --build build-asan -j"$(nproc)"

@@ -161,8 +161,12 @@ std::vector<unsigned char> read_file(const std::string &path)
     if (!f)
         fail(strf("cannot open: %s", strerror(errno)), FS_ERR_IO);
     struct stat sb;
-    if (fstat(fileno(f), &sb) == 0 && S_ISREG(sb.st_mode) &&
-        (unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
+    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        // A device (/dev/zero), FIFO or directory: read, it would never end or hang (issue 17).
+        fclose(f);
+        fail("expected a glTF file, got something that is not a regular file (a device, FIFO or directory)");
+    }
+    if ((unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
         fclose(f);
         fail(strf("is larger than %llu MiB (MAX_ASSET_FILE_BYTES)", (unsigned long long)MAX_ASSET_FILE_BYTES >> 20));
     }
@@ -173,6 +177,11 @@ std::vector<unsigned char> read_file(const std::string &path)
         data.insert(data.end(), chunk, chunk + n);
         if (n < sizeof chunk)
             break;
+        if (data.size() > (size_t)MAX_ASSET_FILE_BYTES) { // grew while read
+            fclose(f);
+            fail(strf("is larger than %llu MiB (MAX_ASSET_FILE_BYTES)",
+                      (unsigned long long)MAX_ASSET_FILE_BYTES >> 20));
+        }
     }
     int bad = ferror(f), err = errno;
     fclose(f);
@@ -657,6 +666,41 @@ bool peek_image_size(const unsigned char *b, size_t n, uint32_t *w, uint32_t *h)
     return false;
 }
 
+// stb_image 2.27 (Debian's libstb 0.0~git20220908) writes past its Huffman table arrays (size[257],
+// values[256]) when a JPEG DHT table declares more than 256 codes: stbi__build_huffman does not
+// check the sum of the 16 code counts (later upstream versions do). So a JPEG is refused before
+// stb_image sees it if any table it could read declares more. stb_image may read a DHT segment
+// wherever the bytes FF C4 stand (after a marker, or after resynchronising past junk or
+// entropy-coded data), so every such place is checked as stb reads it (bytes past the end read as
+// 0, as its get8 does). Real JPEGs hold a handful of DHT markers (entropy-coded data never holds
+// FF C4); more than k_max_dht_markers is refused unchecked, which keeps the check linear. Returns
+// why it is refused, or "".
+const size_t k_max_dht_markers = 1024;
+std::string jpeg_huffman_problem(const unsigned char *b, size_t n)
+{
+    auto get = [&](size_t i) -> size_t { return i < n ? b[i] : 0; };
+    size_t markers = 0;
+    for (size_t j = 0; j + 1 < n; j++) {
+        if (b[j] != 0xFF || b[j + 1] != 0xC4)
+            continue;
+        if (++markers > k_max_dht_markers)
+            return strf("corrupt JPEG: more than %zu Huffman table markers (FF C4)", k_max_dht_markers);
+        size_t p = j + 2;
+        long left = (long)(get(p) << 8 | get(p + 1)) - 2; // the segment's length, less its own 2 bytes
+        p += 2;
+        while (left > 0 && p < n) { // past the end every count reads 0: nothing more to check
+            size_t codes = 0;
+            for (size_t i = 0; i < 16; i++)
+                codes += get(p + 1 + i); // after the table class/id byte
+            if (codes > 256)
+                return strf("corrupt JPEG: a Huffman table declares %zu codes (at most 256)", codes);
+            p += 17 + codes;
+            left -= (long)(17 + codes);
+        }
+    }
+    return std::string();
+}
+
 // tinygltf's image callback: checks the bytes tinygltf hands over (for a bufferView image it does
 // not check the view against its buffer), then decodes with tinygltf's own stb_image loader, which
 // expands every image to 4 channels (8 or 16 bits). A failure is recorded, not returned, so that an
@@ -708,6 +752,13 @@ bool load_image_cb(tinygltf::Image *image, const int idx, std::string *err, std:
                                (double)px / (1 << 20), (double)(g_scene_pixels + px) / (1 << 20),
                                (double)g_scene_budget / (1 << 20));
         return true;
+    }
+    if (bytes[0] == 0xFF) { // JPEG (peek_image_size found its SOI)
+        std::string why = jpeg_huffman_problem(bytes, (size_t)size);
+        if (!why.empty()) {
+            st->errors[idx] = why;
+            return true;
+        }
     }
     g_scene_pixels += px;
     std::string e;
@@ -1030,12 +1081,13 @@ struct flattener {
     builder &b;
     std::map<size_t, std::vector<decoded_prim>> cache; // mesh -> decoded primitives
     std::vector<char> on_path;                          // cycle detection
+    std::vector<char> visited;                          // nodes reached so far: each at most once
     int default_material = -1;
     asset_camera camera{};
     bool warned_skin = false;
 
     flattener(const char *p, const tinygltf::Model &model, builder &bl)
-        : path(p), m(model), b(bl), on_path(model.nodes.size(), 0)
+        : path(p), m(model), b(bl), on_path(model.nodes.size(), 0), visited(model.nodes.size(), 0)
     {
     }
 
@@ -1183,6 +1235,13 @@ struct flattener {
         const size_t ni = (size_t)node;
         if (on_path[ni])
             fail(strf("nodes[%zu]: the node hierarchy has a cycle", ni));
+        // glTF 2.0 ("Nodes and Hierarchy"): the hierarchy is a set of disjoint trees, no node has
+        // two parents. A node reached twice would be drawn twice, and a chain of nodes that each
+        // list the next one twice doubles the work at every level (40 levels in 1 KB: a hang).
+        if (visited[ni])
+            fail(strf("nodes[%zu]: the node is reached twice (a second parent, or listed twice); "
+                      "glTF node hierarchies are disjoint trees", ni));
+        visited[ni] = 1;
         if (depth >= MAX_GLTF_NODE_DEPTH)
             fail(strf("nodes[%zu]: the node hierarchy is deeper than %d levels", ni, MAX_GLTF_NODE_DEPTH));
         const tinygltf::Node &n = m.nodes[ni];

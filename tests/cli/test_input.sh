@@ -87,6 +87,10 @@ expect_exit "sibling folder without --asset-root -> 4" 4 "$BIN" plan "$T/uri/sub
 check "--asset-root widens the rule" bash -c "'$BIN' plan '$T/uri/sub/sibling.gltf' --asset-root '$T/uri' >/dev/null 2>'$T/err.txt'"
 check "--asset-root does not open /etc" bash -c "! '$BIN' plan '$T/uri/sub/passwd.gltf' --asset-root '$T/uri' >/dev/null 2>&1"
 expect_exit "--asset-root not a folder -> 2" 2 "$BIN" plan "$T/uri/sub/sibling.gltf" --asset-root "$T/uri/nope"
+# a scene naming a device or FIFO as its glTF: refused by what it is, not read until memory runs out
+printf '{"assets": [{"name": "z", "gltf": "/dev/zero"}], "instances": [{"asset": "z"}]}' >"$T/devzero.json"
+expect_exit "a scene whose glTF is /dev/zero -> 4" 4 timeout 60 "$BIN" plan "$T/devzero.json"
+check "  says it is not a regular file" grep -q '/dev/zero.*not a regular file' "$T/err.txt"
 check "the shipped example scene still loads" bash -c "'$BIN' plan '$SRC/scenes/examples/megakit_garden.json' >/dev/null"
 for f in "$SHARED"/assets/*/*.gltf "$SHARED"/assets/*/*.glb; do
   check "shared asset loads: $(basename "$f")" bash -c "'$BIN' plan --scene '$f' >/dev/null 2>&1"

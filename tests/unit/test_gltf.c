@@ -988,6 +988,115 @@ TEST(glb_image_view_out_of_bounds)
     free(g);
 }
 
+/* A JPEG whose Huffman table declares more than 256 codes (found by tests/fuzz, fuzz_gltf): Debian's
+ * stb_image 2.27 writes past its size[257]/values[256] arrays building it. The shim refuses such a
+ * JPEG before stb_image sees it. The table here (class 1, id 3: 45 codes of 15 bits, 255 of 16) is
+ * valid otherwise and used by no component, so stb_image would go on to decode the image: without
+ * the check the load succeeds after the overflow. */
+static const unsigned char k_jpeg_4x4[225] = { /* ffmpeg -f lavfi -i color=c=0x80ff40:s=4x4 -frames:v 1 -q:v 8 */
+    0xff, 0xd8, 0xff, 0xe0, 0x00, 0x10, 0x4a, 0x46, 0x49, 0x46, 0x00, 0x01, 0x02, 0x00, 0x00, 0x01,
+    0x00, 0x01, 0x00, 0x00, 0xff, 0xfe, 0x00, 0x10, 0x4c, 0x61, 0x76, 0x63, 0x35, 0x39, 0x2e, 0x33,
+    0x37, 0x2e, 0x31, 0x30, 0x30, 0x00, 0xff, 0xdb, 0x00, 0x43, 0x00, 0x08, 0x10, 0x10, 0x13, 0x10,
+    0x13, 0x16, 0x16, 0x16, 0x16, 0x16, 0x16, 0x1a, 0x18, 0x1a, 0x1b, 0x1b, 0x1b, 0x1a, 0x1a, 0x1a,
+    0x1a, 0x1b, 0x1b, 0x1b, 0x1d, 0x1d, 0x1d, 0x22, 0x22, 0x22, 0x1d, 0x1d, 0x1d, 0x1b, 0x1b, 0x1d,
+    0x1d, 0x20, 0x20, 0x22, 0x22, 0x25, 0x26, 0x25, 0x23, 0x23, 0x22, 0x23, 0x26, 0x26, 0x28, 0x28,
+    0x28, 0x30, 0x30, 0x2e, 0x2e, 0x38, 0x38, 0x3a, 0x45, 0x45, 0x53, 0xff, 0xc4, 0x00, 0x4c, 0x00,
+    0x01, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x07, 0x01, 0x01, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x00, 0x00, 0x06, 0x07, 0x10, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x11, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+    0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xff, 0xc0, 0x00, 0x11, 0x08, 0x00, 0x04,
+    0x00, 0x04, 0x03, 0x01, 0x22, 0x00, 0x02, 0x11, 0x00, 0x03, 0x11, 0x00, 0xff, 0xda, 0x00, 0x0c,
+    0x03, 0x01, 0x00, 0x02, 0x11, 0x03, 0x11, 0x00, 0x3f, 0x00, 0xa2, 0x00, 0x9a, 0x87, 0xbf, 0xff,
+    0xd9,
+};
+enum { JPEG_4X4_SOF = 185 }; /* offset of its FF C0 */
+
+static const char *write_jpeg_gltf(const char *name, const unsigned char *jpg, size_t n)
+{
+    static char uri[2048];
+    snprintf(uri, sizeof uri, "data:image/jpeg;base64,%s", b64(jpg, n));
+    char *rest = malloc(strlen(uri) + 1024);
+    sprintf(rest,
+            "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3,\"material\":0}]}],"
+            "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,"
+            "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+            "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"%s\"}]",
+            uri);
+    const char *p = write_tiny(name, rest);
+    free(rest);
+    return p;
+}
+
+TEST(jpeg_oversized_huffman_table_refused)
+{
+    asset a;
+    gltf_begin_scene();
+    CHECK(gltf_load(write_jpeg_gltf("jpeg_ok.gltf", k_jpeg_4x4, sizeof k_jpeg_4x4), &a) == FS_OK);
+    CHECK(a.image_count == 1 && a.images && a.images[0].width == 4 && a.images[0].height == 4);
+    asset_free(&a);
+
+    /* The same JPEG with one more DHT segment before its frame header: 300 codes. */
+    enum { CODES = 300, SEG = 2 + 2 + 17 + CODES };
+    unsigned char bad[sizeof k_jpeg_4x4 + SEG];
+    memcpy(bad, k_jpeg_4x4, JPEG_4X4_SOF);
+    unsigned char *d = bad + JPEG_4X4_SOF;
+    memset(d, 0, SEG);
+    d[0] = 0xFF, d[1] = 0xC4, d[2] = (SEG - 2) >> 8, d[3] = (SEG - 2) & 0xFF;
+    d[4] = 0x13;            /* AC table 3 */
+    d[4 + 15] = 45;         /* codes of 15 bits */
+    d[4 + 16] = 255;        /* codes of 16 bits */
+    for (int i = 0; i < CODES; i++)
+        d[21 + i] = (unsigned char)i;
+    memcpy(d + SEG, k_jpeg_4x4 + JPEG_4X4_SOF, sizeof k_jpeg_4x4 - JPEG_4X4_SOF);
+    gltf_begin_scene();
+    CHECK_FAILS(write_jpeg_gltf("jpeg_dht_300.gltf", bad, sizeof bad), FS_ERR_ASSET);
+
+    /* 256 codes is the most a table may hold: the same segment with 256 loads. */
+    d[4 + 15] = 1, d[4 + 16] = 255, d[2] = (SEG - 2 - 44) >> 8, d[3] = (SEG - 2 - 44) & 0xFF;
+    memmove(d + SEG - 44, d + SEG, sizeof k_jpeg_4x4 - JPEG_4X4_SOF);
+    gltf_begin_scene();
+    CHECK(gltf_load(write_jpeg_gltf("jpeg_dht_256.gltf", bad, sizeof bad - 44), &a) == FS_OK);
+    asset_free(&a);
+}
+
+/* A node with two parents (glTF 2.0: node hierarchies are disjoint trees). Such a DAG was walked once
+ * per path: 40 nodes that each list the next one twice (1.2 KB) ran for minutes and gigabytes (found
+ * while sizing the fuzz targets, tests/fuzz). Now the second visit of a node fails the load. */
+TEST(node_with_two_parents_refused)
+{
+    /* nodes 0 and 1 both list node 2 (mesh 0); node 3 lists node 4 twice */
+    const char *two_parents = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                              "\"nodes\":[{\"children\":[2]},{\"children\":[2]},{\"mesh\":0}],"
+                              "\"scenes\":[{\"nodes\":[0,1]}],\"scene\":0";
+    CHECK_FAILS(write_tiny("two_parents.gltf", two_parents), FS_ERR_ASSET);
+    const char *twice = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                        "\"nodes\":[{\"children\":[1,1]},{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0";
+    CHECK_FAILS(write_tiny("child_twice.gltf", twice), FS_ERR_ASSET);
+    const char *root_twice = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0,0]}],\"scene\":0";
+    CHECK_FAILS(write_tiny("root_twice.gltf", root_twice), FS_ERR_ASSET);
+
+    /* 12 levels of "children":[next, next]: 4096 paths to the mesh (fast enough to load without
+     * the check, 4096 primitives), refused at the second visit. */
+    char rest[4096];
+    int n = snprintf(rest, sizeof rest,
+                     "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],\"nodes\":[");
+    for (int i = 0; i < 12; i++)
+        n += snprintf(rest + n, sizeof rest - (size_t)n, "{\"children\":[%d,%d]},", i + 1, i + 1);
+    snprintf(rest + n, sizeof rest - (size_t)n, "{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0");
+    CHECK_FAILS(write_tiny("dag_12.gltf", rest), FS_ERR_ASSET);
+
+    /* A tree (each node one parent) with the same mesh on several nodes still loads. */
+    const char *shared_mesh = "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3}]}],"
+                              "\"nodes\":[{\"children\":[1,2]},{\"mesh\":0},{\"mesh\":0,\"translation\":[2,0,0]}],"
+                              "\"scenes\":[{\"nodes\":[0]}],\"scene\":0";
+    asset a;
+    CHECK(gltf_load(write_tiny("shared_mesh.gltf", shared_mesh), &a) == FS_OK);
+    CHECK(a.prim_count == 2);
+    asset_free(&a);
+}
+
 int main(void)
 {
     RUN(megakit_all_load);
@@ -1004,5 +1113,7 @@ int main(void)
     RUN(deep_nesting_refused);
     RUN(uris_name_files_under_the_folder);
     RUN(pixel_budget);
+    RUN(jpeg_oversized_huffman_table_refused);
+    RUN(node_with_two_parents_refused);
     return test_summary();
 }
