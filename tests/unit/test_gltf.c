@@ -754,7 +754,7 @@ TEST(sparse_and_quantized_accessors)
 TEST(bad_files_fail_cleanly)
 {
     CHECK_FAILS(out_path("does_not_exist.gltf"), FS_ERR_IO);
-    CHECK_FAILS(test_out_dir(), FS_ERR_IO); /* a directory */
+    CHECK_FAILS(test_out_dir(), FS_ERR_ASSET); /* a directory: not a regular file, like a URI naming one */
     CHECK_FAILS(write_file("empty.gltf", "", 0), FS_ERR_ASSET);
     CHECK_FAILS(write_file("not_json.gltf", "hello {", 7), FS_ERR_ASSET);
     CHECK_FAILS(write_file("not_json.glb", "hello, this is not a binary glTF", 32), FS_ERR_ASSET);
