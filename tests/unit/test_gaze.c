@@ -1,4 +1,4 @@
-/* test_gaze.c: gaze traces (src/gaze/gaze.c): the real recordings in ../shared/gaze, the scripted
+/* test_gaze.c: gaze traces (src/gaze/): the real recordings in ../shared/gaze, the scripted
  * traces in gaze_paths/, a Pupil Labs export (tests/data), malformed input, and gaze_at. */
 #include <math.h>
 #include <stdio.h>
