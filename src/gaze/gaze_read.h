@@ -8,7 +8,8 @@
  * detects the format and dispatches. The formats are described in docs/gaze-formats.md.
  *
  * The whole file is in memory and parsed in place: no line length limit, NUL bytes are ordinary
- * bytes, and a field is copied only to convert a number.
+ * bytes, and a field is copied only to convert a number (Tobii lines go through cJSON, which
+ * builds a tree of each).
  *
  * What it does NOT do: open files (gaze.c), anything a caller outside src/gaze/ may use.
  */

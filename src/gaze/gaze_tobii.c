@@ -2,240 +2,242 @@
  * streams interleaved and out of time order; the gaze records ({"ts", "s", "gp"} without "eye")
  * become samples, sorted by time in gaze_finish.
  *
+ * Each line goes through cJSON (cJSON_ParseWithLengthOpts), which says where it stopped; the rest
+ * of the line must be blank. Errors keep `file:line:column`: the byte where cJSON stopped for a
+ * syntax error, the position of the key for a bad gaze record (see key_col).
+ *
  * Records, validity and messages: docs/gaze-formats.md ("Tobii Pro Glasses 2 livedata.json").
  */
 #include "gaze/gaze_read.h"
 
+#include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 
-/* Deepest nesting of arrays/objects accepted in a Tobii JSON line (Glasses 2 uses 1). */
-#define GAZE_JSON_MAX_DEPTH 64
+/* >>lines */
 
-/* >>tobii  (one JSON object per line; a small strict scanner, no allocation per line) */
-
-typedef struct jscan {
-    const char *p, *b, *e; /* cursor, line begin, line end */
-    const char *err_at;
-    const char *err_what;
-} jscan;
-
-static bool j_fail(jscan *j, const char *at, const char *what)
+/* cJSON over a line. cJSON reports where it stopped, but a parse that runs out of input stops at
+ * the last byte too, so it is handed the byte after the line as well when there is one ('\r' or
+ * '\n', a blank to cJSON): running out then stops at offset line.n, "the end of the line". A last
+ * line without a line end that fails on its last byte is parsed again from a copy that has one.
+ * *stop: where cJSON stopped (success: just after the value), as an offset into the line. */
+static fs_status parse_line(const pctx *c, span line, cJSON **out, size_t *stop)
 {
-    j->err_at = at;
-    j->err_what = what;
+    const char *end = NULL;
+    bool line_end = line.p + line.n < c->text + c->size;
+    *out = cJSON_ParseWithLengthOpts(line.p, line.n + line_end, &end, false);
+    *stop = end ? (size_t)(end - line.p) : 0;
+    if (*out || line_end || *stop + 1 < line.n)
+        return FS_OK;
+    char *copy = malloc(line.n + 1);
+    if (!copy)
+        return gaze_no_memory(c);
+    memcpy(copy, line.p, line.n);
+    copy[line.n] = '\n';
+    *out = cJSON_ParseWithLengthOpts(copy, line.n + 1, &end, false);
+    *stop = end ? (size_t)(end - copy) : 0;
+    free(copy);
+    return FS_OK;
+}
+
+/* Offset of the '"' that closes the string opening at offset i, or line.n. */
+static size_t string_end(span line, size_t i)
+{
+    for (i++; i < line.n && line.p[i] != '"'; i++)
+        if (line.p[i] == '\\')
+            i++;
+    return i < line.n ? i : line.n;
+}
+
+/* cJSON hands a number's characters to strtod, which also reads what RFC 8259 forbids: leading
+ * zeros (`01`, which some readers take for octal), `1.`, `-.5`. livedata.json has none and this
+ * reader refused them before it used cJSON, so a line cJSON accepted is checked once more: every
+ * number outside the strings must follow the grammar. Returns the offset of the first that does
+ * not, or -1. (cJSON checked the rest, so outside strings only numbers hold '-' and digits.) */
+static long bad_number_at(span line)
+{
+    const char *p = line.p;
+    const size_t n = line.n;
+    for (size_t i = 0; i < n; i++) {
+        if (p[i] == '"')
+            i = string_end(line, i);
+        if (i >= n || (p[i] != '-' && !gaze_is_digit(p[i])))
+            continue;
+        const size_t b = i;
+        if (p[i] == '-')
+            i++;
+        if (i < n && p[i] == '0')
+            i++;
+        else if (i < n && gaze_is_digit(p[i]))
+            while (i < n && gaze_is_digit(p[i]))
+                i++;
+        else
+            return (long)b;
+        if (i < n && p[i] == '.') {
+            if (++i >= n || !gaze_is_digit(p[i]))
+                return (long)b;
+            while (i < n && gaze_is_digit(p[i]))
+                i++;
+        }
+        if (i < n && (p[i] == 'e' || p[i] == 'E')) {
+            if (++i < n && (p[i] == '+' || p[i] == '-'))
+                i++;
+            if (i >= n || !gaze_is_digit(p[i]))
+                return (long)b;
+            while (i < n && gaze_is_digit(p[i]))
+                i++;
+        }
+        if (i < n && (gaze_is_digit(p[i]) || p[i] == '.')) /* `01`, `1.5.2`: strtod read on */
+            return (long)b;
+        i--;
+    }
+    return -1;
+}
+
+/* What is open at offset `at`, where cJSON stopped on a line it read up to there: arrays and
+ * objects (*depth; cJSON fails on a '[' or '{' at CJSON_NESTING_LIMIT of them, and nowhere else
+ * with that many open). True when `at` lies in a string that the line does not close (cJSON then
+ * stops at the string's first byte). */
+static bool open_at(span line, size_t at, int *depth)
+{
+    *depth = 0;
+    for (size_t i = 0; i < at && i < line.n; i++) {
+        if (line.p[i] == '"') {
+            const size_t e = string_end(line, i);
+            if (e >= at)
+                return e >= line.n;
+            i = e;
+        } else if (line.p[i] == '[' || line.p[i] == '{') {
+            ++*depth;
+        } else if (line.p[i] == ']' || line.p[i] == '}') {
+            --*depth;
+        }
+    }
     return false;
 }
 
-static void j_ws(jscan *j)
+/* 1-based column of a member's key, for a message about its value. cJSON keeps no positions, so
+ * this searches the line text for the first `"key"` followed by ':' (blanks between); that could
+ * be a nested object's key of the same name, which Tobii records do not have. Column 1 when there
+ * is none. Only error paths call it. */
+static long key_col(span line, const char *key)
 {
-    while (j->p < j->e && (*j->p == ' ' || *j->p == '\t'))
-        j->p++;
-}
-
-static bool is_hex(char c) { return gaze_is_digit(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'); }
-
-/* A string at j->p (which is '"'); `out` gets its raw content. */
-static bool j_string(jscan *j, span *out)
-{
-    const char *s = ++j->p;
-    while (j->p < j->e) {
-        unsigned char ch = (unsigned char)*j->p;
-        if (ch == '"') {
-            if (out)
-                *out = (span){s, (size_t)(j->p - s)};
-            j->p++;
-            return true;
-        }
-        if (ch < 0x20)
-            return j_fail(j, j->p, "a string character (control characters must be escaped)");
-        if (ch == '\\') {
-            j->p++;
-            if (j->p >= j->e)
-                break;
-            char esc = *j->p;
-            if (esc == 'u') {
-                for (int i = 0; i < 4; i++)
-                    if (++j->p >= j->e || !is_hex(*j->p))
-                        return j_fail(j, j->p < j->e ? j->p : j->e, "4 hex digits after \\u");
-            } else if (!(esc == '"' || esc == '\\' || esc == '/' || esc == 'b' || esc == 'f' || esc == 'n' ||
-                         esc == 'r' || esc == 't')) {
-                return j_fail(j, j->p, "an escape character (\" \\ / b f n r t u)");
-            }
-        }
-        j->p++;
-    }
-    return j_fail(j, j->e, "'\"' to close the string");
-}
-
-/* A JSON number (RFC 8259 grammar) at j->p. */
-static bool j_number(jscan *j, double *out)
-{
-    const char *s = j->p, *p = j->p, *e = j->e;
-    if (p < e && *p == '-')
-        p++;
-    if (p < e && *p == '0')
-        p++;
-    else if (p < e && gaze_is_digit(*p))
-        while (p < e && gaze_is_digit(*p))
-            p++;
-    else
-        return j_fail(j, s, "a number");
-    if (p < e && *p == '.') {
-        p++;
-        if (p >= e || !gaze_is_digit(*p))
-            return j_fail(j, p, "a digit after '.'");
-        while (p < e && gaze_is_digit(*p))
-            p++;
-    }
-    if (p < e && (*p == 'e' || *p == 'E')) {
-        p++;
-        if (p < e && (*p == '+' || *p == '-'))
-            p++;
-        if (p >= e || !gaze_is_digit(*p))
-            return j_fail(j, p, "a digit in the exponent");
-        while (p < e && gaze_is_digit(*p))
-            p++;
-    }
-    j->p = p;
-    if (out) {
-        double v;
-        if (gaze_parse_num((span){s, (size_t)(p - s)}, &v) != NUM_OK)
-            return j_fail(j, s, "a finite number of at most 127 characters");
-        *out = v;
-    }
-    return true;
-}
-
-static bool j_value(jscan *j, int depth);
-
-static bool j_word(jscan *j, const char *w)
-{
-    size_t k = strlen(w);
-    if ((size_t)(j->e - j->p) < k || memcmp(j->p, w, k) != 0)
-        return j_fail(j, j->p, "a JSON value");
-    j->p += k;
-    return true;
-}
-
-static bool j_container(jscan *j, int depth, char close)
-{
-    if (depth >= GAZE_JSON_MAX_DEPTH)
-        return j_fail(j, j->p, "at most 64 nested arrays and objects");
-    j->p++;
-    j_ws(j);
-    if (j->p < j->e && *j->p == close) {
-        j->p++;
-        return true;
-    }
-    for (;;) {
-        j_ws(j);
-        if (close == '}') {
-            if (j->p >= j->e || *j->p != '"')
-                return j_fail(j, j->p, "a key string");
-            if (!j_string(j, NULL))
-                return false;
-            j_ws(j);
-            if (j->p >= j->e || *j->p != ':')
-                return j_fail(j, j->p, "':' after the key");
-            j->p++;
-            j_ws(j);
-        }
-        if (!j_value(j, depth + 1))
-            return false;
-        j_ws(j);
-        if (j->p < j->e && *j->p == ',') {
-            j->p++;
+    const size_t k = strlen(key);
+    for (size_t i = 0; i + k + 2 <= line.n; i++) {
+        if (line.p[i] != '"' || memcmp(line.p + i + 1, key, k) != 0 || line.p[i + k + 1] != '"')
             continue;
-        }
-        if (j->p < j->e && *j->p == close) {
-            j->p++;
-            return true;
-        }
-        return j_fail(j, j->p, close == '}' ? "',' or '}'" : "',' or ']'");
+        size_t j = i + k + 2;
+        while (j < line.n && (unsigned char)line.p[j] <= ' ')
+            j++;
+        if (j < line.n && line.p[j] == ':')
+            return (long)i + 1;
     }
+    return 1;
 }
 
-static bool j_value(jscan *j, int depth)
+/* A value for a message: its JSON text as gaze_snip shows it. */
+static const char *describe(const cJSON *v, char *buf, size_t cap)
 {
-    if (j->p >= j->e)
-        return j_fail(j, j->p, "a JSON value");
-    switch (*j->p) {
-    case '{': return j_container(j, depth, '}');
-    case '[': return j_container(j, depth, ']');
-    case '"': return j_string(j, NULL);
-    case 't': return j_word(j, "true");
-    case 'f': return j_word(j, "false");
-    case 'n': return j_word(j, "null");
-    default:
-        if (*j->p == '-' || gaze_is_digit(*j->p))
-            return j_number(j, NULL);
-        return j_fail(j, j->p, "a JSON value");
-    }
+    if (cJSON_IsNumber(v) && !isfinite(v->valuedouble))
+        return "a number beyond the range of a double";
+    char *text = cJSON_PrintUnformatted(v);
+    if (!text)
+        return "a value (out of memory to show it)";
+    const char *shown = gaze_snip(buf, cap, text, strlen(text));
+    cJSON_free(text);
+    return shown;
 }
 
-/* The members of the top-level object that a gaze record needs (value positions, NULL if absent). */
-typedef struct tobii_rec {
-    const char *ts, *s, *gp;
-    bool eye;
-} tobii_rec;
+static bool finite_number(const cJSON *v) { return cJSON_IsNumber(v) && isfinite(v->valuedouble); }
 
-static bool j_record(jscan *j, tobii_rec *r)
+/* >>records */
+
+/* The number member `key` of a gaze record (`what` names it in messages). */
+static fs_status record_number(pctx *c, long no, span line, const cJSON *rec, const char *key, const char *what,
+                               double *v)
 {
-    j_ws(j);
-    if (j->p >= j->e || *j->p != '{')
-        return j_fail(j, j->p, "a JSON object '{' (livedata.json has one per line)");
-    j->p++;
-    j_ws(j);
-    if (j->p < j->e && *j->p == '}') {
-        j->p++;
-    } else {
-        for (;;) {
-            j_ws(j);
-            span key = {0};
-            if (j->p >= j->e || *j->p != '"')
-                return j_fail(j, j->p, "a key string");
-            if (!j_string(j, &key))
-                return false;
-            j_ws(j);
-            if (j->p >= j->e || *j->p != ':')
-                return j_fail(j, j->p, "':' after the key");
-            j->p++;
-            j_ws(j);
-            const char *val = j->p;
-            if (!j_value(j, 1))
-                return false;
-            if (gaze_tok_is(key, "ts") && !r->ts)
-                r->ts = val;
-            else if (gaze_tok_is(key, "s") && !r->s)
-                r->s = val;
-            else if (gaze_tok_is(key, "gp") && !r->gp)
-                r->gp = val;
-            else if (gaze_tok_is(key, "eye"))
-                r->eye = true;
-            j_ws(j);
-            if (j->p < j->e && *j->p == ',') {
-                j->p++;
-                continue;
-            }
-            if (j->p < j->e && *j->p == '}') {
-                j->p++;
-                break;
-            }
-            return j_fail(j, j->p, "',' or '}'");
-        }
-    }
-    j_ws(j);
-    if (j->p < j->e)
-        return j_fail(j, j->p, "the end of the line after the object");
-    return true;
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(rec, key);
+    char g[64];
+    if (!m)
+        return gaze_fail(c, no, 1, "expected %s in the gaze record, got none", what);
+    if (!finite_number(m))
+        return gaze_fail(c, no, key_col(line, key), "expected a number for %s, got %s", what, describe(m, g, sizeof g));
+    *v = m->valuedouble;
+    return FS_OK;
 }
 
-static fs_status j_report(pctx *c, long line, const jscan *j)
+/* One gaze record (an object with "gp" and no "eye") to a sample; other streams are skipped. */
+static fs_status tobii_record(pctx *c, long no, span line, const cJSON *rec, long *records)
+{
+    const cJSON *gp = cJSON_GetObjectItemCaseSensitive(rec, "gp");
+    if (!gp || cJSON_GetObjectItemCaseSensitive(rec, "eye"))
+        return FS_OK; /* another stream (ac, gy, pts, vts, per-eye gd/pc/pd, gp3...) */
+    ++*records;
+    double ts, st;
+    fs_status s = record_number(c, no, line, rec, "ts", "\"ts\" (microseconds)", &ts);
+    if (s == FS_OK)
+        s = record_number(c, no, line, rec, "s", "the status \"s\"", &st);
+    if (s != FS_OK)
+        return s;
+    char g[64];
+    const cJSON *x = cJSON_IsArray(gp) ? gp->child : NULL, *y = x ? x->next : NULL;
+    if (!finite_number(x) || !finite_number(y) || y->next) {
+        const cJSON *shown = cJSON_IsNumber(x) && !finite_number(x)   ? x /* 1e999: cJSON prints null */
+                             : cJSON_IsNumber(y) && !finite_number(y) ? y
+                                                                      : gp;
+        return gaze_fail(c, no, key_col(line, "gp"), "expected \"gp\" as [x, y], two numbers, got %s",
+                         describe(shown, g, sizeof g));
+    }
+    const double gx = x->valuedouble, gy = y->valuedouble;
+    if (!isfinite((float)gx) || !isfinite((float)gy) || fabs(gx) > 1e6 || fabs(gy) > 1e6)
+        return gaze_fail(c, no, key_col(line, "gp"), "expected \"gp\" in normalised coordinates, got %g, %g",
+                         gx, gy);
+    const bool valid = st == 0;
+    /* column 1: it only serves the time-goes-backwards message, which Tobii files never get (sorted) */
+    return gaze_push(c, no, 1, ts, valid ? gx : 0, valid ? gy : 0, 1.0, valid);
+}
+
+/* >>reader */
+
+/* One line to a JSON object (*rec, for the caller to cJSON_Delete), or a message. */
+static fs_status read_line(pctx *c, long no, span line, cJSON **rec)
 {
     char g[64];
-    const char *at = j->err_at ? j->err_at : j->b;
-    return gaze_fail(c, line, (long)(at - j->b) + 1, "expected %s, got %s", j->err_what ? j->err_what : "JSON",
-                     at < j->e ? gaze_snip(g, sizeof g, at, (size_t)(j->e - at)) : "the end of the line");
+    const span t = gaze_trim(line);
+    if (t.p[0] != '{')
+        return gaze_fail(c, no, (long)(t.p - line.p) + 1,
+                         "expected a JSON object '{' (livedata.json has one per line), got %s",
+                         gaze_snip(g, sizeof g, t.p, t.n));
+    size_t stop = 0;
+    fs_status s = parse_line(c, line, rec, &stop);
+    if (s != FS_OK)
+        return s;
+    span rest = {line.p + stop, stop < line.n ? line.n - stop : 0};
+    if (!*rec) {
+        int depth = 0;
+        if (open_at(line, stop, &depth))
+            return gaze_fail(c, no, (long)line.n + 1, "expected '\"' to close the string, got the end of the line");
+        if (rest.n && (*rest.p == '[' || *rest.p == '{') && depth >= CJSON_NESTING_LIMIT)
+            return gaze_fail(c, no, (long)stop + 1, "expected at most %d nested arrays and objects (cJSON's limit), "
+                             "got more", CJSON_NESTING_LIMIT);
+        if (rest.n)
+            return gaze_fail(c, no, (long)stop + 1, "expected valid JSON (one object per line), got %s",
+                             gaze_snip(g, sizeof g, rest.p, rest.n));
+        /* ran out: the line's last bytes show what was left open (or, for `,}`, the key missing) */
+        const size_t k = line.n < 24 ? line.n : 24;
+        return gaze_fail(c, no, (long)line.n + 1, "expected valid JSON (one object per line), got the end of the "
+                         "line after %s", gaze_snip(g, sizeof g, line.p + line.n - k, k));
+    }
+    rest = gaze_trim(rest);
+    if (rest.n)
+        return gaze_fail(c, no, (long)(rest.p - line.p) + 1, "expected the end of the line after the object, got %s",
+                         gaze_snip(g, sizeof g, rest.p, rest.n));
+    long bad = bad_number_at(line);
+    if (bad >= 0)
+        return gaze_fail(c, no, bad + 1, "expected a JSON number (no leading zeros, digits on both sides of '.'), "
+                         "got %s", gaze_snip(g, sizeof g, line.p + bad, line.n - (size_t)bad));
+    return FS_OK;
 }
 
 fs_status gaze_parse_tobii(pctx *c, gaze_trace *out)
@@ -245,63 +247,19 @@ fs_status gaze_parse_tobii(pctx *c, gaze_trace *out)
     c->sorted_input = false; /* streams interleave: sort by ts, never report backwards time */
     line_it it = {c->text, c->text + c->size, 0};
     long records = 0;
-    for (span line = {0}; gaze_next_line(&it, &line);) {
+    fs_status s = FS_OK;
+    for (span line = {0}; s == FS_OK && gaze_next_line(&it, &line);) {
         if (gaze_is_blank(line))
             continue;
-        jscan j = {line.p, line.p, line.p + line.n, NULL, NULL};
-        tobii_rec r = {0};
-        if (!j_record(&j, &r))
-            return j_report(c, it.no, &j);
-        if (!r.gp || r.eye)
-            continue; /* another stream (ac, gy, pts, vts, per-eye gd/pc/pd, gp3...) */
-        records++;
-        double ts, st, gx, gy;
-        if (!r.ts)
-            return gaze_fail(c, it.no, 1, "expected a \"ts\" (microseconds) in the gaze record, got none");
-        j.p = r.ts;
-        if (!j_number(&j, &ts)) {
-            j.err_what = "a number for \"ts\" (microseconds)";
-            return j_report(c, it.no, &j);
-        }
-        if (!r.s)
-            return gaze_fail(c, it.no, 1, "expected a status \"s\" in the gaze record, got none");
-        j.p = r.s;
-        if (!j_number(&j, &st)) {
-            j.err_what = "a number for the status \"s\"";
-            return j_report(c, it.no, &j);
-        }
-        /* "gp": [x, y] */
-        j.p = r.gp;
-        bool ok = j.p < j.e && *j.p == '[';
-        if (ok) {
-            j.p++;
-            j_ws(&j);
-            ok = j_number(&j, &gx);
-            j_ws(&j);
-            ok = ok && j.p < j.e && *j.p == ',';
-            if (ok) {
-                j.p++;
-                j_ws(&j);
-                ok = j_number(&j, &gy);
-                j_ws(&j);
-                ok = ok && j.p < j.e && *j.p == ']';
-            }
-        }
-        if (!ok) {
-            j.err_at = j.p;
-            j.err_what = "\"gp\" as [x, y], two numbers";
-            return j_report(c, it.no, &j);
-        }
-        if (!isfinite((float)gx) || !isfinite((float)gy) || fabs(gx) > 1e6 || fabs(gy) > 1e6)
-            return gaze_fail(c, it.no, (long)(r.gp - line.p) + 1,
-                             "expected \"gp\" in normalised coordinates, got %g, %g", gx, gy);
-        bool valid = st == 0;
-        fs_status s = gaze_push(c, it.no, (long)(r.ts - line.p) + 1, ts, valid ? gx : 0, valid ? gy : 0, 1.0, valid);
-        if (s != FS_OK)
-            return s;
+        cJSON *rec = NULL;
+        s = read_line(c, it.no, line, &rec);
+        if (s == FS_OK)
+            s = tobii_record(c, it.no, line, rec, &records);
+        cJSON_Delete(rec);
     }
+    if (s != FS_OK)
+        return s;
     if (records == 0)
         return gaze_fail(c, 1, 1, "expected Tobii gaze records (objects with \"gp\"), got none");
     return gaze_finish(c, GAZE_FORMAT_TOBII, out);
 }
-
