@@ -1,4 +1,4 @@
-/* test_gaze.c: gaze traces (src/gaze/gaze.c): the real recordings in ../shared/gaze, the scripted
+/* test_gaze.c: gaze traces (src/gaze/): the real recordings in ../shared/gaze, the scripted
  * traces in gaze_paths/, a Pupil Labs export (tests/data), malformed input, and gaze_at. */
 #include <math.h>
 #include <stdio.h>
@@ -676,6 +676,33 @@ TEST(tobii_sorted_and_filtered)
     gaze_free(&t);
 }
 
+/* README "Limits": a Tobii line nests at most 1000 arrays and objects deep, its object included
+ * (cJSON's CJSON_NESTING_LIMIT); the rest of such a line still counts. */
+TEST(tobii_nesting_limit)
+{
+    char *text = malloc(4096);
+    CHECK(text != NULL);
+    if (!text)
+        return;
+    log_set_quiet_errors(true);
+    for (int arrays = 998; arrays <= 1000; arrays++) {
+        int n = sprintf(text, "{\"ts\":1,\"s\":0,\"gp\":[0.5,0.25],\"deep\":");
+        for (int i = 0; i < arrays; i++)
+            text[n++] = '[';
+        for (int i = 0; i < arrays; i++)
+            text[n++] = ']';
+        text[n++] = '}';
+        gaze_trace t;
+        fs_status s = gaze_parse(text, n, "deep", NULL, &t);
+        CHECK(s == (arrays < 1000 ? FS_OK : FS_ERR_GAZE));
+        if (s == FS_OK)
+            CHECK(t.count == 1 && t.samples[0].y == 0.25f);
+        gaze_free(&t);
+    }
+    log_set_quiet_errors(false);
+    free(text);
+}
+
 TEST(format_names)
 {
     static const gaze_format all[] = {GAZE_FORMAT_AUTO, GAZE_FORMAT_CSV, GAZE_FORMAT_PUPIL, GAZE_FORMAT_EYELINK,
@@ -865,6 +892,7 @@ int main(void)
     RUN(repeated_timestamps_averaged);
     RUN(eyelink_variants);
     RUN(tobii_sorted_and_filtered);
+    RUN(tobii_nesting_limit);
     RUN(format_names);
     RUN(gaze_at_interpolates);
     RUN(gaze_at_holds_across_blink);

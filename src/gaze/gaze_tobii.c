@@ -1,0 +1,265 @@
+/* gaze_tobii.c: the Tobii Pro Glasses 2 livedata.json reader: one JSON object per line, several
+ * streams interleaved and out of time order; the gaze records ({"ts", "s", "gp"} without "eye")
+ * become samples, sorted by time in gaze_finish.
+ *
+ * Each line goes through cJSON (cJSON_ParseWithLengthOpts), which says where it stopped; the rest
+ * of the line must be blank. Errors keep `file:line:column`: the byte where cJSON stopped for a
+ * syntax error, the position of the key for a bad gaze record (see key_col).
+ *
+ * Records, validity and messages: docs/gaze-formats.md ("Tobii Pro Glasses 2 livedata.json").
+ */
+#include "gaze/gaze_read.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+/* >>lines */
+
+/* cJSON over a line. cJSON reports where it stopped, but a parse that runs out of input stops at
+ * the last byte too, so it is handed the byte after the line as well when there is one ('\r' or
+ * '\n', a blank to cJSON): running out then stops at offset line.n, "the end of the line". A last
+ * line without a line end that fails on its last byte is parsed again from a copy that has one.
+ * *stop: where cJSON stopped (success: just after the value), as an offset into the line. */
+static fs_status parse_line(const pctx *c, span line, cJSON **out, size_t *stop)
+{
+    const char *end = NULL;
+    bool line_end = line.p + line.n < c->text + c->size;
+    *out = cJSON_ParseWithLengthOpts(line.p, line.n + line_end, &end, false);
+    *stop = end ? (size_t)(end - line.p) : 0;
+    if (*out || line_end || *stop + 1 < line.n)
+        return FS_OK;
+    char *copy = malloc(line.n + 1);
+    if (!copy)
+        return gaze_no_memory(c);
+    memcpy(copy, line.p, line.n);
+    copy[line.n] = '\n';
+    *out = cJSON_ParseWithLengthOpts(copy, line.n + 1, &end, false);
+    *stop = end ? (size_t)(end - copy) : 0;
+    free(copy);
+    return FS_OK;
+}
+
+/* Offset of the '"' that closes the string opening at offset i, or line.n. */
+static size_t string_end(span line, size_t i)
+{
+    for (i++; i < line.n && line.p[i] != '"'; i++)
+        if (line.p[i] == '\\')
+            i++;
+    return i < line.n ? i : line.n;
+}
+
+/* cJSON hands a number's characters to strtod, which also reads what RFC 8259 forbids: leading
+ * zeros (`01`, which some readers take for octal), `1.`, `-.5`. livedata.json has none and this
+ * reader refused them before it used cJSON, so a line cJSON accepted is checked once more: every
+ * number outside the strings must follow the grammar. Returns the offset of the first that does
+ * not, or -1. (cJSON checked the rest, so outside strings only numbers hold '-' and digits.) */
+static long bad_number_at(span line)
+{
+    const char *p = line.p;
+    const size_t n = line.n;
+    for (size_t i = 0; i < n; i++) {
+        if (p[i] == '"')
+            i = string_end(line, i);
+        if (i >= n || (p[i] != '-' && !gaze_is_digit(p[i])))
+            continue;
+        const size_t b = i;
+        if (p[i] == '-')
+            i++;
+        if (i < n && p[i] == '0')
+            i++;
+        else if (i < n && gaze_is_digit(p[i]))
+            while (i < n && gaze_is_digit(p[i]))
+                i++;
+        else
+            return (long)b;
+        if (i < n && p[i] == '.') {
+            if (++i >= n || !gaze_is_digit(p[i]))
+                return (long)b;
+            while (i < n && gaze_is_digit(p[i]))
+                i++;
+        }
+        if (i < n && (p[i] == 'e' || p[i] == 'E')) {
+            if (++i < n && (p[i] == '+' || p[i] == '-'))
+                i++;
+            if (i >= n || !gaze_is_digit(p[i]))
+                return (long)b;
+            while (i < n && gaze_is_digit(p[i]))
+                i++;
+        }
+        if (i < n && (gaze_is_digit(p[i]) || p[i] == '.')) /* `01`, `1.5.2`: strtod read on */
+            return (long)b;
+        i--;
+    }
+    return -1;
+}
+
+/* What is open at offset `at`, where cJSON stopped on a line it read up to there: arrays and
+ * objects (*depth; cJSON fails on a '[' or '{' at CJSON_NESTING_LIMIT of them, and nowhere else
+ * with that many open). True when `at` lies in a string that the line does not close (cJSON then
+ * stops at the string's first byte). */
+static bool open_at(span line, size_t at, int *depth)
+{
+    *depth = 0;
+    for (size_t i = 0; i < at && i < line.n; i++) {
+        if (line.p[i] == '"') {
+            const size_t e = string_end(line, i);
+            if (e >= at)
+                return e >= line.n;
+            i = e;
+        } else if (line.p[i] == '[' || line.p[i] == '{') {
+            ++*depth;
+        } else if (line.p[i] == ']' || line.p[i] == '}') {
+            --*depth;
+        }
+    }
+    return false;
+}
+
+/* 1-based column of a member's key, for a message about its value. cJSON keeps no positions, so
+ * this searches the line text for the first `"key"` followed by ':' (blanks between); that could
+ * be a nested object's key of the same name, which Tobii records do not have. Column 1 when there
+ * is none. Only error paths call it. */
+static long key_col(span line, const char *key)
+{
+    const size_t k = strlen(key);
+    for (size_t i = 0; i + k + 2 <= line.n; i++) {
+        if (line.p[i] != '"' || memcmp(line.p + i + 1, key, k) != 0 || line.p[i + k + 1] != '"')
+            continue;
+        size_t j = i + k + 2;
+        while (j < line.n && (unsigned char)line.p[j] <= ' ')
+            j++;
+        if (j < line.n && line.p[j] == ':')
+            return (long)i + 1;
+    }
+    return 1;
+}
+
+/* A value for a message: its JSON text as gaze_snip shows it. */
+static const char *describe(const cJSON *v, char *buf, size_t cap)
+{
+    if (cJSON_IsNumber(v) && !isfinite(v->valuedouble))
+        return "a number beyond the range of a double";
+    char *text = cJSON_PrintUnformatted(v);
+    if (!text)
+        return "a value (out of memory to show it)";
+    const char *shown = gaze_snip(buf, cap, text, strlen(text));
+    cJSON_free(text);
+    return shown;
+}
+
+static bool finite_number(const cJSON *v) { return cJSON_IsNumber(v) && isfinite(v->valuedouble); }
+
+/* >>records */
+
+/* The number member `key` of a gaze record (`what` names it in messages). */
+static fs_status record_number(pctx *c, long no, span line, const cJSON *rec, const char *key, const char *what,
+                               double *v)
+{
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(rec, key);
+    char g[64];
+    if (!m)
+        return gaze_fail(c, no, 1, "expected %s in the gaze record, got none", what);
+    if (!finite_number(m))
+        return gaze_fail(c, no, key_col(line, key), "expected a number for %s, got %s", what, describe(m, g, sizeof g));
+    *v = m->valuedouble;
+    return FS_OK;
+}
+
+/* One gaze record (an object with "gp" and no "eye") to a sample; other streams are skipped. */
+static fs_status tobii_record(pctx *c, long no, span line, const cJSON *rec, long *records)
+{
+    const cJSON *gp = cJSON_GetObjectItemCaseSensitive(rec, "gp");
+    if (!gp || cJSON_GetObjectItemCaseSensitive(rec, "eye"))
+        return FS_OK; /* another stream (ac, gy, pts, vts, per-eye gd/pc/pd, gp3...) */
+    ++*records;
+    double ts, st;
+    fs_status s = record_number(c, no, line, rec, "ts", "\"ts\" (microseconds)", &ts);
+    if (s == FS_OK)
+        s = record_number(c, no, line, rec, "s", "the status \"s\"", &st);
+    if (s != FS_OK)
+        return s;
+    char g[64];
+    const cJSON *x = cJSON_IsArray(gp) ? gp->child : NULL, *y = x ? x->next : NULL;
+    if (!finite_number(x) || !finite_number(y) || y->next) {
+        const cJSON *shown = cJSON_IsNumber(x) && !finite_number(x)   ? x /* 1e999: cJSON prints null */
+                             : cJSON_IsNumber(y) && !finite_number(y) ? y
+                                                                      : gp;
+        return gaze_fail(c, no, key_col(line, "gp"), "expected \"gp\" as [x, y], two numbers, got %s",
+                         describe(shown, g, sizeof g));
+    }
+    const double gx = x->valuedouble, gy = y->valuedouble;
+    if (!isfinite((float)gx) || !isfinite((float)gy) || fabs(gx) > 1e6 || fabs(gy) > 1e6)
+        return gaze_fail(c, no, key_col(line, "gp"), "expected \"gp\" in normalised coordinates, got %g, %g",
+                         gx, gy);
+    const bool valid = st == 0;
+    /* column 1: it only serves the time-goes-backwards message, which Tobii files never get (sorted) */
+    return gaze_push(c, no, 1, ts, valid ? gx : 0, valid ? gy : 0, 1.0, valid);
+}
+
+/* >>reader */
+
+/* One line to a JSON object (*rec, for the caller to cJSON_Delete), or a message. */
+static fs_status read_line(pctx *c, long no, span line, cJSON **rec)
+{
+    char g[64];
+    const span t = gaze_trim(line);
+    if (t.p[0] != '{')
+        return gaze_fail(c, no, (long)(t.p - line.p) + 1,
+                         "expected a JSON object '{' (livedata.json has one per line), got %s",
+                         gaze_snip(g, sizeof g, t.p, t.n));
+    size_t stop = 0;
+    fs_status s = parse_line(c, line, rec, &stop);
+    if (s != FS_OK)
+        return s;
+    span rest = {line.p + stop, stop < line.n ? line.n - stop : 0};
+    if (!*rec) {
+        int depth = 0;
+        if (open_at(line, stop, &depth))
+            return gaze_fail(c, no, (long)line.n + 1, "expected '\"' to close the string, got the end of the line");
+        if (rest.n && (*rest.p == '[' || *rest.p == '{') && depth >= CJSON_NESTING_LIMIT)
+            return gaze_fail(c, no, (long)stop + 1, "expected at most %d nested arrays and objects (cJSON's limit), "
+                             "got more", CJSON_NESTING_LIMIT);
+        if (rest.n)
+            return gaze_fail(c, no, (long)stop + 1, "expected valid JSON (one object per line), got %s",
+                             gaze_snip(g, sizeof g, rest.p, rest.n));
+        /* ran out: the line's last bytes show what was left open (or, for `,}`, the key missing) */
+        const size_t k = line.n < 24 ? line.n : 24;
+        return gaze_fail(c, no, (long)line.n + 1, "expected valid JSON (one object per line), got the end of the "
+                         "line after %s", gaze_snip(g, sizeof g, line.p + line.n - k, k));
+    }
+    rest = gaze_trim(rest);
+    if (rest.n)
+        return gaze_fail(c, no, (long)(rest.p - line.p) + 1, "expected the end of the line after the object, got %s",
+                         gaze_snip(g, sizeof g, rest.p, rest.n));
+    long bad = bad_number_at(line);
+    if (bad >= 0)
+        return gaze_fail(c, no, bad + 1, "expected a JSON number (no leading zeros, digits on both sides of '.'), "
+                         "got %s", gaze_snip(g, sizeof g, line.p + bad, line.n - (size_t)bad));
+    return FS_OK;
+}
+
+fs_status gaze_parse_tobii(pctx *c, gaze_trace *out)
+{
+    c->unit = 1e-6;
+    c->unit_name = "us";
+    c->sorted_input = false; /* streams interleave: sort by ts, never report backwards time */
+    line_it it = {c->text, c->text + c->size, 0};
+    long records = 0;
+    fs_status s = FS_OK;
+    for (span line = {0}; s == FS_OK && gaze_next_line(&it, &line);) {
+        if (gaze_is_blank(line))
+            continue;
+        cJSON *rec = NULL;
+        s = read_line(c, it.no, line, &rec);
+        if (s == FS_OK)
+            s = tobii_record(c, it.no, line, rec, &records);
+        cJSON_Delete(rec);
+    }
+    if (s != FS_OK)
+        return s;
+    if (records == 0)
+        return gaze_fail(c, 1, 1, "expected Tobii gaze records (objects with \"gp\"), got none");
+    return gaze_finish(c, GAZE_FORMAT_TOBII, out);
+}
