@@ -34,6 +34,31 @@ _Static_assert(sizeof(run_desc) == 296, "run_desc changed: add the new field to 
 
 /* >>describe */
 
+/* What scene_content_hash (the geometry, materials and images, which the reference cache keys)
+ * leaves out but a frame depends on: the camera path, the light and sky, the display, and the
+ * scene's own defaults for the options ("alpha", "taa", "rings"). */
+static uint64_t scene_settings_hash(const scene *sc)
+{
+    uint64_t h = hash_u64(HASH_FNV_INIT, (uint64_t)sc->camera.count);
+    for (int i = 0; i < sc->camera.count; i++) {
+        const camera_key *k = &sc->camera.keys[i];
+        float v[8] = {k->time, k->position.x, k->position.y, k->position.z, k->target.x, k->target.y, k->target.z,
+                      k->hfov_deg};
+        h = hash_u64(hash_floats(h, v, 8), k->cut);
+    }
+    const light_desc *l = &sc->light;
+    float lv[12] = {l->direction.x, l->direction.y, l->direction.z, l->color.x, l->color.y, l->color.z,
+                    l->ambient.x, l->ambient.y, l->ambient.z, l->sky.x, l->sky.y, l->sky.z};
+    h = hash_floats(h, lv, 12);
+    h = hash_u64(hash_u64(h, (uint64_t)sc->display.width), (uint64_t)sc->display.height);
+    h = hash_floats(h, &sc->display.hfov_deg, 1);
+    h = hash_u64(h, (uint64_t)sc->alpha_mode);
+    float tv[3] = {sc->taa.blend, sc->taa.gamma, sc->taa.sparse};
+    h = hash_floats(hash_u64(hash_u64(h, sc->taa.given), sc->taa.off), tv, 3);
+    h = hash_u64(h, (uint64_t)sc->taa.jitter_length);
+    return hash_str(h, sc->rings);
+}
+
 typedef struct text {
     char *buf;
     size_t cap, len;
@@ -106,7 +131,8 @@ fs_status run_record_describe(const run_desc *d, const session *s, char *buf, si
     add(&t, "name: %s\n", d->name);
     add(&t, "fovsim: %s, executable %016" PRIx64 "\n", FOVSIM_VERSION, exe);
     add(&t, "renderer: %s\n", gl_device_renderer());
-    add(&t, "scene: %s, content %016" PRIx64 "\n", s->sc.path, scene_content_hash(&s->sc));
+    add(&t, "scene: %s, content %016" PRIx64 ", settings %016" PRIx64 "\n", s->sc.path,
+        scene_content_hash(&s->sc), scene_settings_hash(&s->sc));
     if (s->gaze.count > 0)
         add(&t, "gaze: %s, format %d, eye %d, samples %d, content %016" PRIx64 "\n", s->gaze.path,
             (int)d->gaze_format, (int)d->eye, s->gaze.count, gaze_hash(&s->gaze));

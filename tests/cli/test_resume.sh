@@ -66,6 +66,14 @@ interrupted "$T/cut_full" "$T/cut" 0 1 2 3 4 5 6 7 8 9
 check "resume after a cut: frames equal" same_frames "$T/cut_full" "$T/cut" 12
 check "resume after a cut: only frames 8 and 9 drawn again" grep -q 'kept 10 complete frames .*; drew 2 of them again' "$T/out.txt"
 
+# A camera path edited between the runs is another configuration (the content hash leaves the
+# camera out: the reference cache keys each frame's matrices instead), so --resume refuses it.
+cp "$SRC/scenes/studies/fence_grazing_2m_held.json" "$T/cam.json"
+"$BIN" render "$T/cam.json" --width 32 --height 18 --frames 2 --out "$T/cam" --quiet >/dev/null 2>&1
+sed -i '0,/"time": 0,/s//"time": 0.01,/' "$T/cam.json"
+expect_exit "an edited camera path is another configuration -> 2" 2 "$BIN" render "$T/cam.json" --width 32 --height 18 --frames 2 --out "$T/cam" --quiet --resume
+check "  the scene's settings are named" grep -q "(scene: .*settings" "$T/err.txt"
+
 # ---- TAA off: frames are independent, kept ones are not drawn at all
 "$BIN" render "${R[@]}" --taa off --out "$T/off_full" >/dev/null
 interrupted "$T/off_full" "$T/off" 0 1 2 3
