@@ -484,7 +484,7 @@ static void failure_text(const failure *f, char *buf, size_t n)
         snprintf(buf, n, "ring %s: %s %.4g (tolerance %.4g)", ring, check_metric_name(f->metric), f->now, f->tol);
     else
         snprintf(buf, n, "ring %s: %s %.4g in the baseline, %.4g now (tolerance %s%.4g)", ring,
-                 check_metric_name(f->metric), f->base, f->now, f->metric == CHECK_COVERAGE ? "+-" : "+", f->tol);
+                 check_metric_name(f->metric), f->base, f->now, f->metric == CHECK_COVERAGE ? "+-" : f->metric == CHECK_TIME ? "x" : "+", f->tol);
 }
 
 static int cmp_int(const void *a, const void *b)
@@ -579,7 +579,7 @@ static void print_groups(const judge *j)
                    wf, "", f->now, f->tol);
         else
             printf("  %-12s %-4s %-16s %-14s %5s %10.5f %10.5f %4s%.4g\n", img, rg, check_metric_name(f->metric),
-                   f->frame < 0 ? "run" : fl, wf, f->base, f->now, f->metric == CHECK_COVERAGE ? "+-" : "+", f->tol);
+                   f->frame < 0 ? "run" : fl, wf, f->base, f->now, f->metric == CHECK_COVERAGE ? "+-" : f->metric == CHECK_TIME ? "x" : "+", f->tol);
     }
     if (groups > lines)
         printf("  ... and %d more lines: every failure is in %s/check.json%s%s\n", groups - lines, j->d->next,
@@ -611,7 +611,7 @@ static void print_report(judge *j)
     } else {
         printf("fovsim check: REGRESSION against the baseline %s: %d of %d values outside tolerance, in %d of %d "
                "cases (frames %s; rings %s)\n", j->d->baseline, v->failed_values, v->values, v->failed_cases,
-               v->cases, nfr ? fl : "none", rl);
+               v->cases, nfr ? fl : "none: the run's", rl);
         print_groups(j);
         if (j->ndiffs) {
             list_ints(j->diffs, j->ndiffs, fl, sizeof fl);
@@ -684,6 +684,10 @@ static fs_status write_junit(const judge *j)
             }
         failure_text(&j->f[first], text, sizeof text);
         sb_puts(&b, "\">\n      <failure type=\"regression\" message=\"");
+        if (frame < 0 && j->f[first].image[0]) {
+            xml_text(&b, j->f[first].image);
+            sb_puts(&b, " ");
+        }
         xml_text(&b, text);
         if (count > 1)
             sb_printf(&b, " (and %d more)", count - 1);
@@ -691,8 +695,10 @@ static fs_status write_junit(const judge *j)
         for (int i = 0; i < j->nf; i++)
             if (j->f[i].frame == frame && (frame < 0 || !strcmp(j->f[i].image, image) || !j->f[i].image[0])) {
                 failure_text(&j->f[i], text, sizeof text);
-                if (frame < 0 && j->f[i].image[0])
-                    sb_printf(&b, "%s ", j->f[i].image);
+                if (frame < 0 && j->f[i].image[0]) {
+                    xml_text(&b, j->f[i].image);
+                    sb_puts(&b, " ");
+                }
                 xml_text(&b, text);
                 sb_puts(&b, "\n");
             }

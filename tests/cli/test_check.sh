@@ -2,7 +2,7 @@
 # fovsim check (issue 19 part 1; docs/check.md): a baseline passes against itself with every
 # difference 0; the same options over a changed scene (a tree's alpha cutoff, the tree seen only
 # beyond 15 degrees of the gaze) fail with ring 1 named and ring 0 not; tolerances per ring
-# override; a missing or damaged baseline is one line and its documented exit status, before
+# override; frame time is judged only with --tol-time; a missing or damaged baseline is one line and its documented exit status, before
 # anything is drawn; the JUnit file has the required elements and escapes what it quotes.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
@@ -113,6 +113,14 @@ scene 0.5
 "$BIN" check --baseline "$T/base" "${ENV[@]}" >"$T/out.txt" 2>&1
 check "the restored scene passes again" test $? -eq 0
 check "... and leaves no diff image of the earlier check" bash -c "! ls '$T/base-next'/diff.*.exr 2>/dev/null"
+
+# Frame time only when asked for: any time over 0 x the baseline's fails, as a case of the run.
+"$BIN" check --baseline "$T/base" "${ENV[@]}" "${LOOSE[@]}" --tol-coverage off --tol-time 0 --junit "$T/time.xml" \
+  >"$T/out.txt" 2>&1
+check "--tol-time 0 fails on frame time" test $? -eq 1
+check "... in the run's JUnit case alone" junit "$T/time.xml" 10 1
+check "... named frame_time_ratio" grep -q 'name="run" classname="check.base.run">' "$T/time.xml"
+check "... of each mode" bash -c "grep -cE '^  (traditional|hashed) +all +frame_time_ratio +run' '$T/out.txt' | grep -qx 2"
 
 # ---- the JUnit file escapes what it quotes (the baseline's folder name)
 cp -r "$T/base" "$T/odd&<\"name\">"
