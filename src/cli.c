@@ -94,6 +94,7 @@ void cli_print_help(command cmd)
             printf("  %-10s %s\n", k_commands[i].name, k_commands[i].summary);
         printf("  %-10s %s\n  %-10s %s\n", "sweep", "run scenes x gaze traces x configurations: here, as a jobs file or "
                "on Slurm", "merge", "gather a sweep's metrics into one CSV, summary and plot");
+        printf("  %-10s %s\n", "check", "regression test: record a compare run as a baseline, or check one against it");
         printf("\nglobal options: --help, --version, --list-gpus\n\n");
         break;
     }
@@ -201,9 +202,9 @@ void cli_print_help(command cmd)
                "  --format F          text (default) or json (machine-readable, on stdout)\n"
                "  --modes M,M,...     alpha modes to compare in one run (or all); each gets its time\n"
                "                      relative to traditional, A2C modes also traditional+MSAA\n");
-    printf("\nexit status: 0 ok, 2 bad arguments, 3 bad scene, 4 bad asset, 5 bad gaze trace, 6 I/O error,\n"
-           "             7 no OpenGL 4.5 context, 8 shader error, 9 out of memory, 11 a sweep has missing or\n"
-           "             failed tasks, 130 interrupted\n");
+    printf("\nexit status: 0 ok, 1 fovsim check: a regression, 2 bad arguments, 3 bad scene, 4 bad asset, 5 bad\n"
+           "             gaze trace, 6 I/O error, 7 no OpenGL 4.5 context, 8 shader error, 9 out of memory,\n"
+           "             11 a sweep has missing or failed tasks, 130 interrupted\n");
 }
 
 /* An option with two values: *which = 0 for `a`, 1 for `b`; anything else is a one-line error. */
@@ -276,7 +277,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         if (!strcmp(c, k_commands[k].name))
             d->cmd = k_commands[k].cmd;
     if (d->cmd == CMD_NONE) {
-        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare, view, sweep, merge; "
+        log_error("unknown command '%s' (commands: render, plan, demo, bench, reference, compare, view, sweep, merge, check; "
                   "see fovsim --help)", c);
         return FS_ERR_USAGE;
     }

@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "check.h"
 #include "cli.h"
 #include "run.h"
 #include "sweep.h"
@@ -32,11 +33,13 @@ static void tune_allocator(void)
 int main(int argc, char **argv)
 {
     tune_allocator();
-    /* sweep and merge have options of their own (sweep.h). */
+    /* sweep, merge and check have options of their own (sweep.h, check.h). */
     if (argc > 1 && !strcmp(argv[1], "sweep"))
         return fs_status_exit_code(sweep_main(argc, argv));
     if (argc > 1 && !strcmp(argv[1], "merge"))
         return fs_status_exit_code(merge_main(argc, argv));
+    if (argc > 1 && !strcmp(argv[1], "check"))
+        return fs_status_exit_code(check_main(argc, argv));
     run_desc d;
     fs_status st = cli_parse(argc, argv, &d);
     if (st == FS_OK)

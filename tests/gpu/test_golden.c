@@ -10,10 +10,17 @@
  * between llvmpipe builds/CPUs: a handful of alpha-tested edge pixels may flip between leaf and
  * background (error up to 1 in one channel of one pixel), hence a max error on 2x2-averaged pixels
  * (a flipped pixel counts 1/4) and a small RMSE. A real GPU rasterises and filters differently and
- * is expected to exceed them; the golden test is a regression test of one renderer. */
+ * is expected to exceed them; the golden test is a regression test of one renderer.
+ *
+ * Why not `fovsim check` (docs/check.md) itself: these cases are single frames of the renderer alone
+ * (no reference, no metrics) at fixed times and gazes, drawn in one GL context; a check baseline
+ * is a whole compare run (its frames carry every mode and the supersampled reference), so running
+ * them through check would add baselines and minutes, not remove code. They share check's
+ * comparison instead (image_diff_add). */
 #include <sys/stat.h>
 
 #include "gpu_util.h"
+#include "metrics/image_diff.h"
 
 typedef struct golden_case {
     const char *name;   /* refs/<name>.exr */
@@ -89,28 +96,16 @@ static void run_case(const golden_case *gc)
     exr_image ref;
     CHECK(exr_read_file(ref_path, &ref) == FS_OK);
     CHECK(ref.width == img.width && ref.height == img.height);
-    double se = 0, max2 = 0;
-    long n = 0;
+    /* The comparison is fovsim check's (metrics/image_diff.h): RMSE over every channel, and the
+     * largest difference of 2x2 block means. */
+    image_diff diff = {0};
     for (int c = 0; c < img.channel_count && ref.width == img.width && ref.height == img.height; c++) {
         const float *r = exr_image_channel(&ref, img.channel_names[c]);
         CHECK(r != NULL);
-        if (!r)
-            continue;
-        const float *p = img.planes[c];
-        for (int i = 0; i < img.width * img.height; i++) {
-            double d = p[i] - r[i];
-            se += d * d;
-            n++;
-        }
-        for (int y = 0; y + 1 < img.height; y += 2)
-            for (int x = 0; x + 1 < img.width; x += 2) {
-                int i = y * img.width + x;
-                double d = (p[i] + p[i + 1] + p[i + img.width] + p[i + img.width + 1] -
-                            (r[i] + r[i + 1] + r[i + img.width] + r[i + img.width + 1])) / 4.0;
-                max2 = fmax(max2, fabs(d));
-            }
+        if (r)
+            image_diff_add(&diff, img.planes[c], r, img.width, img.height, 2, NULL, 0);
     }
-    double rmse = n ? sqrt(se / (double)n) : INFINITY;
+    double rmse = diff.count ? image_diff_rmse(&diff) : INFINITY, max2 = diff.max_block;
     fprintf(stderr, "golden %s: RMSE %.5f (limit %.3f), max 2x2 error %.4f (limit %.2f)\n", gc->name, rmse,
             gc->max_rmse, max2, gc->max_err_2x2);
     bool ok = rmse <= gc->max_rmse && max2 <= gc->max_err_2x2;
@@ -139,12 +134,12 @@ TEST(a_changed_render_fails_the_comparison)
     exr_image img, ref;
     CHECK(gpu_render(&sc, ALPHA_MODE_TRADITIONAL, 192, 108, 0.0f, &img) == FS_OK);
     CHECK(exr_read_file(test_source_path("tests/golden/refs/fence_t0.exr"), &ref) == FS_OK);
-    double se = 0;
     const float *a = exr_image_channel(&img, "coverage"), *b = exr_image_channel(&ref, "coverage");
     CHECK(a && b);
-    for (int i = 0; a && b && i < 192 * 108; i++)
-        se += (a[i] - b[i]) * (a[i] - b[i]);
-    CHECK(sqrt(se / (192 * 108)) > 0.01);
+    image_diff diff = {0};
+    if (a && b)
+        image_diff_add(&diff, a, b, 192, 108, 2, NULL, 0);
+    CHECK(image_diff_rmse(&diff) > 0.01);
     exr_image_free(&img);
     exr_image_free(&ref);
     scene_free(&sc);
