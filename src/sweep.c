@@ -66,7 +66,8 @@ static void short_name(const char *s, char *out, size_t n)
 static fs_status chunk_bounds(const scene *sc, int frames, float fps, int chunk, int width, int height, int **starts,
                               int *count)
 {
-    int cap = frames / chunk + 2;
+    /* A boundary moved back to a cut makes its chunk as short as chunk - chunk/4 frames. */
+    int cap = frames / (chunk - chunk / 4) + 2;
     int *b = malloc(sizeof(int) * (size_t)cap);
     if (!b)
         return FS_ERR_NOMEM;
