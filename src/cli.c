@@ -217,7 +217,7 @@ static bool parse_choice(const char *opt, const char *v, const char *a, const ch
     return false;
 }
 
-static bool parse_int(const char *opt, const char *v, int lo, int hi, int *out)
+bool cli_parse_int(const char *opt, const char *v, int lo, int hi, int *out)
 {
     char *end;
     errno = 0;
@@ -368,11 +368,11 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             if (!ok)
                 log_error("--asset-root: expected a folder, got ''");
         } else if (!strcmp(opt, "--max-image-mpixels"))
-            ok = parse_int(opt, val, 1, 4096, &d->max_image_mpixels);
+            ok = cli_parse_int(opt, val, 1, 4096, &d->max_image_mpixels);
         else if (!strcmp(opt, "--max-scene-mpixels"))
-            ok = parse_int(opt, val, 1, 65536, &d->max_scene_mpixels);
+            ok = cli_parse_int(opt, val, 1, 65536, &d->max_scene_mpixels);
         else if (!strcmp(opt, "--supersample"))
-            ok = parse_int(opt, val, 1, 16, &d->supersample);
+            ok = cli_parse_int(opt, val, 1, 16, &d->supersample);
         else if (!strcmp(opt, "--reference")) {
             ok = parse_choice(opt, val, "exact", "stochastic", &d->reference_kind);
             d->reference_set = true;
@@ -388,9 +388,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 log_error("--error: expected flip, alpha_rmse, rmse or temporal_error, got '%s'", val);
             d->acc_error_set = true;
         } else if (!strcmp(opt, "--ref-memory"))
-            ok = parse_int(opt, val, 1, 1 << 20, &d->ref_memory_mb);
+            ok = cli_parse_int(opt, val, 1, 1 << 20, &d->ref_memory_mb);
         else if (!strcmp(opt, "--samples")) {
-            ok = parse_int(opt, val, 2, 4096, &d->samples);
+            ok = cli_parse_int(opt, val, 2, 4096, &d->samples);
             if (ok && d->samples % 2) {
                 log_error("--samples: expected an even number (the two halves estimate convergence), got %d", d->samples);
                 ok = false;
@@ -460,7 +460,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->taa_nan = k ? TAA_NAN_SET : TAA_NAN_TAP;
         }
         else if (!strcmp(opt, "--jitter-length"))
-            ok = parse_int(opt, val, 1, 1024, &d->jitter_length);
+            ok = cli_parse_int(opt, val, 1, 1024, &d->jitter_length);
         else if (!strcmp(opt, "--ring-cull")) {
             int k = 0;
             ok = parse_choice(opt, val, "on", "off", &k);
@@ -532,17 +532,17 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             if (!ok)
                 log_error("--name: expected a file prefix without '/', got '%s'", val);
         } else if (!strcmp(opt, "--frames"))
-            ok = parse_int(opt, val, 1, MAX_FRAMES, &d->frames);
+            ok = cli_parse_int(opt, val, 1, MAX_FRAMES, &d->frames);
         else if (!strcmp(opt, "--warmup"))
-            ok = parse_int(opt, val, 0, 10000, &d->warmup), d->warmup_set = true;
+            ok = cli_parse_int(opt, val, 0, 10000, &d->warmup), d->warmup_set = true;
         else if (!strcmp(opt, "--first-frame"))
-            ok = parse_int(opt, val, 0, MAX_FRAMES - 1, &d->first_frame);
+            ok = cli_parse_int(opt, val, 0, MAX_FRAMES - 1, &d->first_frame);
         else if (!strcmp(opt, "--width"))
-            ok = parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->width);
+            ok = cli_parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->width);
         else if (!strcmp(opt, "--height"))
-            ok = parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->height);
+            ok = cli_parse_int(opt, val, 16, MAX_DISPLAY_SIZE, &d->height);
         else if (!strcmp(opt, "--gpu"))
-            ok = parse_int(opt, val, 0, 15, &d->gpu);
+            ok = cli_parse_int(opt, val, 0, 15, &d->gpu);
         else if (!strcmp(opt, "--fps"))
             ok = parse_float(opt, val, 0.0f, 1000.0f, &d->fps);
         else if (!strcmp(opt, "--alpha")) {

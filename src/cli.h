@@ -94,6 +94,9 @@ typedef struct run_desc {
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */
 fs_status cli_parse(int argc, char **argv, run_desc *out);
+/* An integer option's value in [lo, hi]; else one line ("OPT: expected an integer in [lo, hi],
+ * got 'V'") and false. */
+bool cli_parse_int(const char *opt, const char *v, int lo, int hi, int *out);
 /* Prints the help text of a command (CMD_NONE: overview) on stdout. */
 void cli_print_help(command cmd);
 

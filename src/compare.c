@@ -512,17 +512,12 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     snprintf(csv_path, sizeof csv_path, "%s/metrics.csv", out);
     bool csv_tmp_ok = out_path_temp_name(csv_path, csv_tmp, sizeof csv_tmp);
     snprintf(json_path, sizeof json_path, "%s/summary.json", out);
-    char config[8192];
     run_folder fo = {0};
-    if (st == FS_OK)
-        st = run_record_describe(d, &s, config, sizeof config);
-    if (st == FS_OK)
-        st = file_make_dirs(out);
     /* A killed run's litter, another configuration's output, --resume (issue 17): the metrics need
      * every frame's images, so a resumed compare draws every frame again and writes only the
      * frames it lacks; the reference of the frames drawn before comes from the cache. */
     if (st == FS_OK)
-        st = run_folder_open(&fo, out, d, config, frames);
+        st = run_folder_open(&fo, out, d, &s, frames);
     FILE *csv = NULL;
     if (st == FS_OK && !(csv = csv_tmp_ok ? fopen(csv_tmp, "w") : NULL)) {
         log_error("%s: cannot create: %s", csv_tmp, strerror(errno));
@@ -565,13 +560,13 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
      * being measured or written, from `warm` on; the one just before F also gets its reference, the
      * previous frame of F's temporal metrics. */
     const int first = d->first_frame < frames ? d->first_frame : frames;
-    int warm = first;
+    int warm = first > 0 ? first - 1 : 0; /* the frame before F, at least */
     if (first > 0 && s.pl.taa) {
-        warm = run_history_start(&s.sc, first, d->fps, s.pl.width, s.pl.height);
-        if (d->warmup_set && first - d->warmup > warm)
-            warm = first - d->warmup;
+        int history = run_history_start(&s.sc, first, d->fps, s.pl.width, s.pl.height);
+        if (d->warmup_set && first - d->warmup > history)
+            history = first - d->warmup;
+        warm = history < warm ? history : warm;
     }
-    warm = warm < first - 1 ? warm : (first > 0 ? first - 1 : 0);
     for (int i = warm; i < frames && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;

@@ -78,13 +78,9 @@ static fs_status run_render(const run_desc *d, const char *default_out, int *fra
     int frames = session_frame_count(d, &s.sc);
     if (frames_out)
         *frames_out = frames;
-    char config[8192];
     run_folder rf = {0};
-    st = run_record_describe(d, &s, config, sizeof config);
-    if (st == FS_OK)
-        st = file_make_dirs(out);
-    if (st == FS_OK) /* a killed run's litter, another configuration's output, --resume (issue 17) */
-        st = run_folder_open(&rf, out, d, config, frames);
+    /* a killed run's litter, another configuration's output, --resume (issue 17) */
+    st = run_folder_open(&rf, out, d, &s, frames);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)
         st = FS_ERR_NOMEM;
@@ -159,14 +155,9 @@ static fs_status run_reference(const run_desc *d)
     reference *rf = session_reference(d, &s, &rp, &st);
     const char *out = d->out_dir ? d->out_dir : "out/reference";
     int frames = session_frame_count(d, &s.sc);
-    char config[8192];
     run_folder fo = {0};
-    if (st == FS_OK)
-        st = run_record_describe(d, &s, config, sizeof config);
-    if (st == FS_OK)
-        st = file_make_dirs(out);
     if (st == FS_OK) /* reference frames are independent: --resume skips the kept ones */
-        st = run_folder_open(&fo, out, d, config, frames);
+        st = run_folder_open(&fo, out, d, &s, frames);
     double *errors = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
     if (st == FS_OK && !errors)
         st = FS_ERR_NOMEM;

@@ -4,7 +4,6 @@
 #include <dirent.h>
 #include <errno.h>
 #include <inttypes.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +14,7 @@
 #include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "core/strbuf.h"
 #include "gl/gl_device.h"
 #include "output/exr_write.h"
 #include "output/out_path.h"
@@ -59,25 +59,6 @@ static uint64_t scene_settings_hash(const scene *sc)
     return hash_str(h, sc->rings);
 }
 
-typedef struct text {
-    char *buf;
-    size_t cap, len;
-    bool full;
-} text;
-
-static void add(text *t, const char *fmt, ...) FS_PRINTF(2, 3);
-static void add(text *t, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vsnprintf(t->buf + t->len, t->cap - t->len, fmt, ap);
-    va_end(ap);
-    if (n < 0 || (size_t)n >= t->cap - t->len)
-        t->full = true;
-    else
-        t->len += (size_t)n;
-}
-
 /* FNV-1a of the running executable: a rebuilt fovsim may draw other pixels under the same version. */
 static bool executable_hash(uint64_t *out)
 {
@@ -114,8 +95,9 @@ static const char *or_default(const char *s)
     return s ? s : "default";
 }
 
-fs_status run_record_describe(const run_desc *d, const session *s, char *buf, size_t cap)
+fs_status run_record_describe(const run_desc *d, const session *s, char **out)
 {
+    *out = NULL;
     static const char *const k_cmd[] = {[CMD_RENDER] = "render", [CMD_REFERENCE] = "reference",
                                         [CMD_COMPARE] = "compare", [CMD_DEMO] = "demo"};
     static const char *const k_compress[] = {"zip", "none", "piz"};
@@ -125,59 +107,60 @@ fs_status run_record_describe(const run_desc *d, const session *s, char *buf, si
                   strerror(errno));
         return FS_ERR_IO;
     }
-    text t = {buf, cap, 0, false};
+    sbuf t = {0};
     const bool is_ref = d->cmd == CMD_REFERENCE, has_ref = is_ref || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO;
-    add(&t, "command: %s\n", (size_t)d->cmd < sizeof k_cmd / sizeof k_cmd[0] && k_cmd[d->cmd] ? k_cmd[d->cmd] : "?");
-    add(&t, "name: %s\n", d->name);
-    add(&t, "fovsim: %s, executable %016" PRIx64 "\n", FOVSIM_VERSION, exe);
-    add(&t, "renderer: %s\n", gl_device_renderer());
-    add(&t, "scene: %s, content %016" PRIx64 ", settings %016" PRIx64 "\n", s->sc.path,
+    sb_printf(&t, "command: %s\n", (size_t)d->cmd < sizeof k_cmd / sizeof k_cmd[0] && k_cmd[d->cmd] ? k_cmd[d->cmd] : "?");
+    sb_printf(&t, "name: %s\n", d->name);
+    sb_printf(&t, "fovsim: %s, executable %016" PRIx64 "\n", FOVSIM_VERSION, exe);
+    sb_printf(&t, "renderer: %s\n", gl_device_renderer());
+    sb_printf(&t, "scene: %s, content %016" PRIx64 ", settings %016" PRIx64 "\n", s->sc.path,
         scene_content_hash(&s->sc), scene_settings_hash(&s->sc));
     if (s->gaze.count > 0)
-        add(&t, "gaze: %s, format %d, eye %d, samples %d, content %016" PRIx64 "\n", s->gaze.path,
+        sb_printf(&t, "gaze: %s, format %d, eye %d, samples %d, content %016" PRIx64 "\n", s->gaze.path,
             (int)d->gaze_format, (int)d->eye, s->gaze.count, gaze_hash(&s->gaze));
     else
-        add(&t, "gaze: centre fixation\n");
-    add(&t, "size: %dx%d\n", s->pl.width, s->pl.height);
-    add(&t, "fps: %.9g\n", d->fps);
-    add(&t, "compression: %s\n", k_compress[d->compression]);
+        sb_printf(&t, "gaze: centre fixation\n");
+    sb_printf(&t, "size: %dx%d\n", s->pl.width, s->pl.height);
+    sb_printf(&t, "fps: %.9g\n", d->fps);
+    sb_printf(&t, "compression: %s\n", k_compress[d->compression]);
     if (!is_ref) {
         if (d->bench_mode_count > 0) {
-            add(&t, "modes:");
+            sb_printf(&t, "%s", "modes:");
             for (int m = 0; m < d->bench_mode_count; m++)
-                add(&t, " %s", alpha_mode_name(d->bench_modes[m]));
-            add(&t, "\n");
+                sb_printf(&t, " %s", alpha_mode_name(d->bench_modes[m]));
+            sb_printf(&t, "%s", "\n");
         } else {
-            add(&t, "alpha: %s\n", d->alpha == ALPHA_MODE_DEFAULT ? "default" : alpha_mode_name(d->alpha));
+            sb_printf(&t, "alpha: %s\n", d->alpha == ALPHA_MODE_DEFAULT ? "default" : alpha_mode_name(d->alpha));
         }
-        add(&t, "rings: %s\n", or_default(d->rings));
-        add(&t, "overlay: %d, debug channels: %d\n", d->overlay, d->debug_channels);
-        add(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
+        sb_printf(&t, "rings: %s\n", or_default(d->rings));
+        sb_printf(&t, "overlay: %d, debug channels: %d\n", d->overlay, d->debug_channels);
+        sb_printf(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
             d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");
-        add(&t, "a2c sharpen: %d\n", d->a2c_sharpen);
-        add(&t, "taa: %d, blend %.9g, gamma %.9g, sparse %.9g, jitter %d, neighbourhood %d, history %d, nan %d\n",
+        sb_printf(&t, "a2c sharpen: %d\n", d->a2c_sharpen);
+        sb_printf(&t, "taa: %d, blend %.9g, gamma %.9g, sparse %.9g, jitter %d, neighbourhood %d, history %d, nan %d\n",
             d->taa, d->taa_blend, d->taa_gamma, d->taa_sparse, d->jitter_length, d->taa_neighbourhood, d->taa_history,
             d->taa_nan);
-        add(&t, "object motion: %s, ring cull: %s, composite: %s\n", d->no_object_motion ? "off" : "on",
+        sb_printf(&t, "object motion: %s, ring cull: %s, composite: %s\n", d->no_object_motion ? "off" : "on",
             d->no_ring_cull ? "off" : "on", d->composite_per_pixel ? "per-pixel" : "tiled");
     }
     if (has_ref)
-        add(&t, "reference: kind %d, supersample %d, samples %d, memory %d MB\n", d->reference_kind, d->supersample,
+        sb_printf(&t, "reference: kind %d, supersample %d, samples %d, memory %d MB\n", d->reference_kind, d->supersample,
             d->samples, d->ref_memory_mb);
     if (d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO)
-        add(&t, "fvvdp export: %d\n", d->export_fvvdp);
+        sb_printf(&t, "fvvdp export: %d\n", d->export_fvvdp);
     if (d->first_frame)
-        add(&t, "chunk: from frame %d, warm-up %d\n", d->first_frame, d->warmup_set ? d->warmup : -1);
+        sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->first_frame, d->warmup_set ? d->warmup : -1);
     /* Not recorded, because they change nothing a run writes: frames (the record's second part),
      * out_dir (the folder itself), builtin/scene_path and asset_root (the scene's content is),
      * gpu (the renderer is), warmup unless with first_frame (bench's), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
      * cache (a cached reference frame equals a drawn one), resume/replace, run_fvvdp (runs after
      * the frames), and the options of other commands: markdown, json, accuracy, acc_error,
      * script, record, split, help_for. */
-    if (t.full) {
-        log_error("the configuration of this run is longer than %zu bytes (a bug in fovsim)", cap);
-        return FS_ERR_INTERNAL;
+    if (t.oom) {
+        free(t.p);
+        return FS_ERR_NOMEM;
     }
+    *out = t.p;
     return FS_OK;
 }
 
@@ -344,15 +327,10 @@ static fs_status remove_fvvdp(const char *dir)
             continue;
         DIR *sd = opendir(p);
         struct dirent *x;
-        size_t len = strlen(e->d_name);
         while (sd && st == FS_OK && (x = readdir(sd)) != NULL) {
-            const char *s = x->d_name;
-            size_t n = strlen(s);
-            /* <seq>.<digits>.png */
-            if (n > len + 5 && !strncmp(s, e->d_name, len) && s[len] == '.' && !strcmp(s + n - 4, ".png") &&
-                strspn(s + len + 1, "0123456789") == n - len - 5) {
+            if (out_path_sequence_index(x->d_name, e->d_name, ".png") >= 0) { /* <seq>/<seq>.NNNN.png */
                 char q[1700];
-                snprintf(q, sizeof q, "%s/%s", p, s);
+                snprintf(q, sizeof q, "%s/%s", p, x->d_name);
                 st = remove_file(q);
             }
         }
@@ -378,19 +356,25 @@ static fs_status remove_compare_outputs(const char *dir)
 
 /* >>open */
 
-fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const char *config, int frames)
+fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const session *s, int frames)
 {
     memset(f, 0, sizeof *f);
     snprintf(f->dir, sizeof f->dir, "%s", dir);
     snprintf(f->name, sizeof f->name, "%s", d->name);
     f->frames = frames;
-    f->config = strdup(config);
+    fs_status st = run_record_describe(d, s, &f->config);
+    if (st != FS_OK)
+        return st;
+    const char *config = f->config;
     f->kept = calloc((size_t)frames, sizeof *f->kept);
-    if (!f->config || !f->kept)
+    if (!f->kept)
         return FS_ERR_NOMEM;
+    st = file_make_dirs(dir);
+    if (st != FS_OK)
+        return st;
     out_dir_remove_stale_temps(dir);
     char *prior = NULL;
-    fs_status st = read_record(f, &prior);
+    st = read_record(f, &prior);
     if (st != FS_OK)
         return st;
     bool same = prior && !strcmp(prior, config);

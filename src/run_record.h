@@ -27,9 +27,9 @@
 
 #define RUN_RECORD_FILE "fovsim-run.txt"
 
-/* The configuration text of a run (the part of the record above "---"). FS_ERR_IO when the
- * executable cannot be read to hash it (never in practice: /proc/self/exe). */
-fs_status run_record_describe(const run_desc *d, const session *s, char *buf, size_t cap);
+/* The configuration text of a run (the part of the record above "---"), malloc'd into *out.
+ * FS_ERR_IO when the executable cannot be read to hash it (never in practice: /proc/self/exe). */
+fs_status run_record_describe(const run_desc *d, const session *s, char **out);
 
 typedef struct run_folder {
     char dir[1024];
@@ -41,12 +41,13 @@ typedef struct run_folder {
     bool written, completed; /* the record, "complete: no" / "complete: yes" */
 } run_folder;
 
-/* Prepares DIR for a run of `frames` frames named d->name with configuration `config`: removes
- * stale temporary files, checks the record as above (d->resume, d->replace), removes what the run
- * replaces and writes the record ("complete: no"). FS_ERR_USAGE with one line when the folder holds
- * another configuration's output and --replace was not given; FS_ERR_IO when it cannot be
- * tidied or the record cannot be written. f->kept lists the frames --resume keeps. */
-fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const char *config, int frames);
+/* Prepares DIR for a run of `frames` frames named d->name: describes the run's configuration
+ * (run_record_describe), creates DIR, removes stale temporary files, checks the record as above
+ * (d->resume, d->replace), removes what the run replaces and writes the record ("complete: no").
+ * FS_ERR_USAGE with one line when the folder holds another configuration's output and --replace
+ * was not given; FS_ERR_IO when it cannot be made, tidied or the record cannot be written.
+ * f->kept lists the frames --resume keeps. run_folder_close after any result. */
+fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const session *s, int frames);
 /* Rewrites the record with "complete: yes" (after the last frame and file of the run). */
 fs_status run_folder_complete(run_folder *f);
 /* Frees f. A run that did not complete and left no frame of its own removes its record too. */

@@ -374,17 +374,12 @@ static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *sc
 }
 
 /* Runs argv (a program on PATH) and waits; its exit status, or -1 when it could not run. */
-static int spawn_wait(char *const argv[], const char *log_path)
+static int spawn_wait(char *const argv[])
 {
     pid_t pid = fork();
     if (pid < 0)
         return -1;
     if (pid == 0) {
-        if (log_path) {
-            FILE *f = freopen(log_path, "w", stdout);
-            if (!f || dup2(fileno(stdout), STDERR_FILENO) < 0)
-                _exit(126);
-        }
         execvp(argv[0], argv);
         _exit(127);
     }
@@ -400,7 +395,7 @@ static fs_status submit(const char *script, bool wait)
     char *argv[] = {"sbatch", wait ? "--wait" : NULL, NULL, NULL};
     argv[wait ? 2 : 1] = (char *)script;
     fflush(stdout);
-    int rc = spawn_wait(argv, NULL);
+    int rc = spawn_wait(argv);
     if (rc == 127 || rc < 0) {
         log_error("sbatch: cannot run it (is Slurm's client installed and on PATH?); the script is %s", script);
         return FS_ERR_IO;
@@ -550,18 +545,6 @@ static void sweep_help(void)
 
 typedef enum sweep_action { ACT_LIST, ACT_LOCAL, ACT_JOBS, ACT_SLURM, ACT_TASK } sweep_action;
 
-static bool int_arg(const char *opt, const char *v, int lo, int hi, int *out)
-{
-    char *end;
-    long x = v ? strtol(v, &end, 10) : 0;
-    if (!v || end == v || *end || x < lo || x > hi) {
-        log_error("%s: expected an integer in [%d, %d], got '%s'", opt, lo, hi, v ? v : "nothing");
-        return false;
-    }
-    *out = (int)x;
-    return true;
-}
-
 fs_status sweep_main(int argc, char **argv)
 {
     const char *manifest = NULL, *jobs_file = NULL;
@@ -578,7 +561,7 @@ fs_status sweep_main(int argc, char **argv)
         } else if (!strcmp(a, "--list")) {
             act = ACT_LIST, takes = false;
         } else if (!strcmp(a, "--local")) {
-            act = ACT_LOCAL, ok = int_arg(a, v, 1, 256, &jobs);
+            act = ACT_LOCAL, ok = v && cli_parse_int(a, v, 1, 256, &jobs);
         } else if (!strcmp(a, "--jobs-file")) {
             act = ACT_JOBS, jobs_file = v, ok = v != NULL;
         } else if (!strcmp(a, "--slurm")) {
@@ -590,17 +573,17 @@ fs_status sweep_main(int argc, char **argv)
         } else if (!strcmp(a, "--quiet")) {
             quiet = true, takes = false;
         } else if (!strcmp(a, "--task")) {
-            act = ACT_TASK, ok = int_arg(a, v, 0, INT_MAX, &task);
+            act = ACT_TASK, ok = v && cli_parse_int(a, v, 0, INT_MAX, &task);
         } else if (!strcmp(a, "--out")) {
             ov.out = v, ok = v != NULL;
         } else if (!strcmp(a, "--chunk-frames")) {
-            ok = int_arg(a, v, 1, MAX_FRAMES, &ov.chunk_frames);
+            ok = v && cli_parse_int(a, v, 1, MAX_FRAMES, &ov.chunk_frames);
         } else if (!strcmp(a, "--warmup")) {
-            ok = int_arg(a, v, 0, MAX_FRAMES, &ov.warmup);
+            ok = v && cli_parse_int(a, v, 0, MAX_FRAMES, &ov.warmup);
         } else if (!strcmp(a, "--cpus-per-task")) {
-            ok = int_arg(a, v, 1, 4096, &ov.cpus_per_task);
+            ok = v && cli_parse_int(a, v, 1, 4096, &ov.cpus_per_task);
         } else if (!strcmp(a, "--max-running")) {
-            ok = int_arg(a, v, 1, 100000, &ov.max_running);
+            ok = v && cli_parse_int(a, v, 1, 100000, &ov.max_running);
         } else if (!strcmp(a, "--mem")) {
             ov.mem = v, ok = v != NULL;
         } else if (!strcmp(a, "--time")) {

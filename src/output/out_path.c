@@ -268,14 +268,19 @@ int out_dir_remove_stale_temps(const char *dir)
     return dead + old;
 }
 
-long out_path_frame_index(const char *file, const char *name)
+long out_path_sequence_index(const char *file, const char *name, const char *ext)
 {
-    size_t len = strlen(name), n = strlen(file);
-    /* <name> "." digits ".exr" */
-    if (n < len + 1 + 4 + 4 || strncmp(file, name, len) != 0 || file[len] != '.' || strcmp(file + n - 4, ".exr") != 0 ||
-        !all_digits(file + len + 1, n - len - 1 - 4) || n - len - 1 - 4 > 9)
+    size_t len = strlen(name), n = strlen(file), el = strlen(ext);
+    /* <name> "." 4 to 9 digits <ext> */
+    if (n < len + 1 + 4 + el || strncmp(file, name, len) != 0 || file[len] != '.' || strcmp(file + n - el, ext) != 0 ||
+        !all_digits(file + len + 1, n - len - 1 - el) || n - len - 1 - el > 9)
         return -1;
     return strtol(file + len + 1, NULL, 10);
+}
+
+long out_path_frame_index(const char *file, const char *name)
+{
+    return out_path_sequence_index(file, name, ".exr");
 }
 
 bool out_dir_has_sequence(const char *dir, const char *name)

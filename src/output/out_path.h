@@ -79,7 +79,9 @@ long out_path_temp_pid(const char *file);
  * directory) are kept, so are those of live processes here, and anything that is not a regular
  * file. A missing directory is not an error. Returns how many were removed. */
 int out_dir_remove_stale_temps(const char *dir);
-/* The frame index of a file named `<name>.<1 to 9 digits>.exr`, or -1. */
+/* The index of a file named `<name>.<4 to 9 digits><ext>` (ext with its dot), or -1. */
+long out_path_sequence_index(const char *file, const char *name, const char *ext);
+/* out_path_sequence_index with ".exr": a frame of the sequence `name`. */
 long out_path_frame_index(const char *file, const char *name);
 /* Whether `dir` holds any such frame of `name`. */
 bool out_dir_has_sequence(const char *dir, const char *name);
