@@ -4,10 +4,8 @@
 
 #include <string.h>
 
-#include "check.h"
 #include "cli.h"
-#include "run.h"
-#include "sweep.h"
+#include "commands/commands.h"
 
 /* The frame loop allocates nothing of its own that lives shorter than the session, but Mesa's
  * llvmpipe does: each draw's binned scene takes 64 KiB data blocks from malloc and frees them at
@@ -33,16 +31,16 @@ static void tune_allocator(void)
 int main(int argc, char **argv)
 {
     tune_allocator();
-    /* sweep, merge and check have options of their own (sweep.h, check.h). */
+    /* sweep, merge and check have options of their own (commands.h). */
     if (argc > 1 && !strcmp(argv[1], "sweep"))
-        return fs_status_exit_code(sweep_main(argc, argv));
+        return fs_status_exit_code(cmd_sweep(argc, argv));
     if (argc > 1 && !strcmp(argv[1], "merge"))
-        return fs_status_exit_code(merge_main(argc, argv));
+        return fs_status_exit_code(cmd_merge(argc, argv));
     if (argc > 1 && !strcmp(argv[1], "check"))
-        return fs_status_exit_code(check_main(argc, argv));
+        return fs_status_exit_code(cmd_check(argc, argv));
     run_desc d;
     fs_status st = cli_parse(argc, argv, &d);
     if (st == FS_OK)
-        st = run(&d);
+        st = command_run(&d);
     return fs_status_exit_code(st);
 }

@@ -17,7 +17,7 @@
 #include "core/status.h"
 
 #define OUT_PATH_DIR_MAX 1023   /* longest output directory (file_make_dirs' buffer) */
-#define OUT_PATH_MAX 1199       /* longest frame path (run.c and compare.c build them in 1200 bytes) */
+#define OUT_PATH_MAX 1199       /* longest frame path (the commands build them in 1200 bytes) */
 #define OUT_PATH_CACHE_MAX 899  /* longest cache directory (reference.c keeps it in 900 bytes) */
 #define OUT_PATH_HOST_MAX 32    /* longest host name in a temporary file name (out_path_host) */
 /* A temporary file older than this (by mtime) is removed whatever host wrote it: what a task

@@ -18,7 +18,7 @@
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "core/file_read.h"
-#include "session.h"
+#include "session/session.h"
 #include "scene/frame.h"
 #include "view/gaze_record.h"
 #include "view/view_input.h"

@@ -23,7 +23,7 @@
 #include <stddef.h>
 
 #include "cli.h"
-#include "session.h"
+#include "session/session.h"
 
 #define RUN_RECORD_FILE "fovsim-run.txt"
 
@@ -52,6 +52,9 @@ fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, con
 fs_status run_folder_complete(run_folder *f);
 /* Frees f. A run that did not complete and left no frame of its own removes its record too. */
 void run_folder_close(run_folder *f);
+/* Prints the line that says what a resume kept and what redrawing kept frames for the TAA
+ * history cost (nothing when no frame was kept). */
+void run_folder_print_resume(const run_folder *rf, int redrawn, double redrawn_s);
 
 /* The frame the TAA history of frame `first` starts from: the last frame at or before it whose
  * history is reset (frame 0, or a frame just after a camera cut). Resuming at `first` redraws

@@ -1,6 +1,23 @@
-/* sweep.c: `fovsim sweep MANIFEST` (sweep.h): the manifest, its task list and the three ways to
- * run it. `fovsim merge` is in merge.c. */
-#include "sweep.h"
+/* sweep.c: `fovsim sweep MANIFEST` (issue 18; docs/cluster.md); `fovsim merge SWEEP_DIR` is merge.c.
+ *
+ * A manifest (JSON) names scenes, gaze traces, alpha modes, ring layouts, TAA settings, the
+ * display and the reference; the sweep is the product of scenes x traces x ring layouts x TAA
+ * settings (x frame chunks with --chunk-frames), each task one `fovsim compare` of every mode into
+ * SWEEP/tasks/<a name derived from its parameters>/. The task list is run by the same binary in
+ * three ways: a jobs file (one shell command per line, for GNU parallel or any farm), a Slurm array
+ * script (sbatch), or --local N processes here. Every way runs `fovsim sweep MANIFEST --task I`,
+ * which skips a task whose folder's record says complete (run_record.h) and redraws one that is
+ * not, so running the list again resumes it. `fovsim merge` gathers the tasks' metrics.
+ *
+ * What a sweep writes, all under SWEEP (the manifest's "out", or --out):
+ *   manifest.json           the manifest with absolute paths (what merge reads)
+ *   manifest-<hash>.json    the same, under a name of its content: the jobs and the Slurm script
+ *                           read this one, so editing the manifest never changes a running task
+ *   tasks/<task>/           each task's compare output (frames, metrics.csv, summary.json, record)
+ *   logs/                   each task's output (task-NNNN.log; Slurm: slurm-<job>_<index>.out/.err)
+ *   jobs.txt, sweep.sbatch  with --jobs-file / --slurm
+ *   metrics.csv, summary.json, accuracy.csv, accuracy.png   by merge */
+#include "commands/commands.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -24,11 +41,10 @@
 #include "core/log.h"
 #include "output/out_path.h"
 #include "fov/fov_ring.h"
-#include "run.h"
-#include "run_record.h"
+#include "session/run_record.h"
 #include "scene/frame.h"
-#include "session.h"
-#include "sweep_manifest.h"
+#include "session/session.h"
+#include "commands/sweep_manifest.h"
 
 /* >>task list */
 
@@ -241,7 +257,7 @@ static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
     run_desc d;
     fs_status st = cli_parse(argc, argv, &d);
     if (st == FS_OK)
-        st = run(&d);
+        st = command_run(&d);
     sweep_task_argv_free(argv, owned);
     return st;
 }
@@ -545,7 +561,7 @@ static void sweep_help(void)
 
 typedef enum sweep_action { ACT_LIST, ACT_LOCAL, ACT_JOBS, ACT_SLURM, ACT_TASK } sweep_action;
 
-fs_status sweep_main(int argc, char **argv)
+fs_status cmd_sweep(int argc, char **argv)
 {
     const char *manifest = NULL, *jobs_file = NULL;
     sweep_overrides ov = {.warmup = -1};

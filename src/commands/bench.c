@@ -1,20 +1,17 @@
-/* run.c: what each command does. Everything that can fail on bad input (scene, plan, GL context,
- * shaders) is done before the output directory is touched, so a bad run leaves nothing behind. */
-#include "run.h"
+/* bench.c: `fovsim bench` (without --accuracy, which is bench_accuracy.c): frame time, CPU time,
+ * page faults and pipeline statistics of full resolution against the ring layout, per alpha mode
+ * and per stage, interleaved frame by frame so every configuration sees the same machine state. */
+#include "commands/commands.h"
 
 #include <errno.h>
-#include <math.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
 #include "common/shared_defs.h"
-#include "core/file_read.h"
 #include "core/log.h"
 #include "core/proc_stats.h"
 #include "core/progress.h"
@@ -23,245 +20,9 @@
 #include "gaze/gaze.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
-#include "passes/abuffer.h"
-#include "reference/reference.h"
 #include "scene/frame.h"
-#include "compare.h"
-#include "session.h"
-#include "view/view.h"
-#include "output/out_path.h"
-#include "run_record.h"
+#include "session/session.h"
 
-/* >>render */
-/* The frames a run must draw: from `start` (where the TAA history of the first missing frame
- * begins) to the last missing one; frames kept by --resume in between are drawn again without
- * being written when the history needs them, skipped when it does not (TAA off). */
-typedef struct draw_range {
-    int start, end; /* [start, end) */
-    bool redraw_kept;
-} draw_range;
-
-static draw_range frames_to_draw(const run_folder *rf, const session *s, float fps, bool history)
-{
-    int first = -1, last = -1;
-    for (int i = 0; i < rf->frames; i++)
-        if (!rf->kept[i]) {
-            first = first < 0 ? i : first;
-            last = i;
-        }
-    if (first < 0)
-        return (draw_range){0, 0, false};
-    int start = history ? run_history_start(&s->sc, first, fps, s->pl.width, s->pl.height) : first;
-    return (draw_range){start, last + 1, history};
-}
-
-/* The line that says what a resume kept and what it cost. */
-static void print_resume(const run_folder *rf, int redrawn, double redrawn_s)
-{
-    if (rf->kept_count == 0)
-        return;
-    printf("resumed: kept %d complete frame%s of the earlier run", rf->kept_count, rf->kept_count == 1 ? "" : "s");
-    if (redrawn)
-        printf("; drew %d of them again without writing them, for the TAA history of the next (%.1f s)", redrawn,
-               redrawn_s);
-    printf("\n");
-}
-
-/* Renders the sequence; *frames_out (may be NULL) gets the number of frames asked for. */
-static fs_status run_render(const run_desc *d, const char *default_out, int *frames_out)
-{
-    session s;
-    fs_status st = session_begin(d, &s, true);
-    if (st != FS_OK)
-        return st;
-    const char *out = d->out_dir ? d->out_dir : default_out;
-    int frames = session_frame_count(d, &s.sc);
-    if (frames_out)
-        *frames_out = frames;
-    run_folder rf = {0};
-    /* a killed run's litter, another configuration's output, --resume (issue 17) */
-    st = run_folder_open(&rf, out, d, &s, frames);
-    exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
-    if (st == FS_OK && !w)
-        st = FS_ERR_NOMEM;
-    draw_range dr = st == FS_OK ? frames_to_draw(&rf, &s, d->fps, s.pl.taa) : (draw_range){0, 0, false};
-    session_catch_sigint();
-    progress pr = progress_begin("frame", dr.end - dr.start, d->quiet);
-    double t0 = time_now(), redrawn_s = 0;
-    int done = 0, redrawn = 0;
-    for (int i = dr.start; i < dr.end && st == FS_OK; i++) {
-        if (session_interrupted()) {
-            st = FS_ERR_INTERRUPTED;
-            break;
-        }
-        if (rf.kept[i] && !dr.redraw_kept)
-            continue;
-        double a = time_now();
-        frame_record fr = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
-        exr_image img;
-        st = renderer_draw(s.r, &fr);
-        if (st == FS_OK)
-            st = renderer_read(s.r, &img);
-        if (st != FS_OK)
-            break;
-        if (rf.kept[i]) {
-            exr_image_free(&img);
-            redrawn++;
-            redrawn_s += time_now() - a;
-        } else {
-            session_frame_attrs(&img, &s, &fr);
-            char path[1200];
-            snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
-            st = exr_writer_submit(w, path, &img);
-            done += st == FS_OK;
-        }
-        progress_update(&pr, i + 1 - dr.start);
-    }
-    if (w) {
-        fs_status wst = exr_writer_finish(w);
-        if (st == FS_OK)
-            st = wst;
-    }
-    if (st == FS_OK)
-        st = run_folder_complete(&rf);
-    progress_end(&pr);
-    double el = time_now() - t0;
-    if (st == FS_OK) {
-        char rings[256];
-        fov_layout_format(&s.pl.layout, rings, sizeof rings);
-        printf("wrote %d frame%s (%dx%d, alpha %s, rings %s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n",
-               done, done == 1 ? "" : "s", s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode), rings, out, d->name, el,
-               el > 0 ? (done + redrawn) / el : 0.0, gl_device_renderer());
-        print_resume(&rf, redrawn, redrawn_s);
-    } else if (st == FS_ERR_INTERRUPTED) {
-        log_error("interrupted after %d complete frames in %s (no partial frame was left; --resume continues)",
-                  done + rf.kept_count, out);
-    } else if (done > 0) {
-        /* The failing write already printed the one error line; this is context for --verbose. */
-        log_info("RENDER: stopped; frames written before the failure in %s are complete, no partial frame was left", out);
-    }
-    run_folder_close(&rf);
-    session_end(&s);
-    return st;
-}
-
-static fs_status run_reference(const run_desc *d)
-{
-    session s;
-    fs_status st = session_begin(d, &s, false);
-    if (st != FS_OK)
-        return st;
-    ref_progress rp = {0};
-    reference *rf = session_reference(d, &s, &rp, &st);
-    const char *out = d->out_dir ? d->out_dir : "out/reference";
-    int frames = session_frame_count(d, &s.sc);
-    run_folder fo = {0};
-    if (st == FS_OK) /* reference frames are independent: --resume skips the kept ones */
-        st = run_folder_open(&fo, out, d, &s, frames);
-    double *errors = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
-    if (st == FS_OK && !errors)
-        st = FS_ERR_NOMEM;
-    int passes = rf ? reference_pass_count(rf) : 0, drawn = 0, cached = 0, rebuilt = 0, done = 0, measured = 0;
-    long overflow = 0, long_lists = 0;
-    uint64_t nodes = 0;
-    session_catch_sigint();
-    rp.pr = progress_begin("reference pass", (frames - fo.kept_count) * passes, d->quiet);
-    double t0 = time_now();
-    for (int i = 0; i < frames && st == FS_OK; i++) {
-        if (session_interrupted()) {
-            st = FS_ERR_INTERRUPTED;
-            break;
-        }
-        if (fo.kept[i])
-            continue;
-        rp.base = measured * passes;
-        frame_record fr = frame_record_at(&s.sc, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f,
-                                          s.pl.width, s.pl.height);
-        exr_image img;
-        reference_info info;
-        st = reference_frame(rf, &fr, &img, &info);
-        if (st != FS_OK)
-            break;
-        errors[measured++] = info.error;
-        overflow += info.overflow_pixels;
-        long_lists += info.long_lists;
-        nodes = info.list_nodes > nodes ? info.list_nodes : nodes;
-        cached += info.cached;
-        rebuilt += info.rebuilt;
-        drawn += !info.cached;
-        log_info("REFERENCE: frame %d %s, estimated error %.5f (%s)", i, info.cached ? "from the cache" : "drawn",
-                 info.error, info.path[0] ? info.path : "no cache");
-        session_frame_attrs(&img, &s, &fr);
-        char mode[64];
-        snprintf(mode, sizeof mode, "reference (%s)", reference_kind_name(reference_get_kind(rf)));
-        exr_image_set_string(&img, "fovsim:alpha_mode", mode);
-        exr_image_set_string(&img, "fovsim:rings", "off (full resolution)");
-        exr_image_set_string(&img, "fovsim:gaze_trace", "none (the reference does not depend on the gaze)");
-        exr_image_set_string(&img, "fovsim:taa", "off");
-        char path[1200];
-        snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
-        st = exr_write_file(path, &img, d->compression);
-        exr_image_free(&img);
-        done += st == FS_OK;
-        progress_update(&rp.pr, measured * passes);
-    }
-    progress_end(&rp.pr);
-    if (st == FS_OK)
-        st = run_folder_complete(&fo);
-    if (st == FS_OK) {
-        double el = time_now() - t0;
-        qsort(errors, (size_t)measured, sizeof *errors, stats_cmp_double);
-        char buf[1024];
-        const char *cache = session_cache_dir(d, buf, sizeof buf);
-        printf("wrote %d reference frame%s (%dx%d, %s) to %s/%s.####.exr in %.1f s\n", done, done == 1 ? "" : "s",
-               s.pl.width, s.pl.height, reference_describe(rf), out, d->name, el);
-        print_resume(&fo, 0, 0);
-        printf("  %d drawn, %d from the cache%s%s%s", drawn, cached, cache ? " (" : " (no cache)", cache ? cache : "",
-               cache ? ")" : "");
-        if (rebuilt)
-            printf(", %d cache entries were unusable (truncated, stale, tampered or not a file) and were redrawn", rebuilt);
-        if (reference_get_kind(rf) == REFERENCE_EXACT) {
-            int c = reference_compare_grid(rf);
-            printf("\n  convergence, RMS difference of the %dx%d and %dx%d sub-sample frames (linear RGB): median %.5f, "
-                   "max %.5f\n", reference_supersample(rf), reference_supersample(rf), c, c,
-                   stats_quantile(errors, measured, 0.5), measured ? errors[measured - 1] : 0.0);
-            if (drawn > 0)
-                printf("  fragment lists: at most %llu nodes in one pass (%.0f MB); %ld sub-sample pixels had more "
-                       "than %d fragments (sorted on the CPU); %ld overflowed sub-sample pixels took %d stochastic "
-                       "tests instead\n", (unsigned long long)nodes,
-                       (double)nodes * (double)sizeof(abuffer_node) / 1048576.0, long_lists, ABUFFER_RESOLVE_MAX,
-                       overflow, reference_samples(rf));
-        } else {
-            printf("\n  convergence, RMS difference of the K/2 and K estimates (linear RGB): median %.5f, max %.5f\n",
-                   stats_quantile(errors, measured, 0.5), measured ? errors[measured - 1] : 0.0);
-        }
-    } else if (st == FS_ERR_INTERRUPTED) {
-        log_error("interrupted after %d complete frames in %s (no partial frame was left; --resume continues)",
-                  done + fo.kept_count, out);
-    }
-    run_folder_close(&fo);
-    free(errors);
-    reference_destroy(rf);
-    session_end(&s);
-    return st;
-}
-
-/* >>plan */
-static fs_status run_plan(const run_desc *d)
-{
-    scene sc;
-    fs_status st = session_load_scene(d, &sc);
-    if (st != FS_OK)
-        return st;
-    plan pl;
-    st = session_build_plan(d, &sc, &pl);
-    if (st == FS_OK)
-        plan_print(&pl, &sc, stdout);
-    scene_free(&sc);
-    return st;
-}
-
-/* >>bench */
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
     char name[64];
@@ -428,7 +189,7 @@ static void bench_row(char *report, int *o, const char *cfg, const char *measure
     report_printf(report, o, "\n");
 }
 
-static fs_status run_bench(const run_desc *d)
+fs_status cmd_bench(const run_desc *d)
 {
     session s;
     fs_status st = session_begin(d, &s, false); /* every configuration gets its own renderer */
@@ -667,23 +428,4 @@ static fs_status run_bench(const run_desc *d)
     }
     session_end(&s);
     return st;
-}
-
-fs_status run(const run_desc *d)
-{
-    log_set_verbose(d->verbose);
-    switch (d->cmd) {
-    case CMD_HELP: cli_print_help(d->help_for); return FS_OK;
-    case CMD_VERSION: printf("fovsim %s\n", FOVSIM_VERSION); return FS_OK;
-    case CMD_LIST_GPUS: gl_device_list(); return FS_OK;
-    case CMD_PLAN: return run_plan(d);
-    case CMD_RENDER: return run_render(d, "out/render", NULL);
-    case CMD_DEMO: return run_demo(d);
-    case CMD_BENCH: return d->accuracy ? run_bench_accuracy(d) : run_bench(d);
-    case CMD_REFERENCE: return run_reference(d);
-    case CMD_COMPARE: return run_compare(d);
-    case CMD_VIEW: return view_run(d);
-    case CMD_NONE: break;
-    }
-    return FS_ERR_INTERNAL;
 }

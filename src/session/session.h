@@ -1,6 +1,5 @@
-/* session.h: what the commands share (run.c: render, plan, bench, reference; compare.c: compare,
- * demo, bench --accuracy). A session holds the inputs of one run, all loaded and checked before
- * any output is touched, so bad input leaves nothing behind. */
+/* session.h: what the commands (src/commands/) share. A session holds the inputs of one run, all
+ * loaded and checked before any output is touched, so bad input leaves nothing behind. */
 #ifndef FOVSIM_SESSION_H
 #define FOVSIM_SESSION_H
 

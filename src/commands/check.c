@@ -2,7 +2,7 @@
  * in-process into the baseline or the next folder, and the tolerances. The comparison itself is in
  * check_judge.c. */
 #define _XOPEN_SOURCE 700 /* realpath */
-#include "check.h"
+#include "commands/check.h"
 
 #include <cjson/cJSON.h>
 #include <dirent.h>
@@ -20,8 +20,8 @@
 #include "core/file_read.h"
 #include "core/log.h"
 #include "output/out_path.h"
-#include "run.h"
-#include "run_record.h"
+#include "commands/commands.h"
+#include "session/run_record.h"
 
 #define CHECK_FILE "check.json"
 #define CHECK_FORMAT 1          /* check.json's "fovsim_check": the layout of this file */
@@ -522,7 +522,7 @@ static fs_status compare_run_quiet(const compare_call *c, bool table)
         dup2(devnull, STDOUT_FILENO);
         close(devnull);
     }
-    fs_status st = run(&c->d);
+    fs_status st = command_run(&c->d);
     fflush(stdout);
     if (saved >= 0) {
         dup2(saved, STDOUT_FILENO);
@@ -749,7 +749,7 @@ static fs_status check_against(const check_opts *o)
     return st == FS_OK && v.failed_values ? FS_REGRESSION : st;
 }
 
-fs_status check_main(int argc, char **argv)
+fs_status cmd_check(int argc, char **argv)
 {
     check_opts o;
     bool help = false;

@@ -1,6 +1,6 @@
-/* merge.c: `fovsim merge SWEEP_DIR` (sweep.h): every task's metrics into one CSV and one JSON
- * summary, the tasks that are missing or did not finish, and the accuracy-vs-time plot of the
- * whole sweep. */
+/* merge.c: `fovsim merge SWEEP_DIR` (sweep.c says what a sweep folder holds): every task's
+ * metrics into one CSV and one JSON summary, the tasks that are missing or did not finish, and
+ * the accuracy-vs-time plot of the whole sweep. */
 #include <cjson/cJSON.h>
 #include <errno.h>
 #include <limits.h>
@@ -13,9 +13,9 @@
 #include "core/log.h"
 #include "output/out_path.h"
 #include "core/strbuf.h"
-#include "session.h"
-#include "sweep.h"
-#include "sweep_manifest.h"
+#include "session/session.h"
+#include "commands/commands.h"
+#include "commands/sweep_manifest.h"
 
 /* One (configuration, mode) of the sweep: the accuracy-vs-time point. */
 typedef struct point {
@@ -209,7 +209,7 @@ static int cmp_double(const void *a, const void *b)
     return stats_cmp_double(a, b);
 }
 
-fs_status merge_main(int argc, char **argv)
+fs_status cmd_merge(int argc, char **argv)
 {
     const char *dir = NULL;
     for (int i = 2; i < argc; i++) {

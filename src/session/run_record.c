@@ -1,5 +1,5 @@
 /* run_record.c: the record of what wrote an output folder, --resume and --replace (run_record.h). */
-#include "run_record.h"
+#include "session/run_record.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -442,4 +442,16 @@ int run_history_start(const scene *sc, int first, float fps, int width, int heig
             return i;
     }
     return 0;
+}
+
+/* The line that says what a resume kept and what it cost. */
+void run_folder_print_resume(const run_folder *rf, int redrawn, double redrawn_s)
+{
+    if (rf->kept_count == 0)
+        return;
+    printf("resumed: kept %d complete frame%s of the earlier run", rf->kept_count, rf->kept_count == 1 ? "" : "s");
+    if (redrawn)
+        printf("; drew %d of them again without writing them, for the TAA history of the next (%.1f s)", redrawn,
+               redrawn_s);
+    printf("\n");
 }

@@ -1,7 +1,7 @@
 /* session.c: what every command shares: loading and checking the inputs (scene, plan, gaze trace,
  * GL context) before anything is written, per-frame gaze and footprints, EXR header attributes,
  * the reference cache, and small statistics. */
-#include "session.h"
+#include "session/session.h"
 
 #include "scene/gltf_shim.h"
 

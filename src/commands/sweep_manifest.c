@@ -1,6 +1,6 @@
 /* sweep_manifest.c: a sweep's manifest (sweep_manifest.h). */
 #define _XOPEN_SOURCE 700 /* realpath */
-#include "sweep_manifest.h"
+#include "commands/sweep_manifest.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>

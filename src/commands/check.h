@@ -27,9 +27,6 @@
 #include "core/config.h"
 #include "core/status.h"
 
-/* argv as main's, argv[1] == "check". */
-fs_status check_main(int argc, char **argv);
-
 /* >>tolerances (check_judge.c) */
 
 typedef enum check_metric {

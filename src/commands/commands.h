@@ -1,0 +1,33 @@
+/* commands.h: the commands of fovsim, one file each in this folder, given a parsed run_desc
+ * (cli.h). What they share (inputs checked before output, gaze per frame, the output folder's
+ * record) is in src/session/.
+ *
+ *   fovsim render     render.c          fovsim compare, demo  compare.c
+ *   fovsim plan       plan.c            fovsim bench --accuracy  bench_accuracy.c
+ *   fovsim bench      bench.c           fovsim check      check.c (+ check_judge.c)
+ *   fovsim reference  reference.c       fovsim sweep      sweep.c (+ sweep_manifest.c)
+ *   fovsim view       src/view/view.c   fovsim merge      merge.c
+ *
+ * dispatch.c maps a run_desc to its command; main.c hands sweep, merge and check their own argv. */
+#ifndef FOVSIM_COMMANDS_H
+#define FOVSIM_COMMANDS_H
+
+#include "cli.h"
+
+/* Runs d->cmd (help, version and --list-gpus included). */
+fs_status command_run(const run_desc *d);
+
+fs_status cmd_render(const run_desc *d);
+fs_status cmd_plan(const run_desc *d);
+fs_status cmd_bench(const run_desc *d);
+fs_status cmd_bench_accuracy(const run_desc *d);
+fs_status cmd_reference(const run_desc *d);
+fs_status cmd_compare(const run_desc *d);
+fs_status cmd_demo(const run_desc *d);
+
+/* These parse their own options (argv[1] is the command's name). */
+fs_status cmd_check(int argc, char **argv);
+fs_status cmd_sweep(int argc, char **argv);
+fs_status cmd_merge(int argc, char **argv);
+
+#endif

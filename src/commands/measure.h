@@ -1,0 +1,78 @@
+/* measure.h: what compare (compare.c) and bench --accuracy (bench_accuracy.c) share to measure
+ * each alpha mode against the reference: a mode's renderer and per-ring sums over frames, and the
+ * motion-compensated temporal error's per-frame state (docs/metrics.md). */
+#ifndef FOVSIM_MEASURE_H
+#define FOVSIM_MEASURE_H
+
+#include <stdbool.h>
+
+#include "metrics/metrics.h"
+#include "output/exr_write.h"
+#include "passes/renderer.h"
+#include "reference/reference.h"
+#include "session/session.h"
+
+/* The reference of demo and bench --accuracy unless given: supersampling and samples per pixel. */
+#define DEMO_SUPERSAMPLE 2
+#define DEMO_SAMPLES 16
+
+/* One alpha mode's renderer and what it measured. */
+typedef struct mode_run {
+    alpha_mode mode;
+    plan pl;
+    renderer *r;
+    exr_image img, prev;   /* this frame's and the previous frame's image */
+    bool have_prev;
+    double *frame_ms;      /* per frame: draw to glFinish */
+    /* Sums over frames, per measurement ring (+1: the whole display). */
+    double ratio_sum[MAX_FOV_RINGS + 1], rmse_sum[MAX_FOV_RINGS + 1], psnr_sum[MAX_FOV_RINGS + 1];
+    double alpha_rmse_sum[MAX_FOV_RINGS + 1]; /* against the band-limited reference */
+    double flip_sum[MAX_FOV_RINGS + 1];       /* mean LDR-FLIP */
+    double te_sum[MAX_FOV_RINGS + 1];         /* motion-compensated temporal error */
+    int te_n[MAX_FOV_RINGS + 1];
+    float *flip;                              /* this frame's FLIP map against the reference */
+    double still_sum[MAX_FOV_RINGS + 1]; /* static-view flicker: change on frames with a still camera */
+    int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], still_n[MAX_FOV_RINGS + 1];
+} mode_run;
+
+/* The motion-compensated temporal error's per-frame state (docs/metrics.md "Temporal error"): a
+ * depth pass that method and reference share (the traditional test at full resolution, no TAA),
+ * this frame's and the previous frame's depth, and the previous reference warped into this frame. */
+typedef struct temporal {
+    plan pl;
+    renderer *probe;
+    int width, height;
+    float *buf;              /* 2 depths, 4 warped reference planes, 4 warped method planes, the
+                              * warp's positions (2 per pixel) */
+    float *coords;
+    unsigned char *valid;
+    float *depth[2];         /* this frame's, the previous frame's */
+    frame_record prev;       /* the previous frame (valid when have_prev) */
+    bool have_prev, warped;  /* a previous frame exists; this frame's reference was warped */
+} temporal;
+
+/* The rings metrics are reported in: the run's own layout when it is foveated, else the acuity
+ * model's (so a full-resolution run is still measured where its periphery would be). */
+fov_layout measure_layout(const plan *pl);
+/* The colour and coverage planes of an image (its channels R, G, B, coverage). */
+metrics_view measure_view(const exr_image *img);
+/* The LDR-FLIP map of img against ref at the display's pixels per degree at its centre. */
+fs_status measure_flip(const metrics_view *img, const metrics_view *ref, const display_desc *d, float *out);
+/* Adds one frame's per-ring metrics (count rings + the whole display) to mr's sums. still: the
+ * camera did not move since the previous frame (the static-view flicker counts). */
+void measure_accumulate(mode_run *mr, const ring_metrics *rm, int count, bool still);
+/* sum / n, or none when n is 0. */
+double measure_mean_or(double sum, int n, double none);
+
+/* The temporal error (measure.c documents each step): begin once, then per frame temporal_frame,
+ * temporal_measure per mode, temporal_next; temporal_end frees it. */
+fs_status temporal_begin(temporal *t, const session *s);
+fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref);
+fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
+                           const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm);
+double temporal_reference_noise2(const reference *rf, bool still, double e_now, double e_prev);
+bool temporal_still(const temporal *t, const frame_record *fr);
+void temporal_next(temporal *t, const frame_record *fr);
+void temporal_end(temporal *t);
+
+#endif

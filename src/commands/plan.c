@@ -1,0 +1,22 @@
+/* plan.c: `fovsim plan`: what a scene and its options compile and run (src/passes/plan.c), printed
+ * without drawing. */
+#include "commands/commands.h"
+
+#include <stdio.h>
+
+#include "passes/plan.h"
+#include "session/session.h"
+
+fs_status cmd_plan(const run_desc *d)
+{
+    scene sc;
+    fs_status st = session_load_scene(d, &sc);
+    if (st != FS_OK)
+        return st;
+    plan pl;
+    st = session_build_plan(d, &sc, &pl);
+    if (st == FS_OK)
+        plan_print(&pl, &sc, stdout);
+    scene_free(&sc);
+    return st;
+}
