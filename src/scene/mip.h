@@ -12,7 +12,7 @@
  * so that a traditional test (alpha >= cutoff) passes the same share of texels as at level 0
  * (Castano's coverage-preserving mipmaps, seed 001; DESIGN.md "Alpha-test strategies", castano).
  *
- * What it does NOT do: upload (passes/renderer.c).
+ * What it does NOT do: upload (passes/renderer_upload.c).
  */
 #ifndef FOVSIM_MIP_H
 #define FOVSIM_MIP_H

@@ -67,7 +67,7 @@ TEST(coverage_with_distance_per_mode)
     /* Hashed, stochastic and hashed A2C: the wire keeps its mean opacity at every distance (within
      * 35 %: one sample per pixel of a texture whose alpha is mostly 0 or 1). Hashed fades in from the
      * traditional test up close (seed 000 §5.5.1), and for this wire by mip 3, where traditional
-     * starts to erode it (renderer.c material_fade): no mid-distance hole. */
+     * starts to erode it (renderer_upload.c material_fade): no mid-distance hole. */
     for (int k = 1; k < NT; k++) {
         CHECK(fabs(kept[1][k] - mean_alpha) < 0.35 * mean_alpha);
         CHECK(fabs(kept[2][k] - mean_alpha) < 0.35 * mean_alpha);

@@ -1,0 +1,165 @@
+/* renderer_internal.h: what the renderer's files share (internal to src/passes/; the public
+ * contract is renderer.h): `struct renderer` and its GL objects, the resources the passes declare,
+ * and the steps of renderer_create that live in renderer_upload.c.
+ *
+ *   renderer.c         the resources the passes declare, the programs, renderer_create and _destroy
+ *   renderer_upload.c  the scene on the GPU (textures, samplers, primitives, instances), the render
+ *                      targets, the exact reference's list store
+ *   renderer_draw.c    one frame: each ring's culling and forward passes, the list pass and its
+ *                      resolve, the TAA resolve, the composite; stage timing and statistics
+ *   renderer_read.c    read-back (images, depth, fragment lists) and the framebuffer the viewer blits
+ *
+ * What it does NOT do: anything a caller outside src/passes/ may use.
+ */
+#ifndef FOVSIM_RENDERER_INTERNAL_H
+#define FOVSIM_RENDERER_INTERNAL_H
+
+#include "passes/renderer.h"
+
+#include <epoxy/gl.h>
+
+/* >>resources: what the passes read and write (the tables are in renderer.c) */
+typedef struct pass_resource {
+    const char *name, *desc;
+    GLenum format;
+    bool output, optional;
+} pass_resource;
+
+/* k_forward_resources: each ring's forward passes write these, at the ring's resolution. */
+enum { RES_COLOR, RES_COVERAGE, RES_DEPTH, RES_MOTION, RES_COUNT };
+extern const pass_resource k_forward_resources[RES_COUNT];
+
+/* k_composite_resources: the composite reads every ring's color and coverage and writes these at
+ * display resolution. */
+enum { OUT_COLOR, OUT_COVERAGE, OUT_DEBUG, OUT_COUNT };
+extern const pass_resource k_composite_resources[OUT_COUNT];
+
+/* >>types */
+typedef struct gpu_program {
+    GLuint id;
+    GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
+        u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
+        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive;
+} gpu_program;
+
+typedef struct composite_program {
+    GLuint id;
+    GLint u_display_px, u_focal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
+} composite_program;
+
+typedef struct taa_program {
+    GLuint id;
+    GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
+        u_gamma, u_sparse, u_rect, u_prev_rect, u_block, u_ring_prev_rect, u_ring_block, u_cull_gaze_px,
+        u_cull_display_px, u_cull_focal_px, u_ring_hole_deg;
+} taa_program;
+
+typedef struct gpu_prim {
+    GLuint vao, vbo[4], ibo;
+    GLsizei index_count;
+    uint32_t first_triangle; /* triangles of the asset's earlier primitives (u_hash_primitive) */
+} gpu_prim;
+
+typedef struct gpu_asset {
+    gpu_prim *prims;
+    GLuint *textures;       /* per image */
+    GLuint *castano;        /* per material: coverage-preserving chain of its image at its cutoff, or 0 */
+    float *fade_n;          /* per material: hashed fade-in length in mip levels, 0 = no fade */
+    GLuint *samplers;       /* per material */
+    GLuint instance_vbo;    /* mat4 per instance of this asset, in instance_ids order */
+    GLuint sway_vbo;        /* plan.sway: (offset, height), (frequency, phase, 0, 0) per instance */
+    int *instance_ids;      /* scene instance index of each slot */
+    unsigned char *visible; /* per slot: may be visible in the ring being drawn (frustum culling) */
+    float *cull_pad;        /* plan.sway, per slot: how far (asset units) sway may leave the box */
+    int instance_count;
+    int slot_base;          /* instances of the earlier assets: slot k is the scene's slot_base + k */
+} gpu_asset;
+
+/* Ring targets: colour and coverage are texture arrays with one layer per ring, each layer the
+ * size of the display (the innermost ring may need all of it); a ring renders into the
+ * footprint's (width x height) corner of its layer. Rings draw one after another, so they share
+ * one depth buffer. */
+typedef struct ring_targets {
+    GLuint fbo[MAX_FOV_RINGS];
+    GLuint color, coverage, depth;
+    GLuint motion; /* plan.velocity: one display-sized 2D target shared by the rings, as depth is */
+    /* A2C modes: every ring draws into one shared multisampled target (display-sized), then
+     * resolves its footprint corner into its layer. */
+    GLuint msaa_fbo, msaa_color, msaa_coverage, msaa_depth, msaa_motion;
+} ring_targets;
+
+#define RENDERER_MAX_STAGES (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
+
+/* One blended instance to draw, farthest first. */
+typedef struct sort_item {
+    float dist2;
+    int asset, slot;
+} sort_item;
+
+struct renderer {
+    const scene *sc;
+    plan pl;
+    gpu_asset *assets;
+    sort_item *blend_order;                /* scratch for the BLEND sort: one per instance */
+    gpu_program programs[PLAN_MAX_PASSES]; /* one per plan pass, same index */
+    composite_program comp;
+    composite_program comp_tile;           /* plan.composite_tiles: the rectangles of one ring */
+    GLuint tile_vao, tile_vbo;             /* the composite's rectangles, rebuilt every frame */
+    fov_tile *tiles;                       /* scratch: fov_tile_max rectangles */
+    float *tile_verts;                     /* scratch: 6 vertices (x, y, ring) per rectangle */
+    int tile_max;
+    ring_targets rt;
+    GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
+    GLuint empty_vao;                      /* TAA's full-screen triangle needs a bound VAO */
+    GLuint ring_sampler;                   /* bilinear, clamp to edge */
+    int width, height;
+    bool timers;
+    int stage_count;                       /* timed stages: passes (rings off) or rings + composite */
+    char stage_names[RENDERER_MAX_STAGES][48];
+    GLuint time_queries[RENDERER_MAX_STAGES];
+    double stage_wall_ms[RENDERER_MAX_STAGES];
+    /* Pipeline statistics queries of each stage (GL_ARB_pipeline_statistics_query), one per
+     * k_stat_targets entry; 0 when the extension is missing or timers are off. */
+    GLuint stat_queries[RENDERER_MAX_STAGES][3];
+    bool stat_queries_on;
+    bool stats_pending;
+    /* >>taa state: resolved rings ping-pong between two pairs of arrays (no read/write of one
+     * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
+    taa_program taa;
+    GLuint taa_color[2], taa_coverage[2], taa_fbo[2][MAX_FOV_RINGS];
+    GLuint taa_sampler;
+    int parity;                             /* the pair this frame writes */
+    int out_parity;                         /* the pair the last frame wrote */
+    bool have_prev;
+    int prev_index;
+    float prev_time;                        /* the previous frame's time (per-object motion) */
+    mat4 prev_vp[MAX_FOV_RINGS];
+    fov_ring_rect prev_rect[MAX_FOV_RINGS];
+    float prev_gaze_px[2], prev_focal_px;   /* plan.ring_cull: where the previous frame's holes were */
+    float prev_hole_deg[MAX_FOV_RINGS];     /* fov_ring_hole_deg of the rings that culled, else 0 */
+    mat4 draw_vp;                           /* the view-projection the ring being drawn uses */
+    bool pass_sync;
+    long long shaded_pixels;               /* ring target pixels drawn by the last frame */
+    int ring_instances[MAX_FOV_RINGS];     /* instances each ring drew in the last frame */
+    float *read_buf, *read_row;            /* renderer_read's scratch, made on first use */
+    /* >>lists: the exact reference's list pass (plan.reference_lists; abuffer.h) */
+    GLuint list_head;                      /* R32UI, display-sized: each pixel's first node */
+    GLuint list_nodes, list_nodes_tex;     /* the node store and its RGBA32UI buffer texture */
+    GLuint list_counter;                   /* shader storage: nodes asked for (atomicAdd) */
+    uint64_t list_capacity;                /* nodes the store holds */
+    uint32_t list_draw_order;              /* instances drawn so far in this pass (draw_order.glsl) */
+    int list_phase;                        /* the list pass draws MASK (0), then BLEND (1) materials */
+    uint64_t list_initial;                 /* renderer_desc.list_nodes, or 4 per pixel */
+    GLuint list_prog;                      /* the resolve (plan.list_resolve) */
+    GLint list_u_capacity;
+    GLuint list_fbo, list_color, list_coverage; /* its output: RGBA32F, RG32F (coverage, flag) */
+    uint32_t *list_head_buf;               /* renderer_read_lists' scratch */
+    void *list_node_buf;
+    uint64_t list_node_buf_cap;
+};
+
+/* >>create: renderer_create's steps after the programs (renderer_upload.c) */
+fs_status renderer_upload_scene(renderer *r);
+fs_status renderer_create_targets(renderer *r);
+
+#endif

@@ -1,0 +1,398 @@
+/* renderer_upload.c: what renderer_create puts on the GPU once the programs are built: the scene
+ * (textures with their mip chains, samplers, primitives, instances and their sway attributes),
+ * the render targets, and the exact reference's fragment-list store. */
+#include "passes/renderer_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "common/shared_defs.h"
+#include "core/log.h"
+#include "scene/mip.h"
+
+/* >>upload */
+/* Textures are stored as RGBA16 UNORM, linear premultiplied. 16-bit unorm holds every 8-bit
+ * value k/255 exactly (k/255 = 257k/65535), so a level-0 alpha equal to a material's cutoff
+ * compares exactly as glTF says (alpha >= cutoff); RGBA16F would round 51/255 below a 0.2 cutoff.
+ * It also keeps 1/65535 precision for dark premultiplied colour in the averaged mips. */
+static GLuint upload_chain(const image_rgba8 *img, float cutoff, bool castano, fs_status *st)
+{
+    mip_chain mc;
+    *st = castano ? mip_chain_build_castano(img, cutoff, &mc) : mip_chain_build(img, &mc);
+    if (*st != FS_OK)
+        return 0;
+    size_t n0 = (size_t)mc.width[0] * (size_t)mc.height[0] * 4;
+    uint16_t *buf = malloc(sizeof(uint16_t) * n0);
+    if (!buf) {
+        mip_chain_free(&mc);
+        *st = FS_ERR_NOMEM;
+        return 0;
+    }
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glTextureStorage2D(t, mc.level_count, GL_RGBA16, mc.width[0], mc.height[0]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    for (int l = 0; l < mc.level_count; l++) {
+        size_t n = (size_t)mc.width[l] * (size_t)mc.height[l] * 4;
+        for (size_t i = 0; i < n; i++) {
+            float v = mc.rgba[l][i];
+            v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; /* also maps NaN to 0 */
+            buf[i] = (uint16_t)lrintf(v * 65535.0f);
+        }
+        glTextureSubImage2D(t, l, 0, 0, mc.width[l], mc.height[l], GL_RGBA, GL_UNSIGNED_SHORT, buf);
+    }
+    free(buf);
+    mip_chain_free(&mc);
+    return t;
+}
+
+static GLuint make_sampler(const material *m)
+{
+    static const GLenum wraps[] = {[TEX_WRAP_REPEAT] = GL_REPEAT, [TEX_WRAP_CLAMP] = GL_CLAMP_TO_EDGE,
+                                   [TEX_WRAP_MIRROR] = GL_MIRRORED_REPEAT};
+    GLuint s;
+    glCreateSamplers(1, &s);
+    glSamplerParameteri(s, GL_TEXTURE_WRAP_S, (GLint)wraps[m->wrap_s]);
+    glSamplerParameteri(s, GL_TEXTURE_WRAP_T, (GLint)wraps[m->wrap_t]);
+    glSamplerParameteri(s, GL_TEXTURE_MAG_FILTER, m->mag_filter == TEX_FILTER_NEAREST ? GL_NEAREST : GL_LINEAR);
+    glSamplerParameteri(s, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    return s;
+}
+
+/* Per-instance sway attributes (binding 5): (offset.xyz, height) at ATTR_SWAY, (frequency, phase)
+ * at ATTR_SWAY_WAVE, 8 floats per instance. */
+enum { SWAY_FLOATS = 8 };
+
+static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint sway_vbo)
+{
+    glCreateVertexArrays(1, &g->vao);
+    glCreateBuffers(4, g->vbo);
+    glCreateBuffers(1, &g->ibo);
+    const float *data[4] = {p->positions, p->normals, p->uvs, p->colors};
+    const int comps[4] = {3, 3, 2, 4};
+    const GLuint locs[4] = {ATTR_POSITION, ATTR_NORMAL, ATTR_UV, ATTR_COLOR};
+    for (int i = 0; i < 4; i++) {
+        glNamedBufferStorage(g->vbo[i], (GLsizeiptr)(sizeof(float) * (size_t)comps[i] * p->vertex_count), data[i], 0);
+        glVertexArrayVertexBuffer(g->vao, (GLuint)i, g->vbo[i], 0, (GLsizei)(sizeof(float) * (size_t)comps[i]));
+        glVertexArrayAttribFormat(g->vao, locs[i], comps[i], GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(g->vao, locs[i], (GLuint)i);
+        glEnableVertexArrayAttrib(g->vao, locs[i]);
+    }
+    glVertexArrayVertexBuffer(g->vao, 4, instance_vbo, 0, sizeof(mat4));
+    glVertexArrayBindingDivisor(g->vao, 4, 1);
+    for (GLuint c = 0; c < 4; c++) {
+        glVertexArrayAttribFormat(g->vao, ATTR_INSTANCE + c, 4, GL_FLOAT, GL_FALSE, c * 4 * sizeof(float));
+        glVertexArrayAttribBinding(g->vao, ATTR_INSTANCE + c, 4);
+        glEnableVertexArrayAttrib(g->vao, ATTR_INSTANCE + c);
+    }
+    if (sway_vbo) {
+        glVertexArrayVertexBuffer(g->vao, 5, sway_vbo, 0, SWAY_FLOATS * sizeof(float));
+        glVertexArrayBindingDivisor(g->vao, 5, 1);
+        glVertexArrayAttribFormat(g->vao, ATTR_SWAY, 4, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribFormat(g->vao, ATTR_SWAY_WAVE, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float));
+        glVertexArrayAttribBinding(g->vao, ATTR_SWAY, 5);
+        glVertexArrayAttribBinding(g->vao, ATTR_SWAY_WAVE, 5);
+        glEnableVertexArrayAttrib(g->vao, ATTR_SWAY);
+        glEnableVertexArrayAttrib(g->vao, ATTR_SWAY_WAVE);
+    }
+    glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * p->index_count), p->indices, 0);
+    glVertexArrayElementBuffer(g->vao, g->ibo);
+    g->index_count = (GLsizei)p->index_count;
+}
+
+/* Fade-in length of the hashed noise for one material (seed 000 §5.5.1, docs/hashed-alpha.md):
+ * fade_n mip levels (default 6), but never later than the level where the traditional test's
+ * coverage of this texture at this cutoff has drifted by a quarter — a thin wire erodes by mip 3,
+ * and noise that arrives at mip 6 would leave it invisible in between. No texture: no mip levels
+ * to fade over, so no fade (the noise is the only way to show a constant partial alpha). */
+static fs_status material_fade(const plan *pl, const material *m, const asset *as, float *out)
+{
+    alpha_mode mode = plan_material_mode(pl, m);
+    *out = 0.0f;
+    if (m->alpha_kind != ALPHA_KIND_MASK || m->base_color_image < 0 || pl->alpha.no_fade ||
+        (mode != ALPHA_MODE_HASHED && mode != ALPHA_MODE_HASHED_A2C))
+        return FS_OK;
+    mip_chain mc;
+    fs_status st = mip_chain_build(&as->images[m->base_color_image], &mc);
+    if (st != FS_OK)
+        return st;
+    int drift = mip_coverage_drift_level(&mc, m->alpha_cutoff, 0.25);
+    mip_chain_free(&mc);
+    *out = fmaxf(1.0f, fminf(pl->alpha.fade_n, (float)drift));
+    log_info("ALPHA: [%s] material \"%s\": hashed noise fades in over %.1f mip levels", as->name, m->name, *out);
+    return FS_OK;
+}
+
+fs_status renderer_upload_scene(renderer *r)
+{
+    const scene *sc = r->sc;
+    r->assets = calloc((size_t)sc->asset_count + 1, sizeof *r->assets);
+    r->blend_order = calloc((size_t)sc->instance_count + 1, sizeof *r->blend_order);
+    if (!r->assets || !r->blend_order)
+        return FS_ERR_NOMEM;
+    for (int a = 0, slots = 0; a < sc->asset_count; a++) {
+        const asset *as = &sc->assets[a];
+        gpu_asset *ga = &r->assets[a];
+        for (int i = 0; i < sc->instance_count; i++)
+            ga->instance_count += sc->instances[i].asset == a;
+        ga->slot_base = slots;
+        slots += ga->instance_count;
+        if (ga->instance_count == 0)
+            continue; /* nothing places it: nothing to upload */
+        ga->instance_ids = malloc(sizeof(int) * (size_t)ga->instance_count);
+        ga->visible = malloc((size_t)ga->instance_count);
+        mat4 *mats = malloc(sizeof(mat4) * (size_t)ga->instance_count);
+        ga->prims = calloc((size_t)as->prim_count + 1, sizeof *ga->prims);
+        ga->textures = calloc((size_t)as->image_count + 1, sizeof(GLuint));
+        ga->samplers = calloc((size_t)as->material_count + 1, sizeof(GLuint));
+        ga->castano = calloc((size_t)as->material_count + 1, sizeof(GLuint));
+        ga->fade_n = calloc((size_t)as->material_count + 1, sizeof(float));
+        if (!ga->instance_ids || !ga->visible || !mats || !ga->prims || !ga->textures || !ga->samplers ||
+            !ga->castano || !ga->fade_n) {
+            free(mats);
+            return FS_ERR_NOMEM;
+        }
+        for (int i = 0, k = 0; i < sc->instance_count; i++)
+            if (sc->instances[i].asset == a) {
+                ga->instance_ids[k] = i;
+                mats[k++] = sc->instances[i].transform;
+            }
+        glCreateBuffers(1, &ga->instance_vbo);
+        glNamedBufferStorage(ga->instance_vbo, (GLsizeiptr)(sizeof(mat4) * (size_t)ga->instance_count), mats, 0);
+        free(mats);
+        if (r->pl.sway) {
+            float *sw = malloc(sizeof(float) * SWAY_FLOATS * (size_t)ga->instance_count);
+            if (!sw)
+                return FS_ERR_NOMEM;
+            ga->cull_pad = calloc((size_t)ga->instance_count, sizeof(float));
+            if (!ga->cull_pad) {
+                free(sw);
+                return FS_ERR_NOMEM;
+            }
+            for (int k = 0; k < ga->instance_count; k++) {
+                const instance *in = &sc->instances[ga->instance_ids[k]];
+                const instance_sway *w = &in->sway;
+                /* Sway moves a vertex up to |offset| (world) from the box: in asset units, that
+                 * divided by the transform's smallest axis scale. */
+                const float *m = in->transform.m;
+                float smin = fminf(v3_len(v3(m[0], m[1], m[2])),
+                                   fminf(v3_len(v3(m[4], m[5], m[6])), v3_len(v3(m[8], m[9], m[10]))));
+                ga->cull_pad[k] = instance_sways(in) ? v3_len(w->offset) / fmaxf(smin, 1e-20f) : 0.0f;
+                const float v[SWAY_FLOATS] = {w->offset.x, w->offset.y, w->offset.z, w->height, w->frequency, w->phase, 0, 0};
+                memcpy(sw + SWAY_FLOATS * k, v, sizeof v);
+            }
+            glCreateBuffers(1, &ga->sway_vbo);
+            glNamedBufferStorage(ga->sway_vbo, (GLsizeiptr)(sizeof(float) * SWAY_FLOATS * (size_t)ga->instance_count),
+                                 sw, 0);
+            free(sw);
+        }
+        for (int i = 0; i < as->image_count; i++) {
+            fs_status st;
+            ga->textures[i] = upload_chain(&as->images[i], 0.0f, false, &st);
+            if (st != FS_OK)
+                return st;
+        }
+        for (int m = 0; m < as->material_count; m++) {
+            const material *mt = &as->materials[m];
+            ga->samplers[m] = make_sampler(mt);
+            /* Castano: the traditional test on a chain whose alpha is rescaled per level so each
+             * level keeps level 0's coverage at this material's cutoff (seed 001). */
+            fs_status fst = material_fade(&r->pl, mt, as, &ga->fade_n[m]);
+            if (fst != FS_OK)
+                return fst;
+            if (mt->alpha_kind == ALPHA_KIND_MASK && mt->base_color_image >= 0 &&
+                plan_material_mode(&r->pl, mt) == ALPHA_MODE_CASTANO) {
+                fs_status st;
+                ga->castano[m] = upload_chain(&as->images[mt->base_color_image], mt->alpha_cutoff, true, &st);
+                if (st != FS_OK)
+                    return st;
+            }
+        }
+        for (int p = 0; p < as->prim_count; p++) {
+            upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo, ga->sway_vbo);
+            if (p > 0)
+                ga->prims[p].first_triangle = ga->prims[p - 1].first_triangle + as->prims[p - 1].index_count / 3u;
+        }
+    }
+    return FS_OK;
+}
+
+/* >>targets */
+static fs_status check_fbo(GLuint fbo, const char *what, int w, int h)
+{
+    GLenum s = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    if (s != GL_FRAMEBUFFER_COMPLETE) {
+        log_error("GL: %s targets %dx%d incomplete (0x%x)", what, w, h, s);
+        return FS_ERR_GL;
+    }
+    return FS_OK;
+}
+
+fs_status renderer_create_targets(renderer *r)
+{
+    static const GLenum bufs[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    int n = r->pl.layout.count;
+    ring_targets *t = &r->rt;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t->color);
+    glTextureStorage3D(t->color, 1, k_forward_resources[RES_COLOR].format, r->width, r->height, n);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t->coverage);
+    glTextureStorage3D(t->coverage, 1, k_forward_resources[RES_COVERAGE].format, r->width, r->height, n);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t->depth);
+    glTextureStorage2D(t->depth, 1, k_forward_resources[RES_DEPTH].format, r->width, r->height);
+    int outputs = r->pl.velocity ? 3 : 2;
+    if (r->pl.velocity) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &t->motion);
+        glTextureStorage2D(t->motion, 1, k_forward_resources[RES_MOTION].format, r->width, r->height);
+    }
+    for (int i = 0; i < n; i++) {
+        glCreateFramebuffers(1, &t->fbo[i]);
+        glNamedFramebufferTextureLayer(t->fbo[i], GL_COLOR_ATTACHMENT0, t->color, 0, i);
+        glNamedFramebufferTextureLayer(t->fbo[i], GL_COLOR_ATTACHMENT1, t->coverage, 0, i);
+        glNamedFramebufferTexture(t->fbo[i], GL_DEPTH_ATTACHMENT, t->depth, 0);
+        if (r->pl.velocity)
+            glNamedFramebufferTexture(t->fbo[i], GL_COLOR_ATTACHMENT2, t->motion, 0);
+        glNamedFramebufferDrawBuffers(t->fbo[i], outputs, bufs);
+        fs_status st = check_fbo(t->fbo[i], "ring", r->width, r->height);
+        if (st != FS_OK)
+            return st;
+    }
+    if (r->pl.msaa) {
+        glCreateFramebuffers(1, &t->msaa_fbo);
+        GLuint *ms[RES_COUNT] = {&t->msaa_color, &t->msaa_coverage, &t->msaa_depth, &t->msaa_motion};
+        static const GLenum att[RES_COUNT] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_DEPTH_ATTACHMENT,
+                                              GL_COLOR_ATTACHMENT2};
+        for (int k = 0; k < (r->pl.velocity ? RES_COUNT : RES_MOTION); k++) {
+            glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, ms[k]);
+            glTextureStorage2DMultisample(*ms[k], MSAA_SAMPLES, k_forward_resources[k].format, r->width, r->height,
+                                          GL_TRUE);
+            glNamedFramebufferTexture(t->msaa_fbo, att[k], *ms[k], 0);
+        }
+        glNamedFramebufferDrawBuffers(t->msaa_fbo, outputs, bufs);
+        fs_status st = check_fbo(t->msaa_fbo, "MSAA ring", r->width, r->height);
+        if (st != FS_OK)
+            return st;
+    }
+    if (r->pl.taa) {
+        static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        for (int k = 0; k < 2; k++) {
+            glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_color[k]);
+            glTextureStorage3D(r->taa_color[k], 1, GL_RGBA16F, r->width, r->height, n);
+            glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_coverage[k]);
+            glTextureStorage3D(r->taa_coverage[k], 1, GL_R16F, r->width, r->height, n);
+            for (int i = 0; i < n; i++) {
+                glCreateFramebuffers(1, &r->taa_fbo[k][i]);
+                glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT0, r->taa_color[k], 0, i);
+                glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT1, r->taa_coverage[k], 0, i);
+                glNamedFramebufferDrawBuffers(r->taa_fbo[k][i], 2, two);
+                fs_status st = check_fbo(r->taa_fbo[k][i], "TAA history", r->width, r->height);
+                if (st != FS_OK)
+                    return st;
+            }
+        }
+        glCreateVertexArrays(1, &r->empty_vao);
+        glCreateSamplers(1, &r->taa_sampler);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(r->taa_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    if (plan_find(&r->pl, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT)) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_head);
+        glTextureStorage2D(r->list_head, 1, GL_R32UI, r->width, r->height);
+        /* An integer texture with (the default) linear filtering is incomplete: reads return 0. */
+        glTextureParameteri(r->list_head, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(r->list_head, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_color);
+        glTextureStorage2D(r->list_color, 1, GL_RGBA32F, r->width, r->height);
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->list_coverage);
+        glTextureStorage2D(r->list_coverage, 1, GL_RG32F, r->width, r->height);
+        glCreateFramebuffers(1, &r->list_fbo);
+        glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT0, r->list_color, 0);
+        glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT1, r->list_coverage, 0);
+        glNamedFramebufferDrawBuffers(r->list_fbo, 2, bufs);
+        fs_status cst = check_fbo(r->list_fbo, "list resolve", r->width, r->height);
+        if (cst != FS_OK)
+            return cst;
+        if (!r->empty_vao)
+            glCreateVertexArrays(1, &r->empty_vao);
+        glCreateBuffers(1, &r->list_counter);
+        glNamedBufferStorage(r->list_counter, sizeof(GLuint), NULL, GL_DYNAMIC_STORAGE_BIT);
+        if (renderer_reserve_list_nodes(r, r->list_initial) != FS_OK) {
+            log_error("GL: no room for %llu fragment-list nodes (%.0f MB)", (unsigned long long)r->list_initial,
+                      (double)(r->list_initial * sizeof(abuffer_node)) / 1048576.0);
+            return FS_ERR_NOMEM;
+        }
+    }
+    if (!r->pl.composite)
+        return FS_OK;
+    int outs = r->pl.debug_channels ? OUT_COUNT : OUT_DEBUG; /* the debug target only when asked */
+    glCreateFramebuffers(1, &r->out_fbo);
+    for (int k = 0; k < outs; k++) {
+        glCreateTextures(GL_TEXTURE_2D, 1, &r->out_tex[k]);
+        glTextureStorage2D(r->out_tex[k], 1, k_composite_resources[k].format, r->width, r->height);
+        glNamedFramebufferTexture(r->out_fbo, bufs[k], r->out_tex[k], 0);
+    }
+    glNamedFramebufferDrawBuffers(r->out_fbo, outs, bufs);
+    /* The composite's rectangles: at most one per tile, 6 vertices of (x, y, ring) each. */
+    display_desc dd = {r->width, r->height, r->pl.hfov_deg};
+    r->tile_max = fov_tile_max(&dd);
+    r->tiles = malloc(sizeof *r->tiles * (size_t)r->tile_max);
+    r->tile_verts = malloc(sizeof(float) * 18 * (size_t)r->tile_max);
+    if (!r->tiles || !r->tile_verts)
+        return FS_ERR_NOMEM;
+    glCreateBuffers(1, &r->tile_vbo);
+    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * (size_t)r->tile_max), NULL,
+                         GL_DYNAMIC_STORAGE_BIT);
+    glCreateVertexArrays(1, &r->tile_vao);
+    glVertexArrayVertexBuffer(r->tile_vao, 0, r->tile_vbo, 0, 3 * sizeof(float));
+    glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(r->tile_vao, 0, 0);
+    glEnableVertexArrayAttrib(r->tile_vao, 0);
+    glCreateSamplers(1, &r->ring_sampler);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glSamplerParameteri(r->ring_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return check_fbo(r->out_fbo, "composite", r->width, r->height);
+}
+
+/* >>lists */
+uint64_t renderer_list_nodes_max(void)
+{
+    GLint64 texels = 0;
+    glGetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    uint64_t n = (uint64_t)(texels > 0 ? texels : 0) / ABUFFER_NODE_TEXELS;
+    return n < ABUFFER_END ? n : ABUFFER_END; /* indices must stay below the end marker */
+}
+
+fs_status renderer_reserve_list_nodes(renderer *r, uint64_t nodes)
+{
+    FS_ASSERT(r->list_head);
+    uint64_t max = renderer_list_nodes_max();
+    nodes = nodes < max ? nodes : max;
+    if (nodes <= r->list_capacity)
+        return FS_OK;
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    /* The new store first: when the GL has no room for it, the old one stays. */
+    GLuint buf, tex;
+    glCreateBuffers(1, &buf);
+    glNamedBufferStorage(buf, (GLsizeiptr)(nodes * sizeof(abuffer_node)), NULL, 0);
+    glCreateTextures(GL_TEXTURE_BUFFER, 1, &tex);
+    glTextureBuffer(tex, GL_RGBA32UI, buf);
+    if (glGetError() != GL_NO_ERROR) {
+        glDeleteTextures(1, &tex);
+        glDeleteBuffers(1, &buf);
+        return FS_ERR_NOMEM;
+    }
+    glDeleteTextures(1, &r->list_nodes_tex);
+    glDeleteBuffers(1, &r->list_nodes);
+    r->list_nodes = buf;
+    r->list_nodes_tex = tex;
+    r->list_capacity = nodes;
+    free(r->list_node_buf); /* the read-back scratch follows the store's size on next use */
+    r->list_node_buf = NULL;
+    r->list_node_buf_cap = 0;
+    return FS_OK;
+}
