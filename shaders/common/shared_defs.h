@@ -38,6 +38,21 @@
 #define SWAY_WAVELENGTH_DEFAULT 10.0 /* metres between instances swaying in phase along the wind */
 #define SWAY_OFFSET_MAX 1.0e6       /* an offset component beyond this (or not finite) = no sway */
 
+/* Per-ring stochastic simplification of foliage cards (issue 20; Cook et al. 2007). GLSL:
+ * common/ring_lod.glsl, C twin: src/passes/ring_lod.c (ring_lod.h documents the law); the cards and
+ * their ranks: src/scene/cards.c. */
+#define ATTR_CARD 10                /* per vertex: card centre xyz (asset space), rank w */
+#define RING_LOD_BAND 0.25          /* transition band: ranks within B * u below the cut fade out */
+#define RING_LOD_SCALE_REF 0.5      /* default schedule: rings this fine or finer keep every card */
+#define RING_LOD_U_MIN 0.0625       /* default schedule: the fewest cards a ring keeps, 1/16 */
+#define RING_LOD_U_FLOOR (1.0 / 4096.0) /* smallest keep fraction at all (kept cards scale by 64) */
+#define RING_LOD_MIN_CARDS 16       /* a primitive with fewer cards is never simplified */
+#define RING_LOD_RANK_BITS 24       /* ranks are k / 2^24: exact in a float, rotated in integers */
+#define RING_LOD_RANK_ONE 16777216.0
+#define RING_LOD_RANK_MASK 0xFFFFFFu
+#define RING_LOD_RANK_KEEP (-1.0)    /* rank of a card that is never simplified nor scaled */
+#define RING_LOD_INSTANCE_SEED 0x5bd1e995u /* salt of the per-instance rank rotation */
+
 /* Texture units. */
 #define TEX_UNIT_BASE_COLOR 0
 
