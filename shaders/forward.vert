@@ -4,6 +4,9 @@
 #ifdef SWAY
 #include "common/sway.glsl"
 #endif
+#ifdef RING_LOD
+#include "common/ring_lod.glsl"
+#endif
 
 layout(location = ATTR_POSITION) in vec3 a_position;
 layout(location = ATTR_NORMAL) in vec3 a_normal;
@@ -24,6 +27,14 @@ out vec3 v_motion;          // world position last frame - world position now
 #endif
 #endif
 
+#ifdef RING_LOD
+// Ring LOD (common/ring_lod.glsl, docs/ring-lod.md): per vertex its card's centre and rank; per ring
+// the law (a, k, gain); per draw the scene slot of its first instance (the rank rotation's key).
+layout(location = ATTR_CARD) in vec4 a_card;
+uniform vec3 u_ring_lod;
+uniform uint u_ring_lod_instance;
+#endif
+
 out vec3 v_world_pos;
 out vec3 v_world_normal;
 out vec3 v_object_pos;
@@ -40,13 +51,20 @@ flat out uint v_hash_instance;
 
 void main()
 {
-    vec4 world = a_model * vec4(a_position, 1.0);
+    vec3 pos = a_position;
+#ifdef RING_LOD
+    // Kept cards grow about their centres, leaving ones shrink to their centre (no area): exactly
+    // a_position where the ring's law is the identity (u = 1) or the card is never simplified.
+    pos = ring_lod_apply(pos, vec4(a_card.xyz, ring_lod_rank(a_card.w, u_ring_lod_instance + uint(gl_InstanceID))),
+                         u_ring_lod);
+#endif
+    vec4 world = a_model * vec4(pos, 1.0);
 #ifdef SWAY
     // The displacement is added in world space (the wind has one direction for every instance)
     // and depends on the asset-space height, so trunk and leaves bend together.
-    world.xyz += sway_displacement(a_sway, a_sway_wave, a_position.y, u_time) * world.w;
+    world.xyz += sway_displacement(a_sway, a_sway_wave, pos.y, u_time) * world.w;
 #ifdef OBJECT_MOTION
-    v_motion = sway_motion(a_sway, a_sway_wave, a_position.y, u_time, u_prev_time);
+    v_motion = sway_motion(a_sway, a_sway_wave, pos.y, u_time, u_prev_time);
 #endif
 #endif
     v_world_pos = world.xyz;
@@ -57,7 +75,7 @@ void main()
     mat3 m = mat3(a_model);
     mat3 cof = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1]));
     v_world_normal = cof * a_normal * sign(determinant(m));
-    v_object_pos = a_position;
+    v_object_pos = pos;
     v_uv = a_uv;
     v_color = a_color;
 #ifdef FORWARD_DRAW_ORDER

@@ -138,6 +138,10 @@ void cli_print_help(command cmd)
            "                      searches everywhere (same image, to measure what tiling saves)\n"
            "  --rings SPEC        foveation rings: auto (acuity model, default), off, or innermost first\n"
            "                      OUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5\n"
+           "  --ring-lod SPEC     stochastic simplification of MASK foliage per ring (docs/ring-lod.md):\n"
+           "                      off (default), simplify (each ring keeps u = (2 scale)^2 of the cards,\n"
+           "                      at least 1/16, enlarged to keep the covered area), or simplify:U1,...\n"
+           "                      with one keep fraction per ring, innermost first, e.g. simplify:1,1,1/4\n"
            "  --gaze FILE         gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\n"
            "                      Tobii livedata.json, or builtin:NAME for a scripted trace in\n"
            "                      gaze_paths/ (default: fixation at the display centre; the demo\n"
@@ -333,7 +337,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         }
         static const char *const with_value[] = {"--scene", "--builtin", "--frames", "--fps", "--out",
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
-                                                 "--warmup", "--first-frame", "--markdown", "--compression", "--rings",
+                                                 "--warmup", "--first-frame", "--markdown", "--compression", "--rings", "--ring-lod",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
@@ -399,6 +403,8 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             d->markdown = val;
         else if (!strcmp(opt, "--rings"))
             d->rings = val; /* checked against the display once the scene is known */
+        else if (!strcmp(opt, "--ring-lod"))
+            d->ring_lod = val; /* checked against the ring layout once the scene is known */
         else if (!strcmp(opt, "--gaze"))
             d->gaze_path = val;
         else if (!strcmp(opt, "--script"))

@@ -41,6 +41,7 @@ typedef struct run_desc {
     const char *markdown;    /* bench: --markdown FILE, append a result table */
     exr_compression_kind compression; /* --compression zip|none|piz */
     const char *rings;       /* --rings auto|off|SPEC; NULL = the scene's, else auto */
+    const char *ring_lod;    /* --ring-lod off|simplify[:U1,...]; NULL = the scene's, else off */
     const char *gaze_path;   /* --gaze FILE; NULL = fixation at the display centre */
     gaze_format gaze_format; /* --gaze-format, default detected from the content */
     gaze_eye eye;            /* --eye left|right|average, default auto */

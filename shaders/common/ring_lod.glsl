@@ -1,5 +1,5 @@
 // ring_lod.glsl: per-ring stochastic simplification of foliage cards (issue 20; Cook et al. 2007).
-// C twin: src/passes/ring_lod.c (declared in src/passes/ring_lod.h, which documents the law); both
+// C twin: src/fov/ring_lod.c (declared in src/fov/ring_lod.h, which documents the law); both
 // evaluate the same float operations in the same order. The law's (a, k, gain) is computed per ring
 // on the CPU (ring_lod_law_for) and comes in as one vec3; cards and ranks: src/scene/cards.h.
 // tests/gpu/test_ring_lod_twin.c compares the twins.

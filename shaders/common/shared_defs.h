@@ -39,7 +39,7 @@
 #define SWAY_OFFSET_MAX 1.0e6       /* an offset component beyond this (or not finite) = no sway */
 
 /* Per-ring stochastic simplification of foliage cards (issue 20; Cook et al. 2007). GLSL:
- * common/ring_lod.glsl, C twin: src/passes/ring_lod.c (ring_lod.h documents the law); the cards and
+ * common/ring_lod.glsl, C twin: src/fov/ring_lod.c (ring_lod.h documents the law); the cards and
  * their ranks: src/scene/cards.c. */
 #define ATTR_CARD 10                /* per vertex: card centre xyz (asset space), rank w */
 #define RING_LOD_BAND 0.25          /* transition band: ranks within B * u below the cut fade out */

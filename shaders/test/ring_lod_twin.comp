@@ -1,6 +1,6 @@
 // ring_lod_twin.comp: evaluates every function of common/ring_lod.glsl on a buffer of inputs, for
 // tests/gpu/test_ring_lod_twin.c, which compares each result with the C twin
-// (src/passes/ring_lod.c). Used only by that test. The structs match twin_in / twin_out of the test
+// (src/fov/ring_lod.c). Used only by that test. The structs match twin_in / twin_out of the test
 // (std430, vec4 / uvec4 fields).
 #include "common/ring_lod.glsl"
 

@@ -7,6 +7,7 @@
 #include "core/log.h"
 #include "common/shared_defs.h"
 #include "passes/alpha_test.h"
+#include "scene/cards.h"
 
 alpha_params alpha_params_defaults(const alpha_params *p)
 {
@@ -237,6 +238,26 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->debug_channels = o.debug_channels;
     out->composite = out->rings || o.overlay || o.debug_channels;
     out->ring_cull = out->layout.count > 1 && !o.no_ring_cull;
+    /* Ring LOD (issue 20, docs/ring-lod.md): only for scenes with foliage to thin, never for the
+     * reference, and only when some ring keeps fewer than all cards (an explicit schedule of ones
+     * compiles it too: that is how a test shows u = 1 changes nothing). */
+    if (o.ring_lod.kind != RING_LOD_OFF && !out->reference) {
+        if (ring_lod_active(&o.ring_lod, &out->layout) || o.ring_lod.kind == RING_LOD_EXPLICIT) {
+            fs_status st = scene_cards_count(sc, &out->ring_lod_prims, &out->ring_lod_cards);
+            if (st != FS_OK)
+                return st;
+            out->ring_lod = out->ring_lod_prims > 0;
+            if (!out->ring_lod)
+                snprintf(out->ring_lod_why, sizeof out->ring_lod_why, "no MASK primitive has %d or more cards",
+                         RING_LOD_MIN_CARDS);
+        } else {
+            snprintf(out->ring_lod_why, sizeof out->ring_lod_why, "every ring keeps all cards");
+        }
+    }
+    out->ring_lod_spec = out->ring_lod ? o.ring_lod : (ring_lod_spec){0};
+    for (int i = 0; i < out->pass_count && out->ring_lod; i++)
+        if (out->passes[i].kind == PLAN_PASS_FORWARD_MASK)
+            add_define(&out->passes[i], "RING_LOD", 1);
     if (out->taa) {
         plan_pass *t = &out->taa_pass;
         fullscreen_pass(t, "taa", "shaders/taa.frag");
@@ -405,6 +426,13 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
         fprintf(f, "culling    per ring: instances outside its frustum%s\n",
                 p->ring_cull ? ", and those wholly inside its hole (where the finer ring is shown alone)"
                              : " (--ring-cull off: not those in its hole)");
+    if (p->ring_lod) {
+        char u[160];
+        ring_lod_format_u(&p->ring_lod_spec, &p->layout, u, sizeof u);
+        fprintf(f, "ring LOD   per ring keep fraction u = %s of the cards of %d MASK primitives (%llu cards in the "
+                   "scene), kept cards scaled by sqrt(1/u) about their centres (RING_LOD)\n",
+                u, p->ring_lod_prims, (unsigned long long)p->ring_lod_cards);
+    }
     if (p->sway)
         fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",
                 p->sway_instances, sc->instance_count);
@@ -444,5 +472,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     else if (!p->velocity)
         snprintf(off + strlen(off), sizeof off - strlen(off), "%sper-object motion (no TAA, or --object-motion off)",
                  off[0] ? ", " : "");
+    if (!p->ring_lod && p->ring_lod_why[0])
+        snprintf(off + strlen(off), sizeof off - strlen(off), "%sring LOD (%s)", off[0] ? ", " : "", p->ring_lod_why);
     fprintf(f, "off        %s\n", off[0] ? off : "nothing");
 }

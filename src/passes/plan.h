@@ -16,6 +16,7 @@
 #include <stdio.h>
 
 #include "fov/fov_ring.h"
+#include "fov/ring_lod.h"
 #include "scene/scene.h"
 
 #ifndef PLAN_MAX_PASSES
@@ -96,6 +97,8 @@ typedef struct plan_options {
                               (where the finer ring is shown alone) would see: to measure culling */
     bool composite_per_pixel; /* every composite pixel searches its ring (no tile classification):
                                  for measuring what the classification saves */
+    ring_lod_spec ring_lod; /* --ring-lod: per-ring stochastic simplification of MASK foliage
+                               (ring_lod.h); zeroed = off. Checked against the layout by the caller */
 } plan_options;
 
 typedef struct plan {
@@ -134,6 +137,14 @@ typedef struct plan {
     bool composite_tiles;       /* rings without overlay: rectangles whose every pixel takes one ring
                                  * unblended are drawn by composite_tile_pass, without the search */
     plan_pass composite_tile_pass; /* composite_pass + COMPOSITE_TILE (valid when composite_tiles) */
+    ring_lod_spec ring_lod_spec; /* plan_options.ring_lod (kind OFF when ring_lod is false) */
+    bool ring_lod;              /* the MASK passes compile RING_LOD (fewer, larger cards in rings whose
+                                 * law is not the identity): asked for, not the reference, some placed
+                                 * MASK primitive has RING_LOD_MIN_CARDS cards, and some ring's u < 1
+                                 * (or the keep fractions were given explicitly) */
+    int ring_lod_prims;         /* MASK primitives that are simplified (scene_cards_count) */
+    uint64_t ring_lod_cards;    /* their cards, instances included */
+    char ring_lod_why[64];      /* asked for but not compiled: why (for `fovsim plan`), else "" */
     bool list_resolve;          /* the exact reference's list pass runs: its lists are sorted and
                                  * composited by list_resolve_pass (shaders/list_resolve.frag) */
     plan_pass list_resolve_pass;

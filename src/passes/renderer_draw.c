@@ -37,6 +37,10 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     glProgramUniform1i(pg->id, pg->u_hash_kind, ap->hash_kind);
     glProgramUniform1i(pg->id, pg->u_hash_aniso, ap->anisotropic);
     glProgramUniform1ui(pg->id, pg->u_frame, (GLuint)fr->index);
+    if (pg->u_ring_lod >= 0) { /* RING_LOD passes: this ring's law (identity where u = 1) */
+        ring_lod_law law = ring_lod_ring_law(&r->pl.ring_lod_spec, &r->pl.layout, ring);
+        glProgramUniform3f(pg->id, pg->u_ring_lod, law.a, law.k, law.gain);
+    }
     if (r->pl.sway) {
         glProgramUniform1f(pg->id, pg->u_time, fr->time);
         /* Motion relative to the frame the history holds; none without history. */
@@ -95,6 +99,8 @@ static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, 
             glProgramUniform1ui(pg->id, pg->u_hash_instance, (GLuint)(ga->slot_base + first));
             glProgramUniform1ui(pg->id, pg->u_hash_primitive, ga->prims[p].first_triangle);
         }
+        if (pg->u_ring_lod_instance >= 0) /* the per-instance rank rotation's key (common/ring_lod.glsl) */
+            glProgramUniform1ui(pg->id, pg->u_ring_lod_instance, (GLuint)(ga->slot_base + first));
         glBindVertexArray(ga->prims[p].vao);
         glDrawElementsInstancedBaseInstance(GL_TRIANGLES, ga->prims[p].index_count, GL_UNSIGNED_INT, NULL, count,
                                             (GLuint)first);
@@ -117,7 +123,10 @@ static int cull_instances(renderer *r, const frame_record *fr, int ring)
         for (int k = 0; k < ga->instance_count; k++) {
             const mat4 *model = &r->sc->instances[ga->instance_ids[k]].transform;
             float d = ga->cull_pad ? ga->cull_pad[k] : 0.0f; /* a swaying instance's box grows */
-            vec3 lo = v3_sub(as->bounds_min, v3(d, d, d)), hi = v3_add(as->bounds_max, v3(d, d, d));
+            /* enlarged cards of a simplifying ring may reach beyond the asset's box (ring_lod.h) */
+            vec3 bmin = r->pl.ring_lod ? ga->lod_lo[ring] : as->bounds_min;
+            vec3 bmax = r->pl.ring_lod ? ga->lod_hi[ring] : as->bounds_max;
+            vec3 lo = v3_sub(bmin, v3(d, d, d)), hi = v3_add(bmax, v3(d, d, d));
             bool vis = !m4_box_outside_clip(m4_mul(fr->ring_view_proj[ring], *model), lo, hi);
             float rect[4];
             if (vis && hole > 0.0f &&

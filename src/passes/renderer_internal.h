@@ -39,7 +39,8 @@ typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
-        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive;
+        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive, u_ring_lod,
+        u_ring_lod_instance;
 } gpu_program;
 
 typedef struct composite_program {
@@ -56,6 +57,7 @@ typedef struct taa_program {
 
 typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
+    GLuint card_vbo;         /* plan.ring_lod, MASK primitives: (card centre, rank) per vertex */
     GLsizei index_count;
     uint32_t first_triangle; /* triangles of the asset's earlier primitives (u_hash_primitive) */
 } gpu_prim;
@@ -73,6 +75,8 @@ typedef struct gpu_asset {
     float *cull_pad;        /* plan.sway, per slot: how far (asset units) sway may leave the box */
     int instance_count;
     int slot_base;          /* instances of the earlier assets: slot k is the scene's slot_base + k */
+    /* plan.ring_lod: per ring, the asset-space box its enlarged cards may reach (culling) */
+    vec3 lod_lo[MAX_FOV_RINGS], lod_hi[MAX_FOV_RINGS];
 } gpu_asset;
 
 /* Ring targets: colour and coverage are texture arrays with one layer per ring, each layer the

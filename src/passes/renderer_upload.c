@@ -9,6 +9,7 @@
 
 #include "common/shared_defs.h"
 #include "core/log.h"
+#include "scene/cards.h"
 #include "scene/mip.h"
 
 /* >>upload */
@@ -99,6 +100,42 @@ static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint 
     glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * p->index_count), p->indices, 0);
     glVertexArrayElementBuffer(g->vao, g->ibo);
     g->index_count = (GLsizei)p->index_count;
+}
+
+/* Ring LOD (plan.ring_lod; docs/ring-lod.md): each MASK primitive's (card centre, rank) per vertex
+ * at ATTR_CARD, and per ring the box its enlarged cards may reach. A primitive that is not
+ * simplified gets rank RING_LOD_RANK_KEEP, which the shader never moves. */
+static fs_status upload_cards(renderer *r, const asset *as, gpu_asset *ga)
+{
+    asset_cards cards;
+    fs_status st = asset_cards_build(as, &cards);
+    if (st != FS_OK)
+        return st;
+    for (int p = 0; p < as->prim_count && st == FS_OK; p++) {
+        if (!cards_prim_is_candidate(as, p))
+            continue;
+        const prim *pr = &as->prims[p];
+        float *attr = malloc(sizeof(float) * 4 * ((size_t)pr->vertex_count + 1));
+        if (!attr) {
+            st = FS_ERR_NOMEM;
+            break;
+        }
+        prim_cards_vertex_attrib(&cards.prims[p], pr, attr);
+        gpu_prim *g = &ga->prims[p];
+        glCreateBuffers(1, &g->card_vbo);
+        glNamedBufferStorage(g->card_vbo, (GLsizeiptr)(sizeof(float) * 4 * pr->vertex_count), attr, 0);
+        free(attr);
+        glVertexArrayVertexBuffer(g->vao, 6, g->card_vbo, 0, 4 * sizeof(float));
+        glVertexArrayAttribFormat(g->vao, ATTR_CARD, 4, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(g->vao, ATTR_CARD, 6);
+        glEnableVertexArrayAttrib(g->vao, ATTR_CARD);
+    }
+    for (int k = 0; k < r->pl.layout.count && st == FS_OK; k++) {
+        ring_lod_law law = ring_lod_ring_law(&r->pl.ring_lod_spec, &r->pl.layout, k);
+        asset_cards_bounds(as, &cards, ring_lod_max_scale(&law), &ga->lod_lo[k], &ga->lod_hi[k]);
+    }
+    asset_cards_free(&cards);
+    return st;
 }
 
 /* Fade-in length of the hashed noise for one material (seed 000 §5.5.1, docs/hashed-alpha.md):
@@ -213,6 +250,11 @@ fs_status renderer_upload_scene(renderer *r)
             upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo, ga->sway_vbo);
             if (p > 0)
                 ga->prims[p].first_triangle = ga->prims[p - 1].first_triangle + as->prims[p - 1].index_count / 3u;
+        }
+        if (r->pl.ring_lod) {
+            fs_status st = upload_cards(r, as, ga);
+            if (st != FS_OK)
+                return st;
         }
     }
     return FS_OK;

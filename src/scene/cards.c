@@ -377,14 +377,14 @@ fs_status scene_cards_count(const scene *sc, int *simplified_prims, uint64_t *si
 {
     int prims = 0;
     uint64_t cards = 0;
-    bool *instanced = sc->asset_count > 0 ? calloc((size_t)sc->asset_count, sizeof *instanced) : NULL;
+    int *instanced = sc->asset_count > 0 ? calloc((size_t)sc->asset_count, sizeof *instanced) : NULL;
     if (sc->asset_count > 0 && !instanced) {
         log_error("cards: out of memory");
         return FS_ERR_NOMEM;
     }
     for (int i = 0; i < sc->instance_count; i++)
         if (sc->instances[i].asset >= 0 && sc->instances[i].asset < sc->asset_count)
-            instanced[sc->instances[i].asset] = true;
+            instanced[sc->instances[i].asset]++;
     for (int a = 0; a < sc->asset_count; a++) {
         if (!instanced[a])
             continue;
@@ -395,7 +395,7 @@ fs_status scene_cards_count(const scene *sc, int *simplified_prims, uint64_t *si
             return s;
         }
         prims += ac.simplified_prims;
-        cards += ac.simplified_cards;
+        cards += (uint64_t)ac.simplified_cards * (uint64_t)instanced[a];
         asset_cards_free(&ac);
     }
     free(instanced);

@@ -1,6 +1,6 @@
 /* cards.h: the cards of an asset's foliage, for per-ring stochastic simplification (issue 20, Cook,
  * Halstead, Planck & Ryu 2007, "Stochastic Simplification of Aggregate Detail"; the per-ring law is
- * src/passes/ring_lod.h).
+ * src/fov/ring_lod.h).
  *
  * A card is a connected component of one primitive's triangles: two triangles belong to the same
  * card when they share a vertex index or a vertex position (bit-identical x, y, z after -0 -> +0),
@@ -109,8 +109,8 @@ void asset_cards_free(asset_cards *c);
  * instance. scale <= 1 gives the asset's bounds. */
 void asset_cards_bounds(const asset *a, const asset_cards *c, float scale, vec3 *lo, vec3 *hi);
 
-/* For `fovsim plan`: how many primitives of the scene's instanced assets would be simplified, and
- * their cards (per asset, not per instance). 0 = nothing to simplify, compile nothing new. Builds
+/* For `fovsim plan`: how many primitives of the scene's instanced assets would be simplified (per
+ * asset), and their cards in the scene (each asset's times its instances). 0 = nothing to simplify, compile nothing new. Builds
  * and frees the cards; FS_ERR_NOMEM / FS_ERR_SCENE as above. */
 fs_status scene_cards_count(const scene *sc, int *simplified_prims, uint64_t *simplified_cards);
 

@@ -201,6 +201,8 @@ typedef struct scene {
     scene_taa taa;         /* TAA settings from the scene file */
     char rings[256];       /* foveation ring layout from the scene file ("auto", "off", "10:1:0,..."),
                               empty = not given (the CLI's --rings, else auto) */
+    char ring_lod[128];    /* ring LOD from the scene file ("off", "simplify", "simplify:1,1,1/4"),
+                              empty = not given (the CLI's --ring-lod, else off) */
     float duration;        /* seconds: the last camera key's time (0 for a still camera) */
 } scene;
 

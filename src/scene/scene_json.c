@@ -14,6 +14,7 @@
 
 #include "core/log.h"
 #include "fov/fov_ring.h"
+#include "fov/ring_lod.h"
 #include "scene/scene_json_internal.h"
 
 /* >>camera */
@@ -213,7 +214,7 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
 static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
 {
     static const char *const keys[] = {"display", "alpha_mode", "light", "assets", "instances",
-                                       "camera", "materials", "rings", "taa", "comment", NULL};
+                                       "camera", "materials", "rings", "ring_lod", "taa", "comment", NULL};
     char got[64];
     scene *sc = c->sc;
     const char *str;
@@ -273,6 +274,17 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
             return jfail(c, "rings", "expected \"auto\", \"off\" or a layout like \"10:1:0,25:1/2:0,*:1/4:0.5\" (%s)",
                          strlen(str) >= sizeof sc->rings ? "too long" : err);
         snprintf(sc->rings, sizeof sc->rings, "%s", str);
+    }
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "ring_lod"))) {
+        /* Ring LOD (ring_lod.h): the form now; one keep fraction per ring once the layout is known. */
+        if ((s = jstring(c, j, "ring_lod", &str)) != FS_OK)
+            return s;
+        ring_lod_spec spec;
+        char err[256];
+        if (strlen(str) >= sizeof sc->ring_lod || ring_lod_parse(str, &spec, err, sizeof err) != FS_OK)
+            return jfail(c, "ring_lod", "expected \"off\", \"simplify\" or \"simplify:U1,U2,...\" (%s)",
+                         strlen(str) >= sizeof sc->ring_lod ? "too long" : err);
+        snprintf(sc->ring_lod, sizeof sc->ring_lod, "%s", str);
     }
     int nspecs = 0;
     s = scene_json_parse_asset_specs(c, cJSON_GetObjectItemCaseSensitive(root, "assets"), specs, &nspecs);

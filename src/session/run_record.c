@@ -25,7 +25,7 @@
  * here until it is sorted into one of the two (LP64 only: the size is the ABI's; a bool that fits
  * into padding slips through, so read the list when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 296, "run_desc changed: add the new field to run_record_describe (or to its list "
+_Static_assert(sizeof(run_desc) == 304, "run_desc changed: add the new field to run_record_describe (or to its list "
                                         "of fields that change nothing written), then update this size");
 #endif
 
@@ -36,7 +36,7 @@ _Static_assert(sizeof(run_desc) == 296, "run_desc changed: add the new field to 
 
 /* What scene_content_hash (the geometry, materials and images, which the reference cache keys)
  * leaves out but a frame depends on: the camera path, the light and sky, the display, and the
- * scene's own defaults for the options ("alpha", "taa", "rings"). */
+ * scene's own defaults for the options ("alpha", "taa", "rings", "ring_lod"). */
 static uint64_t scene_settings_hash(const scene *sc)
 {
     uint64_t h = hash_u64(HASH_FNV_INIT, (uint64_t)sc->camera.count);
@@ -56,7 +56,7 @@ static uint64_t scene_settings_hash(const scene *sc)
     float tv[3] = {sc->taa.blend, sc->taa.gamma, sc->taa.sparse};
     h = hash_floats(hash_u64(hash_u64(h, sc->taa.given), sc->taa.off), tv, 3);
     h = hash_u64(h, (uint64_t)sc->taa.jitter_length);
-    return hash_str(h, sc->rings);
+    return hash_str(hash_str(h, sc->rings), sc->ring_lod);
 }
 
 /* FNV-1a of the running executable: a rebuilt fovsim may draw other pixels under the same version. */
@@ -133,6 +133,7 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
             sb_printf(&t, "alpha: %s\n", d->alpha == ALPHA_MODE_DEFAULT ? "default" : alpha_mode_name(d->alpha));
         }
         sb_printf(&t, "rings: %s\n", or_default(d->rings));
+        sb_printf(&t, "ring lod: %s\n", or_default(d->ring_lod));
         sb_printf(&t, "overlay: %d, debug channels: %d\n", d->overlay, d->debug_channels);
         sb_printf(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
             d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");

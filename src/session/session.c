@@ -86,6 +86,18 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
     return FS_OK;
 }
 
+/* The ring LOD of a run: --ring-lod, else the scene file's, else off; one keep fraction per ring. */
+static fs_status resolve_ring_lod(const run_desc *d, const scene *sc, const fov_layout *l, ring_lod_spec *out)
+{
+    const char *spec = d->ring_lod ? d->ring_lod : sc->ring_lod[0] ? sc->ring_lod : "off";
+    char err[256];
+    if (ring_lod_parse(spec, out, err, sizeof err) != FS_OK || ring_lod_check(out, l, err, sizeof err) != FS_OK) {
+        log_error("%s: %s%s", d->ring_lod ? "--ring-lod" : sc->path, d->ring_lod ? "" : "ring_lod: ", err);
+        return FS_ERR_USAGE;
+    }
+    return FS_OK;
+}
+
 fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options *out)
 {
     *out = (plan_options){.alpha_mode = d->alpha, .width = d->width, .height = d->height,
@@ -102,7 +114,8 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .history = (taa_history_kind)d->taa_history,
                                            .nan_check = (taa_nan_kind)d->taa_nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
-    return resolve_layout(d, sc, d->width, d->height, &out->layout);
+    fs_status st = resolve_layout(d, sc, d->width, d->height, &out->layout);
+    return st == FS_OK ? resolve_ring_lod(d, sc, &out->layout, &out->ring_lod) : st;
 }
 
 fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl)
@@ -180,6 +193,11 @@ void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_t
     exr_image_set_v2f(img, "fovsim:gaze", fr->gaze[0], fr->gaze[1]);
     exr_image_set_v2f(img, "fovsim:gaze_deg", fr->gaze_deg[0], fr->gaze_deg[1]);
     exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(pl->global_mode));
+    if (pl->ring_lod) { /* only when it changes pixels: frames without it stay as they were */
+        char lod[160];
+        ring_lod_format_u(&pl->ring_lod_spec, &pl->layout, lod, sizeof lod);
+        exr_image_set_string(img, "fovsim:ring_lod_u", lod);
+    }
     char rings[256];
     fov_layout_format(&pl->layout, rings, sizeof rings);
     exr_image_set_string(img, "fovsim:rings", rings);

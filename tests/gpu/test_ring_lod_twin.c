@@ -1,6 +1,6 @@
 /* GPU twin of the per-ring simplification law: shaders/test/ring_lod_twin.comp runs every function
  * of shaders/common/ring_lod.glsl on a buffer of inputs and the results are compared with the C
- * twin (src/passes/ring_lod.c), input by input.
+ * twin (src/fov/ring_lod.c), input by input.
  *
  * Inputs: laws of ring_lod_law_for for u in (0, 1] (a third of them the schedule's values, 1, the
  * two branches' boundary u*, 0.9, 0.01), ranks that are real ranks (multiples of 2^-24), exactly
@@ -29,7 +29,7 @@
 #include "common/shared_defs.h"
 #include "gl/gl_device.h"
 #include "gl/gl_program.h"
-#include "passes/ring_lod.h"
+#include "fov/ring_lod.h"
 #include "test.h"
 #include "twin_util.h"
 

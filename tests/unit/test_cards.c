@@ -6,7 +6,7 @@
 
 #include "common/shared_defs.h"
 #include "core/log.h"
-#include "passes/ring_lod.h"
+#include "fov/ring_lod.h"
 #include "scene/cards.h"
 #include "scene/generators.h"
 #include "test.h"

@@ -1,4 +1,4 @@
-/* Unit tests of the per-ring simplification law (src/passes/ring_lod.c, C twin of
+/* Unit tests of the per-ring simplification law (src/fov/ring_lod.c, C twin of
  * shaders/common/ring_lod.glsl): expected area preserved, bounds and monotonicity, u = 1 exactly
  * the identity, continuity in u at the documented rate, coverage of a field of identical cards with
  * the real ranks, the per-instance rank rotation, the default schedule and the text form. */
@@ -8,7 +8,7 @@
 
 #include "common/shared_defs.h"
 #include "fov/fov_ring.h"
-#include "passes/ring_lod.h"
+#include "fov/ring_lod.h"
 #include "scene/cards.h"
 #include "test.h"
 

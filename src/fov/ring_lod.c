@@ -4,7 +4,7 @@
  * The laws are computed in double and rounded to float once; ring_lod_weight, ring_lod_scale,
  * ring_lod_apply and ring_lod_rank evaluate the same float operations in the same order as the
  * GLSL (tests/gpu/test_ring_lod_twin.c compares them). */
-#include "passes/ring_lod.h"
+#include "fov/ring_lod.h"
 
 #include <math.h>
 #include <stdarg.h>
