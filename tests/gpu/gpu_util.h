@@ -26,6 +26,7 @@ typedef struct gpu_fov {
     bool per_pixel;           /* the composite searches every pixel's ring (no tiles) */
     alpha_params alpha;       /* zero = defaults */
     int frame;                /* frame index (stochastic thresholds change with it) */
+    ring_lod_spec ring_lod;   /* zero = off */
 } gpu_fov;
 
 /* Renders `sc` at time t into *img (R, G, B, A, coverage [, ring.id, eccentricity]) at w x h. */
@@ -41,6 +42,7 @@ static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, 
         po.debug_channels = fv->debug_channels;
         po.composite_per_pixel = fv->per_pixel;
         po.alpha = fv->alpha;
+        po.ring_lod = fv->ring_lod;
     }
     fs_status st = plan_build(sc, &po, &pl);
     if (st != FS_OK)
