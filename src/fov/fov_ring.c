@@ -233,16 +233,13 @@ double fov_layout_acuity_margin(const display_desc *d, const fov_layout *l, floa
     return worst > 0.0 ? 1.0 / worst : INFINITY;
 }
 
-#define TOKEN_MAX 64
-
-/* Copies [b, e) without surrounding whitespace into tok; false when it does not fit. */
-static bool take_token(const char *b, const char *e, char tok[TOKEN_MAX])
+bool fov_take_token(const char *b, const char *e, char tok[FOV_TOKEN_MAX])
 {
     while (b < e && (*b == ' ' || *b == '\t' || *b == '\n' || *b == '\r'))
         b++;
     while (e > b && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\n' || e[-1] == '\r'))
         e--;
-    if (e - b >= TOKEN_MAX)
+    if (e - b >= FOV_TOKEN_MAX)
         return false;
     memcpy(tok, b, (size_t)(e - b));
     tok[e - b] = '\0';
@@ -262,21 +259,26 @@ static bool parse_number(const char *tok, double *out)
     return true;
 }
 
+bool fov_parse_ratio(const char *tok, double *out)
+{
+    const char *slash = strchr(tok, '/');
+    if (!slash)
+        return parse_number(tok, out);
+    char num[FOV_TOKEN_MAX], den[FOV_TOKEN_MAX];
+    double a, b;
+    if (!fov_take_token(tok, slash, num) || !fov_take_token(slash + 1, tok + strlen(tok), den) ||
+        !parse_number(num, &a) || !parse_number(den, &b) || b == 0.0)
+        return false;
+    *out = a / b;
+    return true;
+}
+
 /* Scale "1", "0.25", "1/4" (spaces around '/' allowed) -> log2 of the block size. */
 static bool parse_scale(const char *tok, int *scale_log2)
 {
     double v;
-    const char *slash = strchr(tok, '/');
-    if (slash) {
-        char num[TOKEN_MAX], den[TOKEN_MAX];
-        double a, b;
-        if (!take_token(tok, slash, num) || !take_token(slash + 1, tok + strlen(tok), den) ||
-            !parse_number(num, &a) || !parse_number(den, &b) || b == 0.0)
-            return false;
-        v = a / b;
-    } else if (!parse_number(tok, &v)) {
+    if (!fov_parse_ratio(tok, &v))
         return false;
-    }
     for (int k = 0; k <= MAX_FOV_SCALE_LOG2; k++)
         if (v == ldexp(1.0, -k)) {
             *scale_log2 = k;
@@ -289,11 +291,11 @@ static bool parse_scale(const char *tok, int *scale_log2)
 static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, char *err, int err_size)
 {
     const char *names[3] = {"radius", "scale", "mip bias"};
-    char tok[3][TOKEN_MAX];
+    char tok[3][FOV_TOKEN_MAX];
     int fields = 0;
     const char *q = b;
-    char probe[TOKEN_MAX];
-    if (take_token(b, e, probe) && probe[0] == '\0') {
+    char probe[FOV_TOKEN_MAX];
+    if (fov_take_token(b, e, probe) && probe[0] == '\0') {
         set_err(err, err_size, "ring %d: empty (expected R:S:B)", n);
         return FS_ERR_USAGE;
     }
@@ -301,7 +303,7 @@ static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, 
         const char *c = q;
         while (c < e && *c != ':')
             c++;
-        if (fields < 3 && !take_token(q, c, tok[fields])) {
+        if (fields < 3 && !fov_take_token(q, c, tok[fields])) {
             set_err(err, err_size, "ring %d: %s field is too long", n, names[fields]);
             return FS_ERR_USAGE;
         }

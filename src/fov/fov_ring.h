@@ -98,6 +98,13 @@ double fov_layout_acuity_margin(const display_desc *d, const fov_layout *l, floa
  * into err (e.g. "ring 2: scale 0.3 is not a power of two (1, 1/2, ... 1/16)") and returns
  * FS_ERR_USAGE. `d` is needed for "auto". */
 fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *out, char *err, int err_size);
+
+/* What the text forms of fov_ring.c and ring_lod.c share. FOV_TOKEN_MAX: the longest token + 1. */
+#define FOV_TOKEN_MAX 64
+/* Copies [b, e) without surrounding whitespace into tok; false when it does not fit. */
+bool fov_take_token(const char *b, const char *e, char tok[FOV_TOKEN_MAX]);
+/* A whole token as a finite number: "1", "0.25" or "1/4" (blanks around '/' allowed). */
+bool fov_parse_ratio(const char *tok, double *out);
 /* Checks an explicit layout: 1..MAX_FOV_RINGS rings, radii positive, finite and increasing, last
  * INFINITY, scales in [0, MAX_FOV_SCALE_LOG2] and non-decreasing outwards, biases finite. */
 fs_status fov_layout_check(const fov_layout *l, char *err, int err_size);

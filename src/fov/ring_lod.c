@@ -160,49 +160,13 @@ static void set_err(char *err, int size, const char *fmt, ...)
 }
 
 #define LOD_EXPECTED "expected off, simplify or simplify:U1,...,Un"
-#define LOD_TOKEN_MAX 64
-
-/* [b, e) trimmed of blanks into tok; false when longer than LOD_TOKEN_MAX - 1. */
-static bool take_token(const char *b, const char *e, char tok[LOD_TOKEN_MAX])
-{
-    while (b < e && (*b == ' ' || *b == '\t'))
-        b++;
-    while (e > b && (e[-1] == ' ' || e[-1] == '\t'))
-        e--;
-    if (e - b >= LOD_TOKEN_MAX)
-        return false;
-    memcpy(tok, b, (size_t)(e - b));
-    tok[e - b] = '\0';
-    return true;
-}
-
-static bool parse_number(const char *tok, double *out)
-{
-    if (!tok[0])
-        return false;
-    char *end = NULL;
-    double v = strtod(tok, &end);
-    if (end == tok || *end != '\0' || !isfinite(v))
-        return false;
-    *out = v;
-    return true;
-}
 
 /* "0.25", "1/4" (blanks around '/' allowed) -> a keep fraction in [RING_LOD_U_FLOOR, 1]. */
 static bool parse_fraction(const char *tok, float *u)
 {
     double v;
-    const char *slash = strchr(tok, '/');
-    if (slash) {
-        char num[LOD_TOKEN_MAX], den[LOD_TOKEN_MAX];
-        double a, b;
-        if (!take_token(tok, slash, num) || !take_token(slash + 1, tok + strlen(tok), den) ||
-            !parse_number(num, &a) || !parse_number(den, &b) || b == 0.0)
-            return false;
-        v = a / b;
-    } else if (!parse_number(tok, &v)) {
+    if (!fov_parse_ratio(tok, &v))
         return false;
-    }
     float f = (float)v;
     if (!(f >= (float)RING_LOD_U_FLOOR) || !(f <= 1.0f))
         return false;
@@ -258,8 +222,8 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
             set_err(err, err_size, "ring LOD ring %d: more than %d rings", n, MAX_FOV_RINGS);
             return FS_ERR_USAGE;
         }
-        char tok[LOD_TOKEN_MAX];
-        if (!take_token(q, c, tok)) {
+        char tok[FOV_TOKEN_MAX];
+        if (!fov_take_token(q, c, tok)) {
             set_err(err, err_size, "ring LOD ring %d: keep fraction is too long", n);
             return FS_ERR_USAGE;
         }

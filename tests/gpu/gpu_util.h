@@ -29,6 +29,19 @@ typedef struct gpu_fov {
     ring_lod_spec ring_lod;   /* zero = off */
 } gpu_fov;
 
+/* A ring layout from its text form for a w x h display of 90 degrees; exits on a bad spec. */
+static inline fov_layout gpu_layout(const char *spec, int w, int h)
+{
+    fov_layout l;
+    char err[256];
+    display_desc d = {w, h, 90.0f};
+    if (fov_layout_parse(spec, &d, &l, err, sizeof err) != FS_OK) {
+        fprintf(stderr, "bad layout %s: %s\n", spec, err);
+        exit(1);
+    }
+    return l;
+}
+
 /* Renders `sc` at time t into *img (R, G, B, A, coverage [, ring.id, eccentricity]) at w x h. */
 static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, int h, float t, const gpu_fov *fv,
                                        exr_image *img)

@@ -18,18 +18,6 @@ static void constant_scene(scene *sc)
     sc->camera.keys[0] = (camera_key){.time = 0, .position = v3(0, 0, 5), .target = v3(0, 0, 0)};
 }
 
-static fov_layout layout_of(const char *spec, int w, int h)
-{
-    fov_layout l;
-    char err[256];
-    display_desc d = {w, h, 90.0f};
-    if (fov_layout_parse(spec, &d, &l, err, sizeof err) != FS_OK) {
-        fprintf(stderr, "bad layout %s: %s\n", spec, err);
-        exit(1);
-    }
-    return l;
-}
-
 static const float k_gazes[][2] = {{0.5f, 0.5f}, {0.0f, 0.0f}, {1.0f, 1.0f}, {0.3f, 0.7f}, {0.93f, 0.08f}, {1.4f, -0.2f}};
 enum { NGAZE = sizeof k_gazes / sizeof k_gazes[0] };
 
@@ -46,7 +34,7 @@ TEST(constant_scene_composites_to_that_colour_everywhere)
         CHECK(rr[i] == rr[0]);
     static const char *const specs[] = {"5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", "auto", "0.01:1:0,*:1/8:1", "20:1/2:0,*:1/4:0"};
     for (int s = 0; s < 4; s++) {
-        fov_layout l = layout_of(specs[s], W, H);
+        fov_layout l = gpu_layout(specs[s], W, H);
         for (int g = 0; g < NGAZE; g++) {
             exr_image img;
             gpu_fov fv = {.layout = &l, .gaze = {k_gazes[g][0], k_gazes[g][1]}};
@@ -75,7 +63,7 @@ TEST(gaze_marker_lands_on_the_gaze_pixel)
     enum { W = 256, H = 144 };
     scene sc;
     constant_scene(&sc);
-    fov_layout l = layout_of("10:1:0,*:1/4:0", W, H);
+    fov_layout l = gpu_layout("10:1:0,*:1/4:0", W, H);
     const float gz[][2] = {{0.5f, 0.5f}, {0.25f, 0.6f}, {0.9f, 0.1f}, {0.013f, 0.987f}, {0.61f, 0.33f}};
     for (int g = 0; g < 5; g++) {
         exr_image img;
@@ -108,7 +96,7 @@ TEST(glsl_eccentricity_and_blend_agree_with_the_c_twins)
     enum { W = 320, H = 180 };
     scene sc;
     constant_scene(&sc);
-    fov_layout l = layout_of("5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", W, H);
+    fov_layout l = gpu_layout("5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", W, H);
     display_desc d = {W, H, 90.0f};
     for (int g = 0; g < NGAZE; g++) {
         exr_image img;
@@ -148,7 +136,7 @@ TEST(tiled_composite_equals_the_per_pixel_search_bit_for_bit)
     static const char *const specs[] = {"auto", "5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", "20:1/2:0,*:1/4:0"};
     display_desc d = {W, H, 90.0f};
     for (int s = 0; s < 3; s++) {
-        fov_layout l = layout_of(specs[s], W, H);
+        fov_layout l = gpu_layout(specs[s], W, H);
         if (s == 2)
             l.blend_deg = 0.0f; /* hard ring edges */
         for (int g = 0; g < NGAZE; g++) {
@@ -204,7 +192,7 @@ TEST(full_resolution_region_follows_the_gaze)
     enum { W = 480, H = 270 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    fov_layout l = layout_of("8:1:0,16:1/4:0,*:1/8:0", W, H);
+    fov_layout l = gpu_layout("8:1:0,16:1/4:0,*:1/8:0", W, H);
     exr_image full;
     CHECK(gpu_render(&sc, ALPHA_MODE_DEFAULT, W, H, 0.5f, &full) == FS_OK);
     /* A pursuit: the gaze slides across the frame; the window around it stays sharp, the window at
@@ -280,7 +268,7 @@ TEST(ring_mip_bias_reaches_the_alpha_lookup)
     double prev = 2.0;
     static const char *const specs[] = {"*:1:0", "*:1:1", "*:1:2", "*:1:3"};
     for (int i = 0; i < 4; i++) {
-        fov_layout l = layout_of(specs[i], W, H);
+        fov_layout l = gpu_layout(specs[i], W, H);
         exr_image img;
         gpu_fov fv = {.layout = &l, .gaze = {0.5f, 0.5f}};
         CHECK(gpu_render_fov(&sc, ALPHA_MODE_TRADITIONAL, W, H, 0.0f, &fv, &img) == FS_OK);

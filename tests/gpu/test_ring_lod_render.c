@@ -6,18 +6,6 @@
 
 #include "scene/cards.h"
 
-static fov_layout layout_of(const char *spec, int w, int h)
-{
-    fov_layout l;
-    char err[256];
-    display_desc d = {w, h, 90.0f};
-    if (fov_layout_parse(spec, &d, &l, err, sizeof err) != FS_OK) {
-        fprintf(stderr, "bad layout %s: %s\n", spec, err);
-        exit(1);
-    }
-    return l;
-}
-
 static ring_lod_spec lod_of(const char *text)
 {
     ring_lod_spec s;
@@ -100,7 +88,7 @@ TEST(a_field_of_cards_keeps_its_covered_area)
     enum { W = 1280, H = 720, NX = 96, NY = 54 };
     scene sc;
     card_field(&sc, NX, NY, 2.0f * 4.0f / W, 2.0f * 12.8f / W);
-    fov_layout one = layout_of("*:1:0", W, H);
+    fov_layout one = gpu_layout("*:1:0", W, H);
     gpu_fov fv = {.layout = &one, .gaze = {0.5f, 0.5f}};
     exr_image base;
     CHECK(gpu_render_fov(&sc, ALPHA_MODE_TRADITIONAL, W, H, 0.0f, &fv, &base) == FS_OK);
@@ -137,7 +125,7 @@ TEST(u_one_draws_what_no_simplification_draws_bit_for_bit)
     enum { W = 320, H = 180 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    fov_layout l = layout_of("8:1:0,20:1/2:0,*:1/8:0", W, H);
+    fov_layout l = gpu_layout("8:1:0,20:1/2:0,*:1/8:0", W, H);
     static const alpha_mode modes[] = {ALPHA_MODE_TRADITIONAL, ALPHA_MODE_HASHED, ALPHA_MODE_A2C};
     for (int m = 0; m < 3; m++) {
         gpu_fov off = {.layout = &l, .gaze = {0.4f, 0.55f}}, ones = off;
@@ -166,7 +154,7 @@ TEST(simplification_thins_the_periphery_only_and_a_still_camera_repeats_its_fram
     enum { W = 320, H = 180 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    fov_layout l = layout_of("8:1:0,20:1/2:0,*:1/8:0", W, H);
+    fov_layout l = gpu_layout("8:1:0,20:1/2:0,*:1/8:0", W, H);
     l.blend_deg = 0.0f; /* hard ring edges: a pixel shows one ring's image */
     for (int m = 0; m < 2; m++) {
         alpha_mode mode = m ? ALPHA_MODE_HASHED : ALPHA_MODE_TRADITIONAL;
@@ -240,7 +228,7 @@ TEST(a_slowly_moving_gaze_changes_coverage_no_faster_than_without_ring_lod)
     enum { W = 320, H = 180, FRAMES = 8 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    fov_layout l = layout_of("8:1:0,20:1/2:0,*:1/8:0", W, H);
+    fov_layout l = gpu_layout("8:1:0,20:1/2:0,*:1/8:0", W, H);
     ring_lod_spec off = {0}, on = lod_of("simplify");
     double m0, x0, m1, x1;
     gaze_sweep(&sc, &l, &off, W, H, 0.5f, FRAMES, &m0, &x0);
@@ -260,7 +248,7 @@ TEST(only_scenes_with_card_aggregates_compile_it_and_never_the_reference)
         int prims = 0;
         uint64_t cards = 0;
         CHECK(scene_cards_count(&sc, &prims, &cards) == FS_OK);
-        fov_layout l = layout_of("8:1:0,20:1/2:0,*:1/8:0", 320, 180);
+        fov_layout l = gpu_layout("8:1:0,20:1/2:0,*:1/8:0", 320, 180);
         plan_options po = {.alpha_mode = ALPHA_MODE_HASHED, .width = 320, .height = 180, .frames = 1, .layout = l,
                            .ring_lod = lod_of("simplify")};
         plan pl, ref;
