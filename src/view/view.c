@@ -54,6 +54,7 @@ typedef struct view_settings {
     layout_choice layout;
     layout_choice last_on; /* the layout F turns foveation back on to */
     bool taa, overlay;
+    bool ring_lod;        /* --ring-lod's keep fractions, or the default schedule (D) */
     float mip_bias;       /* added to every ring's own bias */
 } view_settings;
 
@@ -186,6 +187,11 @@ static fs_status build_side(viewer *v, int side)
     po.taa = v->set.taa;
     po.overlay = v->set.overlay;
     po.layout = v->layouts[v->set.layout];
+    /* Ring LOD: the run's keep fractions where they fit this layout, else the default schedule. */
+    bool fits = v->base.ring_lod.kind != RING_LOD_EXPLICIT || v->base.ring_lod.count == po.layout.count;
+    po.ring_lod = !v->set.ring_lod ? (ring_lod_spec){0}
+                  : fits && v->base.ring_lod.kind != RING_LOD_OFF ? v->base.ring_lod
+                                                                  : (ring_lod_spec){.kind = RING_LOD_SCHEDULE};
     for (int i = 0; i < po.layout.count; i++)
         po.layout.rings[i].mip_bias += v->set.mip_bias;
     fs_status st = plan_build(&v->sc, &po, &v->pl[side]);
@@ -259,6 +265,7 @@ static void apply_action(viewer *v, view_action a)
     case VIEW_ACT_BIAS_DOWN: s->mip_bias = fmaxf(s->mip_bias - VIEW_BIAS_STEP, -VIEW_BIAS_MAX); break;
     case VIEW_ACT_BIAS_UP: s->mip_bias = fminf(s->mip_bias + VIEW_BIAS_STEP, VIEW_BIAS_MAX); break;
     case VIEW_ACT_OVERLAY: s->overlay = !s->overlay; break;
+    case VIEW_ACT_RING_LOD: s->ring_lod = !s->ring_lod; break;
     /* The rest do not change the plan. */
     case VIEW_ACT_FREEZE:
         v->frozen = !v->frozen;
@@ -389,9 +396,10 @@ static void update_title(viewer *v)
                      alpha_mode_name(v->pl[0].global_mode));
     if (v->set.split)
         o += snprintf(title + o, sizeof title - (size_t)o, " vs %s", alpha_mode_name(v->pl[1].global_mode));
-    o += snprintf(title + o, sizeof title - (size_t)o, " | rings %s | TAA %s | bias %+.1f%s | %.1f ms cpu, %.1f ms gl",
-                  layout_label(v, v->set.layout, lay, sizeof lay), v->pl[0].taa ? "on" : "off",
-                  (double)v->set.mip_bias, v->set.overlay ? " | overlay" : "", v->cpu_ms, v->gl_ms);
+    o += snprintf(title + o, sizeof title - (size_t)o, " | rings %s%s | TAA %s | bias %+.1f%s | %.1f ms cpu, %.1f ms gl",
+                  layout_label(v, v->set.layout, lay, sizeof lay), v->pl[0].ring_lod ? " + ring LOD" : "",
+                  v->pl[0].taa ? "on" : "off", (double)v->set.mip_bias, v->set.overlay ? " | overlay" : "", v->cpu_ms,
+                  v->gl_ms);
     if (v->paused)
         o += snprintf(title + o, sizeof title - (size_t)o, " | paused");
     if (v->frozen)
@@ -572,6 +580,7 @@ static fs_status setup(viewer *v, const run_desc *d)
     v->set.split = d->split[0] != ALPHA_MODE_DEFAULT;
     v->set.taa = probe.taa;
     v->set.overlay = d->overlay;
+    v->set.ring_lod = v->base.ring_lod.kind != RING_LOD_OFF;
     v->set.layout = LAYOUT_RUN;
     st = resolve_layouts(v);
     v->set.last_on = v->layouts[LAYOUT_RUN].kind == FOV_LAYOUT_OFF ? LAYOUT_AUTO : LAYOUT_RUN;

@@ -26,6 +26,7 @@ static const struct {
     {"LEFT_BRACKET", VIEW_ACT_BIAS_DOWN, "mip bias -0.5 on every ring"},
     {"RIGHT_BRACKET", VIEW_ACT_BIAS_UP, "mip bias +0.5 on every ring"},
     {"O", VIEW_ACT_OVERLAY, "ring borders and gaze marker on/off"},
+    {"D", VIEW_ACT_RING_LOD, "ring LOD on/off: fewer, larger leaf cards in the outer rings (--ring-lod)"},
     {"C", VIEW_ACT_FREEZE, "freeze the camera (gaze and time go on)"},
     {"H", VIEW_ACT_RESET_HISTORY, "reset the TAA history"},
     {"S", VIEW_ACT_SPLIT, "split screen on/off (left: the mode, right: --split's second)"},

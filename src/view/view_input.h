@@ -40,6 +40,7 @@ typedef enum view_action {
     VIEW_ACT_BIAS_DOWN,      /* [: mip bias -0.5 on every ring */
     VIEW_ACT_BIAS_UP,        /* ]: mip bias +0.5 */
     VIEW_ACT_OVERLAY,        /* O: ring borders and gaze marker */
+    VIEW_ACT_RING_LOD,       /* D: ring LOD on/off (docs/ring-lod.md) */
     VIEW_ACT_FREEZE,         /* C: freeze the camera (gaze and time go on) */
     VIEW_ACT_RESET_HISTORY,  /* H: drop the TAA history */
     VIEW_ACT_SPLIT,          /* S: split screen on/off */

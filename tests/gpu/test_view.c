@@ -184,6 +184,8 @@ TEST(viewer_matches_render_and_follows_the_gaze)
                            "move 0.70 0.60\n"
                            "capture          # the overlay moved with the gaze\n"
                            "frame 7\n"
+                           "key D            # ring LOD on (the frame says so in its header)\n"
+                           "capture\n"
                            "leave            # recorded as invalid (the gaze holds)\n"
                            "frame 8\n"
                            "quit             # while recording: the trace must stay valid\n");
@@ -255,6 +257,16 @@ TEST(viewer_matches_render_and_follows_the_gaze)
 
     check_overlay(p("rec/trace.capture.0005.exr"), 0.30f, 0.45f);
     check_overlay(p("rec/trace.capture.0006.exr"), 0.70f, 0.60f);
+
+    /* D: ring LOD with the default schedule (the run gave no --ring-lod), named in the header. */
+    exr_image six = {0}, seven = {0};
+    CHECK(exr_read_part(p("rec/trace.capture.0006.exr"), 0, &six) == FS_OK);
+    CHECK(exr_read_part(p("rec/trace.capture.0007.exr"), 0, &seven) == FS_OK);
+    const exr_attr *lod = exr_image_attr(&seven, "fovsim:ring_lod_u");
+    fprintf(stderr, "capture 7 (after D): fovsim:ring_lod_u %s\n", lod ? lod->s : "(none)");
+    CHECK(!exr_image_attr(&six, "fovsim:ring_lod_u") && lod && strchr(lod->s, ','));
+    exr_image_free(&six);
+    exr_image_free(&seven);
 }
 
 TEST(split_screen_shows_two_modes)

@@ -24,6 +24,7 @@ TEST(keys_have_actions)
     CHECK(view_key_action("RIGHT_BRACKET") == VIEW_ACT_BIAS_UP);
     CHECK(view_key_action("ESCAPE") == VIEW_ACT_QUIT && view_key_action("Q") == VIEW_ACT_QUIT);
     CHECK(view_key_action("RIGHT") == VIEW_ACT_STEP && view_key_action("N") == VIEW_ACT_STEP);
+    CHECK(view_key_action("D") == VIEW_ACT_RING_LOD && view_key_action("d") == VIEW_ACT_RING_LOD);
     CHECK(view_key_action("Z") == VIEW_ACT_NONE);
     CHECK(view_key_action("") == VIEW_ACT_NONE);
     CHECK(strstr(view_key_help(), "TAA") != NULL);
