@@ -52,6 +52,9 @@ void cli_print_help(command cmd)
                "that transfer to a GPU (GL_ARB_pipeline_statistics_query): vertex-shader invocations,\n"
                "primitives submitted and fragment-shader invocations, per stage and per frame; n/a (JSON\n"
                "-1) where the driver lacks the extension. Text is Markdown; --format json for scripts.\n"
+               "Configurations per mode: full resolution, foveated (the run's rings, without ring LOD) and,\n"
+               "with --ring-lod (or the scene's ring_lod), foveated + ring LOD, with its ratios to foveated\n"
+               "per stage (time, CPU time, fragment-shader invocations, primitives).\n"
                "Defaults: N = 30, W = 5, the scene's display size. See docs/benchmarks.md.\n\n");
         break;
     case CMD_REFERENCE:
@@ -168,7 +171,8 @@ void cli_print_help(command cmd)
            scene_builtin_list(), alpha_mode_list());
     if (cmd == CMD_BENCH)
         printf("  --accuracy          the accuracy-vs-time matrix: modes x rings off/default/aggressive x TAA\n"
-               "                      off/on, with coverage, RMSE, alpha RMSE, FLIP and temporal error vs the\n"
+               "                      off/on (with --ring-lod also default+lod: the default rings with it),\n"
+               "                      with coverage, RMSE, alpha RMSE, FLIP and temporal error vs the\n"
                "                      reference, and each configuration's CPU time, page faults and work\n"
                "                      counts; writes DIR/accuracy.csv, accuracy.md, accuracy.png (error vs\n"
                "                      frame time) and accuracy-fragments.png (error vs fragment-shader\n"

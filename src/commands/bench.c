@@ -1,6 +1,7 @@
 /* bench.c: `fovsim bench` (without --accuracy, which is bench_accuracy.c): frame time, CPU time,
- * page faults and pipeline statistics of full resolution against the ring layout, per alpha mode
- * and per stage, interleaved frame by frame so every configuration sees the same machine state. */
+ * page faults and pipeline statistics of full resolution against the ring layout (and, with ring
+ * LOD, the same rings with it), per alpha mode and per stage, interleaved frame by frame so every
+ * configuration sees the same machine state. */
 #include "commands/commands.h"
 
 #include <errno.h>
@@ -17,16 +18,23 @@
 #include "core/progress.h"
 #include "gl/gl_device.h"
 #include "fov/fov_ring.h"
+#include "fov/ring_lod.h"
 #include "gaze/gaze.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "scene/frame.h"
 #include "session/session.h"
 
+/* The layouts bench measures: full resolution, the run's rings without ring LOD, and (when the run
+ * asks for ring LOD and its plan compiles it) the same rings with it. */
+enum { BENCH_FULL, BENCH_RINGS, BENCH_RINGS_LOD, BENCH_LAYOUTS };
+static const char *const k_layout_names[BENCH_LAYOUTS] = {"full resolution", "foveated", "foveated + ring LOD"};
+
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
     char name[64];
     alpha_mode mode;    /* the global alpha mode of this configuration */
+    int layout;         /* BENCH_FULL, BENCH_RINGS or BENCH_RINGS_LOD */
     bool foveated;      /* the run's ring layout (else full resolution) */
     bool msaa_only;     /* traditional test drawn through the MSAA targets (A2C cost split) */
     plan pl;
@@ -189,6 +197,19 @@ static void bench_row(char *report, int *o, const char *cfg, const char *measure
     report_printf(report, o, "\n");
 }
 
+/* with / without, -1 when either is unknown (< 0) or without is 0. */
+static double ratio_known(double with, double without)
+{
+    return with < 0 || without <= 0 ? -1.0 : with / without;
+}
+
+/* The ring a stage draws ("ring 2 (1/4, all passes)"), -1 for any other stage. */
+static int stage_ring(const char *name)
+{
+    int ring = -1, at = 0;
+    return sscanf(name, "ring %d (%n", &ring, &at) == 1 && at > 0 ? ring : -1;
+}
+
 fs_status cmd_bench(const run_desc *d)
 {
     session s;
@@ -208,18 +229,25 @@ fs_status cmd_bench(const run_desc *d)
         modes[nmodes++] = s.pl.global_mode;
     for (int m = 0; m < nmodes; m++)
         want_msaa |= modes[m] == ALPHA_MODE_A2C || modes[m] == ALPHA_MODE_HASHED_A2C;
-    enum { MAX_CFG = 2 * (ALPHA_MODE_COUNT + 1) };
+    enum { MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) };
     bench_config cfg[MAX_CFG];
     memset(cfg, 0, sizeof cfg);
     int ncfg = 0;
-    for (int lay = 0; lay < (s.pl.rings ? 2 : 1); lay++)
+    /* Ring LOD (docs/ring-lod.md) is measured against the same rings without it: the plain rings
+     * configuration is drawn without it, whatever --ring-lod or the scene say. */
+    bool lod = s.pl.rings && s.pl.ring_lod;
+    if (!lod && (s.pl.ring_lod || s.pl.ring_lod_why[0]))
+        log_warn("bench: ring LOD not measured (%s)", s.pl.ring_lod ? "no rings" : s.pl.ring_lod_why);
+    int nlayouts = lod ? 3 : s.pl.rings ? 2 : 1;
+    for (int lay = 0; lay < nlayouts; lay++)
         for (int m = 0; m < nmodes + (want_msaa ? 1 : 0); m++) {
             bench_config *c = &cfg[ncfg++];
-            c->foveated = lay == 1;
+            c->layout = lay;
+            c->foveated = lay != BENCH_FULL;
             c->msaa_only = m == nmodes;
             c->mode = c->msaa_only ? ALPHA_MODE_TRADITIONAL : modes[m];
             snprintf(c->name, sizeof c->name, "%s%s, %s", alpha_mode_name(c->mode), c->msaa_only ? "+MSAA" : "",
-                     c->foveated ? "foveated" : "full resolution");
+                     k_layout_names[lay]);
         }
     for (int c = 0; c < ncfg && st == FS_OK; c++) {
         plan_options po = {.alpha_mode = cfg[c].mode, .width = d->width, .height = d->height, .frames = n,
@@ -228,6 +256,8 @@ fs_status cmd_bench(const run_desc *d)
                            .composite_per_pixel = d->composite_per_pixel};
         if (cfg[c].foveated)
             po.layout = s.pl.layout;
+        if (cfg[c].layout == BENCH_RINGS_LOD)
+            po.ring_lod = s.pl.ring_lod_spec;
         st = plan_build(&s.sc, &po, &cfg[c].pl);
         if (st == FS_OK)
             cfg[c].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &cfg[c].pl, .timers = true}, &st);
@@ -254,8 +284,14 @@ fs_status cmd_bench(const run_desc *d)
     struct utsname un;
     uname(&un);
     double px = (double)s.pl.width * s.pl.height;
-    char rings[256];
+    char rings[256], lod_text[200] = "off";
     fov_layout_format(&s.pl.layout, rings, sizeof rings);
+    if (lod) { /* "simplify (u = 1,1,0.25,0.0625)" */
+        char u[160];
+        ring_lod_format(&s.pl.ring_lod_spec, lod_text, sizeof lod_text);
+        ring_lod_format_u(&s.pl.ring_lod_spec, &s.pl.layout, u, sizeof u);
+        snprintf(lod_text + strlen(lod_text), sizeof lod_text - strlen(lod_text), " (u = %s)", u);
+    }
     summary wall[MAX_CFG], shaded[MAX_CFG], cpu[MAX_CFG], faults[MAX_CFG], count[MAX_CFG][BENCH_COUNTS];
     summary stage_wall[MAX_CFG][RENDERER_STATS_MAX], stage_gl[MAX_CFG][RENDERER_STATS_MAX];
     summary stage_count[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
@@ -283,7 +319,7 @@ fs_status cmd_bench(const run_desc *d)
         }
     }
     /* Foveation's speedup: the first mode, full resolution vs foveated. */
-    int per_layout = ncfg / (s.pl.rings ? 2 : 1);
+    int per_layout = ncfg / nlayouts;
     bool has_fov = s.pl.rings && st == FS_OK;
     double speedup = has_fov ? wall[0].median / wall[per_layout].median : 1.0;
     double ideal = has_fov ? px / shaded[per_layout].median : 1.0;
@@ -293,7 +329,7 @@ fs_status cmd_bench(const run_desc *d)
     double rel[MAX_CFG] = {0};
     for (int c = 0; c < ncfg && st == FS_OK; c++)
         for (int b = 0; b < ncfg; b++)
-            if (cfg[b].mode == ALPHA_MODE_TRADITIONAL && !cfg[b].msaa_only && cfg[b].foveated == cfg[c].foveated)
+            if (cfg[b].mode == ALPHA_MODE_TRADITIONAL && !cfg[b].msaa_only && cfg[b].layout == cfg[c].layout)
                 rel[c] = wall[c].median / wall[b].median;
     char *report = malloc(BENCH_REPORT_CAP);
     int o = 0;
@@ -305,14 +341,18 @@ fs_status cmd_bench(const run_desc *d)
             s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode));
         OUT("  \"rings\": \"%s\",\n  \"gaze\": \"%s\",\n  \"renderer\": \"%s\",\n  \"machine\": \"%s, %ld cores\",\n",
             rings, s.gaze.count ? s.gaze.path : "centre", gl_device_renderer(), cpu_name, sysconf(_SC_NPROCESSORS_ONLN));
+        OUT("  \"ring_lod\": \"%s\",\n", lod_text);
         OUT("  \"pipeline_statistics\": %s,\n", gl_device_has_pipeline_stats() ? "true" : "false");
         OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", n, d->warmup, px);
         for (int c = 0; c < ncfg; c++) {
             char spec[256];
             fov_layout_format(&cfg[c].pl.layout, spec, sizeof spec);
+            char u[160] = "off";
+            if (cfg[c].pl.ring_lod)
+                ring_lod_format_u(&cfg[c].pl.ring_lod_spec, &cfg[c].pl.layout, u, sizeof u);
             OUT("    {\"name\": \"%s\", \"alpha_mode\": \"%s\", \"msaa_only\": %s, \"rings\": \"%s\", "
-                "\"shaded_pixels\": %.0f, \"relative_to_traditional\": %.4f,\n",
-                cfg[c].name, alpha_mode_name(cfg[c].mode), cfg[c].msaa_only ? "true" : "false", spec,
+                "\"ring_lod_u\": \"%s\", \"shaded_pixels\": %.0f, \"relative_to_traditional\": %.4f,\n",
+                cfg[c].name, alpha_mode_name(cfg[c].mode), cfg[c].msaa_only ? "true" : "false", spec, u,
                 shaded[c].median, rel[c]);
             OUT("     \"frame_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
                 wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
@@ -340,11 +380,36 @@ fs_status cmd_bench(const run_desc *d)
             }
             OUT("]}%s\n", c + 1 < ncfg ? "," : "");
         }
-        OUT("  ],\n  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", speedup,
+        OUT("  ],\n");
+        if (lod) {
+            /* Each mode's ring LOD configuration against its plain rings: time ratios of medians,
+             * count ratios of the totals over the same frames; -1 = unknown. */
+            OUT("  \"ring_lod_vs_rings\": [");
+            for (int c = 2 * per_layout; c < ncfg; c++) {
+                int b = c - per_layout;
+                OUT("%s\n    {\"name\": \"%s\", \"without\": \"%s\", \"frame_ms_ratio\": %.4f, \"cpu_ms_ratio\": %.4f",
+                    c > 2 * per_layout ? "," : "", cfg[c].name, cfg[b].name, ratio_known(wall[c].median, wall[b].median),
+                    ratio_known(cpu[c].median, cpu[b].median));
+                for (int q = 0; q < BENCH_COUNTS; q++)
+                    OUT(", \"%s_ratio\": %.4f", k_count_keys[q], ratio_known(count_all[c][q], count_all[b][q]));
+                OUT(",\n     \"stages\": [");
+                for (int p = 0; p < cfg[c].names.pass_count; p++) {
+                    OUT("%s\n       {\"name\": \"%s\", \"wall_ms_ratio\": %.4f", p ? "," : "", cfg[c].names.pass_names[p],
+                        ratio_known(stage_wall[c][p].median, stage_wall[b][p].median));
+                    for (int q = 0; q < BENCH_COUNTS; q++)
+                        OUT(", \"%s_ratio\": %.4f", k_count_keys[q],
+                            ratio_known(stage_count_all[c][p][q], stage_count_all[b][p][q]));
+                    OUT("}");
+                }
+                OUT("]}");
+            }
+            OUT("\n  ],\n");
+        }
+        OUT("  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", speedup,
             ideal, speedup / ideal);
     } else if (st == FS_OK) {
-        OUT("### %s, %dx%d, alpha %s, rings %s\n\n", s.sc.path, s.pl.width, s.pl.height,
-            alpha_mode_name(s.pl.global_mode), rings);
+        OUT("### %s, %dx%d, alpha %s, rings %s%s%s\n\n", s.sc.path, s.pl.width, s.pl.height,
+            alpha_mode_name(s.pl.global_mode), rings, lod ? ", ring LOD " : "", lod ? lod_text : "");
         OUT("- machine: %s, %s %s (%ld cores online)\n", cpu_name, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
         OUT("- renderer: %s (OpenGL %s, %s)%s\n", gl_device_renderer(), gl_device_version(), gl_device_description(),
             gl_device_has_pipeline_stats() ? "" : "; no GL_ARB_pipeline_statistics_query: work counts n/a");
@@ -398,6 +463,39 @@ fs_status cmd_bench(const run_desc *d)
             OUT("\n| configuration | frame (ms, median) | relative to traditional |\n|---|---|---|\n");
             for (int c = 0; c < ncfg; c++)
                 OUT("| %s | %.2f | %.2fx |\n", cfg[c].name, wall[c].median, rel[c]);
+        }
+        if (lod) {
+            OUT("\nRing LOD against the same rings without it (%s): times are medians, counts are means per frame "
+                "over the same frames; ratio = with / without:\n\n| configuration | stage | ms without | ms with | "
+                "ratio | fragment shader invocations without | with | ratio | primitives without | with | ratio | "
+                "instances without | with |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n", lod_text);
+            for (int c = 2 * per_layout; c < ncfg; c++) {
+                int b = c - per_layout;
+                for (int p = 0; p <= cfg[c].names.pass_count; p++) {
+                    bool frame = p == cfg[c].names.pass_count;
+                    summary tb = frame ? wall[b] : stage_wall[b][p], tc = frame ? wall[c] : stage_wall[c][p];
+                    OUT("| %s | %s | %.2f | %.2f | %.2fx |", cfg[c].name, frame ? "**frame**" : cfg[c].names.pass_names[p],
+                        tb.median, tc.median, ratio_known(tc.median, tb.median));
+                    for (int q = 2; q > 0; q--) { /* fragments, then primitives */
+                        double vb = frame ? count_all[b][q] : stage_count_all[b][p][q];
+                        double vc = frame ? count_all[c][q] : stage_count_all[c][p][q];
+                        out_count(report, &o, vb < 0 ? -1.0 : vb / n);
+                        out_count(report, &o, vc < 0 ? -1.0 : vc / n);
+                        double r = ratio_known(vc, vb);
+                        if (r < 0)
+                            OUT(" n/a |");
+                        else
+                            OUT(" %.3fx |", r);
+                    }
+                    int ring = frame ? -1 : stage_ring(cfg[c].names.pass_names[p]);
+                    if (ring >= 0)
+                        OUT(" %.0f | %.0f |\n", instances[b][ring].median, instances[c][ring].median);
+                    else
+                        OUT(" | |\n");
+                }
+                OUT("| %s | **frame, process CPU time** | %.2f | %.2f | %.2fx | | | | | | | | |\n", cfg[c].name,
+                    cpu[b].median, cpu[c].median, ratio_known(cpu[c].median, cpu[b].median));
+            }
         }
         if (has_fov)
             OUT("\nfoveated vs full resolution (%s): speedup %.2fx (median frame times), ideal %.2fx (display pixels / "

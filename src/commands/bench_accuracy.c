@@ -20,15 +20,21 @@
 #include "session/session.h"
 
 /* The accuracy-vs-time matrix (DESIGN.md "Outputs"; docs/benchmarks.md): alpha modes x foveation
- * off / default / aggressive x TAA off / on, every configuration drawn over the same consecutive
+ * off / default / aggressive (and default+lod, the default rings with ring LOD, when the run asks
+ * for it) x TAA off / on, every configuration drawn over the same consecutive
  * frames (TAA needs a real sequence), timings interleaved per frame so all see the same machine
  * state, accuracy measured after the warm-up against the reference in the default rings. */
 
 #define ACC_DEFAULT_DIV 4       /* default size: the scene's display / 4 (320x180 for 1280x720) */
 #define ACC_DEFAULT_FRAMES 12
-#define ACC_MAX_CONFIGS (ALPHA_MODE_COUNT * 3 * 2)
+#define ACC_MAX_CONFIGS (ALPHA_MODE_COUNT * ACC_LAYOUTS * 2)
 
-static const char *const k_layout_names[3] = {"off", "default", "aggressive"};
+/* The ring layouts of the matrix, in row order; default+lod is the default rings with the run's
+ * ring LOD (docs/ring-lod.md), only with --ring-lod (or the scene's "ring_lod"). */
+enum { ACC_OFF, ACC_DEFAULT, ACC_DEFAULT_LOD, ACC_AGGRESSIVE, ACC_LAYOUTS };
+static const char *const k_layout_names[ACC_LAYOUTS] = {"off", "default", "default+lod", "aggressive"};
+/* Which band-limited reference a layout uses: default+lod has the default rings' bands. */
+static const int k_band_slot[ACC_LAYOUTS] = {0, 1, 1, 2};
 
 /* Per-frame counts of bench --accuracy besides the frame time, in CSV column order: process CPU
  * time (ms) and minor page faults of the draw, then its pipeline statistics (-1 = unknown). */
@@ -39,7 +45,7 @@ static const char *const k_acc_count_columns[ACC_COUNTS] = {"cpu_ms_median", "mi
 
 typedef struct acc_config {
     mode_run run;   /* renderer, images and sums (frame_ms: measured frames only) */
-    int layout;     /* 0 off, 1 default, 2 aggressive */
+    int layout;     /* ACC_OFF .. ACC_AGGRESSIVE */
     bool taa;
     double med, p10, p90;
     double *counts[ACC_COUNTS]; /* per measured frame */
@@ -79,15 +85,16 @@ static const char *const k_error_labels[4] = {"FLIP vs reference (mean)",
                                               "temporal error, motion-compensated (linear RGB)"};
 
 /* Plots the error (CSV column y_col) against x_expr (a gnuplot column expression) into
- * DIR/STEM.png through DIR/STEM.gp. Colour = alpha mode, shape = ring layout, filled = TAA on,
- * hollow = off; a legend names each (dummy series: one entry per mode, layout and TAA state, not
- * one per point); the Pareto front (rows with front_col == 1, sorted by sort_col) is a line.
- * buf: scratch of 1 << 16 bytes. */
+ * DIR/STEM.png through DIR/STEM.gp. Colour = alpha mode, shape = ring layout (those with
+ * layouts[l] set; default+lod a diamond), filled = TAA on, hollow = off; a legend names each
+ * (dummy series: one entry per mode, layout and TAA state, not one per point); the Pareto front
+ * (rows with front_col == 1, sorted by sort_col) is a line. buf: scratch of 1 << 16 bytes. */
 static fs_status plot_accuracy(const char *out, const char *stem, const char *title, const char *xlabel,
                                const char *x_expr, int y_col, const char *ylabel, int sort_col, int front_col,
-                               const alpha_mode *modes, int mode_count, char *buf)
+                               const alpha_mode *modes, int mode_count, const bool *layouts, char *buf)
 {
-    static const int shape_filled[3] = {7, 5, 9}, shape_hollow[3] = {6, 4, 8}; /* circle, square, triangle */
+    /* circle, square, diamond, triangle */
+    static const int shape_filled[ACC_LAYOUTS] = {7, 5, 13, 9}, shape_hollow[ACC_LAYOUTS] = {6, 4, 12, 8};
     static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"};
     char gp[1200], png[1200], pngtmp[1300];
     snprintf(gp, sizeof gp, "%s/%s.gp", out, stem);
@@ -104,8 +111,8 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
                   pngtmp, title, xlabel, ylabel);
     for (int m = 0; m < mode_count; m++) {
         const char *name = alpha_mode_name(modes[m]), *col = colours[m % 7];
-        for (int l = 0; l < 3; l++)
-            for (int t = 0; t < 2; t++)
+        for (int l = 0; l < ACC_LAYOUTS; l++)
+            for (int t = 0; t < 2 && layouts[l]; t++)
                 o += snprintf(buf + o, cap - (size_t)o,
                               "'< awk -F, \"\\$1==\\\"%s\\\" && \\$2==\\\"%s\\\" && \\$3==\\\"%s\\\"\" %s/accuracy.csv' "
                               "u %s:%d w p pt %d ps 1.4 lc rgb '%s' notitle, \\\n     ",
@@ -113,9 +120,10 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
                               t ? shape_filled[l] : shape_hollow[l], col);
         o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt 7 ps 1.4 lc rgb '%s' t '%s', \\\n     ", col, name);
     }
-    for (int l = 0; l < 3; l++)
-        o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt %d ps 1.4 lc rgb 'black' t 'rings %s', \\\n     ",
-                      shape_hollow[l], k_layout_names[l]);
+    for (int l = 0; l < ACC_LAYOUTS; l++)
+        if (layouts[l])
+            o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt %d ps 1.4 lc rgb 'black' t 'rings %s', \\\n     ",
+                          shape_hollow[l], k_layout_names[l]);
     o += snprintf(buf + o, cap - (size_t)o,
                   "NaN w p pt 7 ps 1.4 lc rgb 'gray40' t 'TAA on (filled)', NaN w p pt 6 ps 1.4 lc rgb 'gray40' "
                   "t 'TAA off (hollow)', \\\n     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' "
@@ -133,6 +141,34 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
         snprintf(cmd, sizeof cmd, "%s/gnuplot.log", out);
         unlink(cmd); /* kept only when gnuplot failed */
     }
+    return st;
+}
+
+/* The ring LOD of the matrix's default+lod rows: the run's (--ring-lod, else the scene's), checked
+ * against the default rings `l`. *use is false when there is none, or when it would change nothing
+ * there (every ring keeps all cards, or no MASK primitive is an aggregate: said on stderr). */
+static fs_status acc_ring_lod(const run_desc *d, const session *s, const fov_layout *l, ring_lod_spec *out, bool *use)
+{
+    plan_options po;
+    fs_status st = session_plan_options(d, &s->sc, &po);
+    *use = false;
+    if (st != FS_OK || po.ring_lod.kind == RING_LOD_OFF)
+        return st;
+    char err[256];
+    if (ring_lod_check(&po.ring_lod, l, err, sizeof err) != FS_OK) {
+        log_error("--ring-lod: the default rings of bench --accuracy: %s", err);
+        return FS_ERR_USAGE;
+    }
+    po.layout = *l;
+    plan *probe = malloc(sizeof *probe);
+    if (!probe)
+        return FS_ERR_NOMEM;
+    st = plan_build(&s->sc, &po, probe);
+    if (st == FS_OK && !probe->ring_lod)
+        log_warn("bench --accuracy: no default+lod rows: ring LOD changes nothing here (%s)", probe->ring_lod_why);
+    *use = st == FS_OK && probe->ring_lod;
+    *out = po.ring_lod;
+    free(probe);
     return st;
 }
 
@@ -175,17 +211,26 @@ fs_status cmd_bench_accuracy(const run_desc *d)
     /* The default rings are the run's own (auto unless --rings/the scene say otherwise); when the
      * display is too small for them to save pixels, the acuity model's anyway: a matrix whose
      * "default" column equals "off" would measure nothing. */
-    fov_layout layouts[3] = {fov_layout_off(), s.pl.layout, aggressive_layout(&s.pl)};
+    fov_layout layouts[ACC_LAYOUTS] = {fov_layout_off(), s.pl.layout, s.pl.layout, aggressive_layout(&s.pl)};
     if (!s.pl.rings)
-        layouts[1] = measure_layout(&s.pl);
-    fov_layout ml = layouts[1];
+        layouts[ACC_DEFAULT] = layouts[ACC_DEFAULT_LOD] = measure_layout(&s.pl);
+    fov_layout ml = layouts[ACC_DEFAULT];
+    /* Ring LOD (--ring-lod or the scene's): measured as its own layout, default+lod; every other
+     * configuration is drawn without it. */
+    bool use_layout[ACC_LAYOUTS] = {true, true, false, true};
+    ring_lod_spec lod = {0};
+    char lod_u[160] = "";
+    if (st == FS_OK)
+        st = acc_ring_lod(&dd, &s, &layouts[ACC_DEFAULT_LOD], &lod, &use_layout[ACC_DEFAULT_LOD]);
+    if (use_layout[ACC_DEFAULT_LOD])
+        ring_lod_format_u(&lod, &layouts[ACC_DEFAULT_LOD], lod_u, sizeof lod_u);
     acc_config *cfg = calloc(ACC_MAX_CONFIGS, sizeof *cfg);
     int nc = 0;
     if (!cfg)
         st = FS_ERR_NOMEM;
     for (int m = 0; m < nmodes && st == FS_OK; m++)
-        for (int l = 0; l < 3 && st == FS_OK; l++)
-            for (int t = 0; t < 2 && st == FS_OK; t++) {
+        for (int l = 0; l < ACC_LAYOUTS && st == FS_OK; l++)
+            for (int t = 0; t < 2 && st == FS_OK && use_layout[l]; t++) {
                 acc_config *c = &cfg[nc++];
                 c->run.mode = modes[m];
                 c->layout = l;
@@ -193,7 +238,8 @@ fs_status cmd_bench_accuracy(const run_desc *d)
                 plan_options po = {.alpha_mode = modes[m], .width = s.pl.width, .height = s.pl.height,
                                    .frames = n + warm, .layout = layouts[l], .alpha = s.pl.alpha, .taa = c->taa,
                                    .taa_controls = s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
-                                   .composite_per_pixel = d->composite_per_pixel};
+                                   .composite_per_pixel = d->composite_per_pixel,
+                                   .ring_lod = l == ACC_DEFAULT_LOD ? lod : (ring_lod_spec){0}};
                 st = plan_build(&s.sc, &po, &c->run.pl);
                 /* timers: the pipeline statistics queries come with them */
                 if (st == FS_OK)
@@ -241,7 +287,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         display_desc disp = {s.pl.width, s.pl.height, base.hfov_deg};
         reference_info ri;
         ring_mask mask = {0};
-        bool band_done[3] = {false, false, false};
+        bool band_done[3] = {false, false, false}; /* per k_band_slot */
         if (measured) {
             st = reference_frame(rf, &base, &ref, &ri);
             if (st == FS_OK)
@@ -273,7 +319,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
             metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
             bool prev = mr->have_prev && have_prev_ref && !fr.cut;
-            int l = cfg[c].layout;
+            int l = k_band_slot[cfg[c].layout];
             if (st == FS_OK && !band_done[l]) {
                 float *b = band_buf + (size_t)(4 * l) * band_n;
                 float *const planes[4] = {b, b + band_n, b + 2 * band_n, b + 3 * band_n};
@@ -332,7 +378,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             cfg[c].med = stats_quantile(v, n, 0.5);
             cfg[c].p10 = stats_quantile(v, n, 0.1);
             cfg[c].p90 = stats_quantile(v, n, 0.9);
-            if (cfg[c].run.mode == ALPHA_MODE_TRADITIONAL && cfg[c].layout == 0 && !cfg[c].taa)
+            if (cfg[c].run.mode == ALPHA_MODE_TRADITIONAL && cfg[c].layout == ACC_OFF && !cfg[c].taa)
                 base = c;
             for (int q = 0; q < ACC_COUNTS; q++) {
                 double *u = cfg[c].counts[q];
@@ -359,8 +405,8 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             pareto(fx, ey, nc, front_fs);
         char cpu[256], rings[256], aggr[256];
         session_cpu_name(cpu, sizeof cpu);
-        fov_layout_format(&layouts[1], rings, sizeof rings);
-        fov_layout_format(&layouts[2], aggr, sizeof aggr);
+        fov_layout_format(&layouts[ACC_DEFAULT], rings, sizeof rings);
+        fov_layout_format(&layouts[ACC_AGGRESSIVE], aggr, sizeof aggr);
         int oc = 0, om = 0;
 #define CSV(...) oc += snprintf(csv + oc, (1 << 16) - (size_t)oc, __VA_ARGS__)
 #define MD(...) om += snprintf(md + om, (1 << 16) - (size_t)om, __VA_ARGS__)
@@ -382,6 +428,12 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         MD("- %d frames measured after %d warm-up frames (consecutive, %g fps); gaze: %s\n", n, warm, d->fps,
            s.gaze.count ? s.gaze.path : "fixation at the centre");
         MD("- rings: default %s; aggressive %s; measured in the default rings\n", rings, aggr);
+        if (use_layout[ACC_DEFAULT_LOD]) {
+            char spec[160];
+            ring_lod_format(&lod, spec, sizeof spec);
+            MD("- default+lod: the default rings with ring LOD %s, keep fraction u = %s per ring (the other rows "
+               "without ring LOD; the reference never simplified)\n", spec, lod_u);
+        }
         MD("- reference: %s\n", reference_describe(rf));
         MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
            "Pareto front of (time, %s) (--error)\n", k_error_names[d->acc_error]);
@@ -452,7 +504,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
                      gl_device_renderer());
             st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->acc_error],
-                               4, 11, modes, nmodes, csv);
+                               4, 11, modes, nmodes, use_layout, csv);
         }
         /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
         snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
@@ -461,7 +513,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s.pl.width * s.pl.height);
             st = plot_accuracy(out, "accuracy-fragments", title,
                                "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
-                               k_error_labels[d->acc_error], 16, 17, modes, nmodes, csv);
+                               k_error_labels[d->acc_error], 16, 17, modes, nmodes, use_layout, csv);
         } else if (st == FS_OK) {
             unlink(path); /* not one from an earlier run beside this run's CSV */
             log_warn("no GL_ARB_pipeline_statistics_query: fragment counts unknown, %s not drawn", path);

@@ -2,7 +2,7 @@
 """check_bench_json.py: checks the work and process counters of `fovsim bench --format json`
 (used by test_cli.sh; not a test itself: CMake registers only tests/cli/test_*.sh).
 
-usage: check_bench_json.py FILE known|unknown [--foveation-saves-fragments]
+usage: check_bench_json.py FILE known|unknown [--foveation-saves-fragments] [--ring-lod U1,...]
 
 known: every count is an integer >= 0, each stage's counts add up to its configuration's
 (all_frames sums, exact), full-screen stages (TAA resolve) submit one primitive per frame, the
@@ -10,6 +10,14 @@ composite an even number of them (its display rectangles, two triangles each), a
 or FOVSIM_NO_PIPELINE_STATS): every count is -1. Either way CPU time and minor page faults are
 numbers >= 0 (faults integers). --foveation-saves-fragments: the foveated configuration of the
 first mode shades fewer fragments than full resolution over the same frames.
+
+--ring-lod U1,...: the run had ring LOD with these keep fractions (known counts). Every mode has
+"M, foveated" (drawn without it) and "M, foveated + ring LOD" over the same stages, and an entry in
+ring_lod_vs_rings whose count ratios are the configurations' totals' ratios. Counts, never times:
+a ring with u = 1 does exactly the same work in both (identity law, same culling bounds); a ring
+with u < 1 draws at least as many instances (its culling bounds hold the enlarged cards); the
+outermost ring, when simplified, shades fewer fragments (on llvmpipe every sub-pixel card costs a
+4x4 block, and a fraction u of them is drawn). Without --ring-lod: no ring LOD configuration.
 """
 import json
 import sys
@@ -27,10 +35,62 @@ def is_int(v):
     return isinstance(v, int) and not isinstance(v, bool)
 
 
+def check_ring_lod(j, u):
+    """The ring LOD configurations of a known-count run with keep fractions u (list of str)."""
+    if j["ring_lod"].split(" (u = ")[-1] != ",".join(u) + ")":
+        fail("ring_lod is %r, expected keep fractions %s" % (j["ring_lod"], u))
+    cfg = {c["name"]: c for c in j["configs"]}
+    pairs = [(cfg[n[: -len(" + ring LOD")]], c) for n, c in cfg.items() if n.endswith(", foveated + ring LOD")]
+    if not pairs or len(pairs) != len(j["ring_lod_vs_rings"]):
+        fail("%d ring LOD configurations, %d comparisons" % (len(pairs), len(j["ring_lod_vs_rings"])))
+    for plain, lod in pairs:
+        if plain["ring_lod_u"] != "off" or lod["ring_lod_u"] != ",".join(u):
+            fail("%s / %s: ring_lod_u %r / %r" % (plain["name"], lod["name"], plain["ring_lod_u"], lod["ring_lod_u"]))
+        if plain["rings"] != lod["rings"] or plain["shaded_pixels"] != lod["shaded_pixels"]:
+            fail("%s: not the same rings as %s" % (lod["name"], plain["name"]))
+        ps, ls = plain["stages"], lod["stages"]
+        if [s["name"] for s in ps] != [s["name"] for s in ls]:
+            fail("%s: other stages than %s" % (lod["name"], plain["name"]))
+        rings = [k for k, s in enumerate(ps) if s["name"].startswith("ring ") and "taa" not in s["name"]]
+        if len(rings) != len(u):
+            fail("%s: %d ring stages for %d keep fractions" % (lod["name"], len(rings), len(u)))
+        for i, k in enumerate(rings):
+            a, b = ps[k], ls[k]
+            ia, ib = plain["ring_instances_median"][i], lod["ring_instances_median"][i]
+            if float(u[i]) == 1.0:
+                if any(a[q + "_all_frames"] != b[q + "_all_frames"] for q in COUNTS) or ia != ib:
+                    fail("%s: ring %d keeps every card but its work differs: %r / %r" % (lod["name"], i, a, b))
+            elif ib < ia:
+                fail("%s: ring %d draws %r instances, %r without ring LOD" % (lod["name"], i, ib, ia))
+        o = rings[-1]
+        if float(u[-1]) < 1.0 and not 0 < ls[o]["fs_invocations_all_frames"] < ps[o]["fs_invocations_all_frames"]:
+            fail("%s: outermost ring shades %d fragments, %d without ring LOD" % (
+                lod["name"], ls[o]["fs_invocations_all_frames"], ps[o]["fs_invocations_all_frames"]))
+    for e in j["ring_lod_vs_rings"]:
+        plain, lod = cfg[e["without"]], cfg[e["name"]]
+        if e["without"] != e["name"].replace(" + ring LOD", ""):
+            fail("ring_lod_vs_rings: %s compared with %s" % (e["name"], e["without"]))
+        if not e["frame_ms_ratio"] > 0 or not e["cpu_ms_ratio"] > 0:
+            fail("ring_lod_vs_rings: %r" % e)
+        for q in COUNTS:
+            if abs(e[q + "_ratio"] - lod[q]["all_frames"] / plain[q]["all_frames"]) > 1e-3:
+                fail("ring_lod_vs_rings: %s: %s_ratio %r" % (e["name"], q, e[q + "_ratio"]))
+        if [s["name"] for s in e["stages"]] != [s["name"] for s in lod["stages"]]:
+            fail("ring_lod_vs_rings: %s: stages" % e["name"])
+        if not all(s["wall_ms_ratio"] > 0 and s["fs_invocations_ratio"] > 0 for s in e["stages"]):
+            fail("ring_lod_vs_rings: %s: %r" % (e["name"], e["stages"]))
+
+
 def main():
     path, mode = sys.argv[1], sys.argv[2]
     saves = "--foveation-saves-fragments" in sys.argv[3:]
+    lod_u = sys.argv[sys.argv.index("--ring-lod") + 1].split(",") if "--ring-lod" in sys.argv else None
     j = json.load(open(path))
+    if lod_u is not None and mode == "known":
+        check_ring_lod(j, lod_u)
+    elif j["ring_lod"] != "off" or "ring_lod_vs_rings" in j or any(
+            "ring LOD" in c["name"] or c["ring_lod_u"] != "off" for c in j["configs"]):
+        fail("ring LOD configurations in a run without ring LOD")
     frames = j["frames"]
     if j.get("pipeline_statistics") is not (mode == "known"):
         fail("pipeline_statistics is %r, expected %s" % (j.get("pipeline_statistics"), mode))

@@ -74,9 +74,10 @@ check "bench JSON: counts unknown (-1) without the extension" python3 "$SRC/test
 # Ring culling (docs/foveation.md): rings skip instances only their hole would show, so they draw
 # fewer than with --ring-cull off, and fewer primitives; the same frames. Four rings (the auto layout
 # at 320x180 before issue 16 part 3; the acuity-safe auto layout has two on so coarse a display).
+BENCH_RINGS=21.719414:1:0,34.564426:1/2:0,47.247437:1/4:0,*:1/8:0
 for c in on off; do
   "$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --ring-cull $c \
-    --rings 21.719414:1:0,34.564426:1/2:0,47.247437:1/4:0,*:1/8:0 --format json >"$T/bench_cull_$c.json" 2>/dev/null
+    --rings "$BENCH_RINGS" --format json >"$T/bench_cull_$c.json" 2>/dev/null
 done
 check "bench: rings cull what only their hole shows (fewer instances and primitives than --ring-cull off)" python3 -c "
 import json; on, off = [json.load(open('$T/bench_cull_%s.json' % c))['configs'][1] for c in ('on', 'off')]
@@ -84,6 +85,24 @@ print('instances per ring', on['ring_instances_median'], 'vs', off['ring_instanc
 assert len(on['ring_instances_median']) > 2 and sum(on['ring_instances_median']) < sum(off['ring_instances_median'])
 assert all(a <= b for a, b in zip(on['ring_instances_median'], off['ring_instances_median']))
 assert on['primitives']['all_frames'] < off['primitives']['all_frames']"
+# Ring LOD (docs/ring-lod.md): with --ring-lod bench adds "foveated + ring LOD" next to "foveated"
+# per mode (the plain rings drawn without it), over the same frames, and their ratios per stage.
+# Counts, not times: rings with u = 1 do exactly the same work in both; a simplified ring draws at
+# least as many instances (its culling bounds hold the enlarged cards) and, on llvmpipe, shades
+# fewer fragments in the outermost ring (u = 1/16: a sixteenth of the sub-pixel cards, each a
+# 4x4 block there); check_bench_json.py. Without ring LOD nothing of it appears (the same script on
+# the runs above).
+"$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --modes traditional,hashed \
+  --rings "$BENCH_RINGS" --ring-lod simplify --format json >"$T/bench_lod.json" 2>/dev/null
+check "bench --ring-lod: foveated + ring LOD beside foveated, same frames, u = 1 rings unchanged, outer ring cheaper" \
+  python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_lod.json" known --ring-lod 1,1,0.25,0.0625
+"$BIN" bench --builtin forest --frames 1 --warmup 0 --width 320 --height 180 --taa off --rings "$BENCH_RINGS" \
+  --ring-lod simplify:1,1,1/2,1/8 >"$T/bench_lod.txt" 2>/dev/null
+check "bench text with ring LOD: its rows and the table of ratios" bash -c "grep -q '^### builtin:forest, 320x180, alpha traditional, rings .*, ring LOD simplify:1,1,0.5,0.125 (u = 1,1,0.5,0.125)' '$T/bench_lod.txt' && grep -Eq '^\| traditional, foveated \+ ring LOD \| frame, wall clock incl. finish \(ms\) \| [0-9.]+ \|' '$T/bench_lod.txt' && grep -q '^Ring LOD against the same rings without it' '$T/bench_lod.txt' && grep -Eq '^\| traditional, foveated \+ ring LOD \| ring 3 \(1/8, all passes\) \| [0-9.]+ \| [0-9.]+ \| [0-9.]+x \| [0-9]+ \| [0-9]+ \| [0-9.]+x \| [0-9]+ \| [0-9]+ \| [0-9.]+x \| [0-9]+ \| [0-9]+ \|$' '$T/bench_lod.txt' && grep -Eq '^\| traditional, foveated \+ ring LOD \| \*\*frame, process CPU time\*\* \| [0-9.]+ \| [0-9.]+ \| [0-9.]+x \|' '$T/bench_lod.txt'"
+"$BIN" bench --builtin fence --frames 1 --warmup 0 --width 160 --height 90 --rings "10:1:0,*:1/4:0" --ring-lod simplify \
+  --format json >"$T/bench_lod_fence.json" 2>"$T/bench_lod_fence.err"
+check "bench --ring-lod on a scene without card aggregates: not measured, says why" bash -c "grep -q 'ring LOD not measured (no MASK primitive has 16 or more cards)' '$T/bench_lod_fence.err' && python3 -c \"
+import json; j = json.load(open('$T/bench_lod_fence.json')); assert len(j['configs']) == 2 and j['ring_lod'] == 'off'\""
 expect_exit "--ring-cull maybe -> 2" 2 "$BIN" plan forest --ring-cull maybe
 check "--ring-cull says what it expects" grep -q "ring-cull: expected on or off" "$T/err.txt"
 expect_exit "--composite blurry -> 2" 2 "$BIN" plan forest --composite blurry

@@ -217,6 +217,33 @@ on = {key(r): int(r['fs_invocations_median']) for r in rows if r['taa'] == 'on'}
 assert all(off[k] < on[k] for k in off), (off, on)  # TAA adds a full-screen resolve per ring
 "
 
+# ---- bench --accuracy --ring-lod: a default+lod layout (the default rings with ring LOD) in every
+# mode x TAA, in the CSV, the table and the plots (its own marker and legend entry); the other rows
+# as without it. Counts, not times: its u = 1 ring 0 is untouched, so the fragments it saves are the
+# simplified rings'; the forest's card aggregates are what it thins (the fence has none).
+"$BIN" bench forest --accuracy --modes traditional,hashed --width 128 --height 72 --frames 2 --warmup 1 "${REF[@]}" \
+  --rings 21.719414:1:0,34.564426:1/4:0,*:1/8:0 --ring-lod simplify --out "$T/acc_lod" --quiet >"$T/acc_lod.txt" 2>&1; rc=$?
+check "bench --accuracy --ring-lod exits 0" test $rc -eq 0
+check "accuracy.csv with ring LOD: 2 modes x 4 layouts x 2 TAA, sane values" python3 -c "
+import csv, math
+rows = list(csv.DictReader(open('$T/acc_lod/accuracy.csv')))
+assert len(rows) == 16, len(rows)
+for m in ('traditional', 'hashed'):
+    assert [(r['rings'], r['taa']) for r in rows if r['mode'] == m] == [(l, t) for l in ('off', 'default', 'default+lod', 'aggressive') for t in ('off', 'on')]
+for r in rows:
+    for k in ('rmse', 'flip', 'temporal_error', 'alpha_rmse', 'coverage_ratio_ring0', 'coverage_ratio_ring2'):
+        assert math.isfinite(float(r[k])) and float(r[k]) >= 0, (k, r)
+    assert int(r['fs_invocations_median']) > 0 and int(r['primitives_median']) > 0, r
+row = {(r['mode'], r['rings'], r['taa']): r for r in rows}
+for m in ('traditional', 'hashed'):
+    for t in ('off', 'on'):
+        plain, lod = row[(m, 'default', t)], row[(m, 'default+lod', t)]
+        assert int(lod['fs_invocations_median']) < int(plain['fs_invocations_median']), (plain, lod)
+        assert 0.2 < float(lod['coverage_ratio_ring2']) < 3, lod
+"
+check "accuracy.md and plots with ring LOD: rows, u per ring, a diamond in the legend" bash -c "grep -q '^- default+lod: the default rings with ring LOD simplify, keep fraction u = 1,0.25,0.0625 per ring' '$T/acc_lod/accuracy.md' && [ \$(grep -c '^| [a-z *]* | default+lod | o[nf]* |' '$T/acc_lod/accuracy.md') -eq 4 ] && grep -q \"pt 12 ps 1.4 lc rgb 'black' t 'rings default+lod'\" '$T/acc_lod/accuracy.gp' && grep -q \"pt 12 ps 1.4 lc rgb 'black' t 'rings default+lod'\" '$T/acc_lod/accuracy-fragments.gp' && head -c 8 '$T/acc_lod/accuracy.png' | od -c | grep -q 'P   N   G'"
+check "bench --accuracy without --ring-lod: no default+lod" bash -c "! grep -q 'default+lod' '$T/acc/accuracy.csv' '$T/acc/accuracy.md' '$T/acc/accuracy.gp'"
+
 # ---- bad input: one line, exit 2, nothing created
 for args in "--modes traditional,bogus" "--samples 3" "--supersample 0" "--alpha hashed" "--cache $T/c --no-cache" \
             "--reference exactly" "--ref-memory 0" "--error bogus" "--error flip"; do
