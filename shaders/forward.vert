@@ -31,8 +31,11 @@ out vec3 v_motion;          // world position last frame - world position now
 // Ring LOD (common/ring_lod.glsl, docs/ring-lod.md): per vertex its card's centre and rank; per ring
 // the law (a, k, gain); per draw the scene slot of its first instance (the rank rotation's key).
 layout(location = ATTR_CARD) in vec4 a_card;
+layout(location = ATTR_CARD_SIDE) in float a_card_side; // sqrt(card area), asset units
 uniform vec3 u_ring_lod;
 uniform uint u_ring_lod_instance;
+uniform float u_ring_lod_px; // per-card schedule: the ring's pixels per unit at distance 1; 0: u_ring_lod
+uniform vec3 u_eye;
 #endif
 
 out vec3 v_world_pos;
@@ -55,8 +58,17 @@ void main()
 #ifdef RING_LOD
     // Kept cards grow about their centres, leaving ones shrink to their centre (no area): exactly
     // a_position where the ring's law is the identity (u = 1) or the card is never simplified.
+    vec3 law = u_ring_lod;
+    if (u_ring_lod_px > 0.0) {
+        // The card's side in this ring's pixels: instances scale it by their transform (the cube
+        // root of its volume change), distance shrinks it.
+        mat3 m3 = mat3(a_model);
+        float side = a_card_side * pow(abs(determinant(m3)), 1.0 / 3.0);
+        float d = max(distance((a_model * vec4(a_card.xyz, 1.0)).xyz, u_eye), 1e-6);
+        law = ring_lod_law_for(ring_lod_card_u(side * u_ring_lod_px / d));
+    }
     pos = ring_lod_apply(pos, vec4(a_card.xyz, ring_lod_rank(a_card.w, u_ring_lod_instance + uint(gl_InstanceID))),
-                         u_ring_lod);
+                         law);
 #endif
     vec4 world = a_model * vec4(pos, 1.0);
 #ifdef SWAY

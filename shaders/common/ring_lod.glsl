@@ -38,6 +38,33 @@ float ring_lod_rank(float card_rank, uint instance_key)
 }
 
 // C twin: ring_lod_weight. g = clamp(1 - k (rank - a), 0, 1); 1 for a rank below 0.
+// The law (a, k, gain) of keep fraction u (ring_lod_law_for): the identity for u >= 1; E[g] = u
+// by construction, so gain = 1 / u.
+vec3 ring_lod_law_for(float u)
+{
+    if (!(u > 0.0) || u >= 1.0)
+        return vec3(1.0, 0.0, 1.0);
+    const float B = float(RING_LOD_BAND), us = 1.0 / (1.0 + 0.5 * float(RING_LOD_BAND));
+    float uu = max(u, float(RING_LOD_U_FLOOR));
+    precise float a, k;
+    if (uu <= us) {
+        a = uu * (1.0 - 0.5 * B);
+        k = 1.0 / (B * uu);
+    } else {
+        a = 1.0 - B * us;
+        precise float w = 1.0 - a;
+        k = 2.0 * (1.0 - uu) / (w * w);
+    }
+    return vec3(a, k, 1.0 / uu);
+}
+
+// The default schedule's keep fraction of a card whose side spans `side_px` ring pixels.
+float ring_lod_card_u(float side_px)
+{
+    precise float area = side_px * side_px;
+    return clamp(area / float(RING_LOD_AREA_REF), float(RING_LOD_U_MIN), 1.0);
+}
+
 float ring_lod_weight(float rank, vec3 law)
 {
     if (rank < 0.0)

@@ -42,9 +42,12 @@
  * common/ring_lod.glsl, C twin: src/fov/ring_lod.c (ring_lod.h documents the law); the cards and
  * their ranks: src/scene/cards.c. */
 #define ATTR_CARD 10                /* per vertex: card centre xyz (asset space), rank w */
+#define ATTR_CARD_SIDE 11           /* per vertex: the card's side, sqrt(area), asset units */
 #define RING_LOD_BAND 0.25          /* transition band: ranks within B * u below the cut fade out */
-#define RING_LOD_SCALE_REF 0.5      /* default schedule: rings this fine or finer keep every card */
-#define RING_LOD_U_MIN 0.0625       /* default schedule: the fewest cards a ring keeps, 1/16 */
+#define RING_LOD_AREA_REF 1.0       /* default schedule: a card covering this many ring pixels or more
+                                     * is kept; a smaller one keeps u = its area / this */
+#define RING_LOD_U_MIN 0.0625       /* default schedule: the fewest cards kept, 1/16 (kept cards at most
+                                     * 4 times their side) */
 #define RING_LOD_U_FLOOR (1.0 / 4096.0) /* smallest keep fraction at all (kept cards scale by 64) */
 #define RING_LOD_MIN_CARDS 16       /* a primitive with fewer cards is never simplified */
 #define RING_LOD_RANK_BITS 24       /* ranks are k / 2^24: exact in a float, rotated in integers */

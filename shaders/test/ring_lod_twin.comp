@@ -8,8 +8,8 @@ layout(local_size_x = 64) in;
 
 struct twin_in {
     vec4 card; // centre xyz, rank w (a card rank, RING_LOD_RANK_KEEP or a value at a ramp edge)
-    vec4 p;    // vertex position xyz
-    vec4 law;  // a, k, gain (ring_lod_law_for)
+    vec4 p;    // vertex position xyz; w: a card side in ring pixels for ring_lod_card_u
+    vec4 law;  // a, k, gain (ring_lod_law_for); w: a u for ring_lod_law_for
     uvec4 key; // x: instance key
 };
 
@@ -19,6 +19,7 @@ struct twin_out {
     vec4 o1;  // ring_lod_apply(p, card, law), 0
     vec4 o2;  // ring_lod_apply(p, vec4(card.xyz, ring_lod_rank(card.w, key.x)), law), 0
     uvec4 o3; // ring_lod_instance_offset(key.x), floatBitsToUint(ring_lod_rank(card.w, key.x)), 0, 0
+    vec4 o4;  // ring_lod_law_for(law.w), ring_lod_card_u(p.w)
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -38,5 +39,6 @@ void main()
     r.o1 = vec4(ring_lod_apply(p.p.xyz, p.card, law), 0.0);
     r.o2 = vec4(ring_lod_apply(p.p.xyz, vec4(p.card.xyz, rr), law), 0.0);
     r.o3 = uvec4(ring_lod_instance_offset(p.key.x), floatBitsToUint(rr), 0u, 0u);
+    r.o4 = vec4(ring_lod_law_for(p.law.w), ring_lod_card_u(p.p.w));
     tout[i] = r;
 }

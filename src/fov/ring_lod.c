@@ -47,19 +47,19 @@ ring_lod_law ring_lod_law_for(float u)
 {
     if (!(u > 0.0f) || u >= 1.0f)
         return identity_law();
-    const double B = RING_LOD_BAND, us = u_star(), uu = u < RING_LOD_U_FLOOR ? RING_LOD_U_FLOOR : u;
-    double a, k;
+    /* float operations in common/ring_lod.glsl's order: the GPU computes this per card */
+    const float B = (float)RING_LOD_BAND, us = 1.0f / (1.0f + 0.5f * (float)RING_LOD_BAND);
+    float uu = u > (float)RING_LOD_U_FLOOR ? u : (float)RING_LOD_U_FLOOR;
+    float a, k;
     if (uu <= us) {
-        a = uu * (1.0 - 0.5 * B);
-        k = 1.0 / (B * uu);
+        a = uu * (1.0f - 0.5f * B);
+        k = 1.0f / (B * uu);
     } else {
-        a = 1.0 - B * us;
-        k = 2.0 * (1.0 - uu) / ((1.0 - a) * (1.0 - a));
+        a = 1.0f - B * us;
+        float w = 1.0f - a;
+        k = 2.0f * (1.0f - uu) / (w * w);
     }
-    ring_lod_law l = {.a = (float)a, .k = (float)k, .gain = 1.0f};
-    double e = ring_lod_expected_weight(l.a, l.k);
-    l.gain = (float)(1.0 / e);
-    return l;
+    return (ring_lod_law){.a = a, .k = k, .gain = 1.0f / uu};
 }
 
 bool ring_lod_law_is_identity(const ring_lod_law *l)
@@ -136,14 +136,12 @@ float ring_lod_rank(float card_rank, uint32_t instance_key)
 
 /* >>schedule */
 
-float ring_lod_u_for_scale(int scale_log2)
+float ring_lod_card_u(float side_px)
 {
-    if (scale_log2 < 0)
-        scale_log2 = 0;
-    double q = ldexp(1.0, -scale_log2) / RING_LOD_SCALE_REF, u = q * q;
-    if (u < RING_LOD_U_MIN)
-        u = RING_LOD_U_MIN;
-    return u > 1.0 ? 1.0f : (float)u;
+    float area = side_px * side_px;
+    float u = area / (float)RING_LOD_AREA_REF;
+    u = u > (float)RING_LOD_U_MIN ? u : (float)RING_LOD_U_MIN; /* max, then min, as GLSL's clamp */
+    return u < 1.0f ? u : 1.0f;
 }
 
 /* >>text form */
@@ -274,11 +272,17 @@ float ring_lod_u(const ring_lod_spec *s, const fov_layout *l, int ring)
 {
     if (!s || !l || ring < 0 || ring >= l->count || ring >= MAX_FOV_RINGS)
         return 1.0f;
-    if (s->kind == RING_LOD_SCHEDULE)
-        return ring_lod_u_for_scale(l->rings[ring].scale_log2);
+    if (s->kind == RING_LOD_SCHEDULE) /* per card: at least RING_LOD_U_MIN in a reduced ring */
+        return l->rings[ring].scale_log2 > 0 ? (float)RING_LOD_U_MIN : 1.0f;
     if (s->kind == RING_LOD_EXPLICIT && ring < s->count && s->u[ring] > 0.0f && s->u[ring] <= 1.0f)
         return s->u[ring];
     return 1.0f;
+}
+
+bool ring_lod_ring_is_per_card(const ring_lod_spec *s, const fov_layout *l, int ring)
+{
+    return s && l && s->kind == RING_LOD_SCHEDULE && ring >= 0 && ring < l->count && ring < MAX_FOV_RINGS &&
+           l->rings[ring].scale_log2 > 0;
 }
 
 ring_lod_law ring_lod_ring_law(const ring_lod_spec *s, const fov_layout *l, int ring)
@@ -348,5 +352,15 @@ void ring_lod_format_u(const ring_lod_spec *s, const fov_layout *l, char *buf, i
     int n = l->count < 0 ? 0 : (l->count > MAX_FOV_RINGS ? MAX_FOV_RINGS : l->count);
     for (int i = 0; i < n; i++)
         u[i] = ring_lod_u(s, l, i);
+    if (s && s->kind == RING_LOD_SCHEDULE) { /* "1" for a full-resolution ring, "card" for the others */
+        size_t o = 0;
+        for (int i = 0; i < n && o < (size_t)size; i++) {
+            int w = snprintf(buf + o, (size_t)size - o, "%s%s", i ? "," : "", ring_lod_ring_is_per_card(s, l, i) ? "card" : "1");
+            if (w < 0)
+                break;
+            o += (size_t)w;
+        }
+        return;
+    }
     format_list(u, n, "", buf, size);
 }

@@ -22,15 +22,15 @@
  *     u* < u < 1  the ramp start stays at a* = 1 - B u* and the ramp flattens, k = 2 (1 - u) /
  *                 (1 - a*)^2, its end beyond r = 1: E[g] = 1 - k (1 - a*)^2 / 2 = u.
  *     u = 1       a = 1, k = 0, gain = 1: every g is exactly 1 and every scale exactly 1
- *                 (ring_lod_law_is_identity). The renderer skips the LOD for such a ring (no
- *                 attribute, no variant), so u = 1 is bit-identical to no simplification;
- *                 ring_lod_apply also returns the position unchanged whenever the scale is 1.
+ *                 (ring_lod_law_is_identity): ring_lod_apply returns the position unchanged
+ *                 whenever the scale is 1, so u = 1 is bit-identical to no simplification.
  *   So E[g] = u for every u, g is non-increasing in r, non-decreasing in u, continuous and
  *   Lipschitz in u, at most ring_lod_max_rate(u) per unit of u: (1 + B/2) / (B u) below u*,
  *   2 (1 + B/2) / B above. (Keeping the band at B u for every u instead would need the cut to reach
  *   1 + B at u = 1, moving without bound as u -> 1: a card near r = 1 would fade as sqrt(1 - u).)
- *   gain is 1 / E[g] of the float (a, k) the GPU evaluates, in closed form
- *   (ring_lod_expected_weight): 1 / u to float rounding.
+ *   gain = 1 / u (E[g] = u by construction; ring_lod_expected_weight checks it in closed form).
+ *   C and GLSL compute (a, k, gain) with the same float operations: the per-card schedule has the
+ *   GPU compute it per card.
  *
  * Ranks per instance
  *   Every instance of an asset shares its cards' ranks (cards.h), so without more every tree would
@@ -41,12 +41,14 @@
  *   rings (not the culled draw order). A rank below 0 (RING_LOD_RANK_KEEP) is left as it is.
  *
  * The schedule
- *   Default: ring i with scale s = 2^-scale_log2 keeps u = clamp((s / RING_LOD_SCALE_REF)^2,
- *   RING_LOD_U_MIN, 1). A ring pixel covers 1/s^2 display pixels, so u proportional to s^2 keeps the
- *   number of cards per ring pixel what it is at the reference scale; rings at the reference
- *   scale or finer keep every card. Rings of scales 1, 1/2, 1/4, 1/8, 1/16 get u = 1, 1, 1/4,
- *   1/16, 1/16 (the auto layout at 1280 x 720, 90 degrees, stops at 1/8: 1, 1, 1/4, 1/16). The schedule depends on the ring alone, not on how far a card is:
- *   a large card close to the viewer in a coarse ring is thinned like a distant one.
+ *   Default ("simplify"), per card (Cook et al. choose u from an element's size on screen): in a
+ *   ring of reduced scale, a card whose side spans s ring pixels (its sqrt(area), scaled by its
+ *   instance, over its distance from the eye, times the ring's pixels per unit at distance 1)
+ *   keeps u = clamp(s^2 / RING_LOD_AREA_REF, RING_LOD_U_MIN, 1): cards of a ring pixel or more are
+ *   drawn as they are, so near trees keep their outlines, and smaller ones are thinned until the
+ *   kept ones cover about a ring pixel each (at most 4 times their side). The vertex shader
+ *   evaluates it (ring_lod_card_u, then ring_lod_law_for per card); u changes smoothly with
+ *   distance, and so does every card's weight. Full-resolution rings keep every card.
  *   Text form: "off" (no simplification), "simplify" (the default schedule) or
  *   "simplify:U1,U2,...,Un", one keep fraction per ring, innermost first, each in
  *   [RING_LOD_U_FLOOR, 1] (1/4096: kept cards are then drawn 64 times their size), written
@@ -114,12 +116,12 @@ float ring_lod_rank(float card_rank, uint32_t instance_key);
 
 /* >>schedule and text form */
 
-/* The default schedule's u for a ring of scale 2^-scale_log2. */
-float ring_lod_u_for_scale(int scale_log2);
+/* The default schedule's keep fraction of a card whose side spans side_px ring pixels. */
+float ring_lod_card_u(float side_px);
 
 typedef enum ring_lod_kind {
     RING_LOD_OFF = 0,    /* no simplification */
-    RING_LOD_SCHEDULE,   /* "simplify": ring_lod_u_for_scale per ring */
+    RING_LOD_SCHEDULE,   /* "simplify": per card in reduced rings (ring_lod_card_u) */
     RING_LOD_EXPLICIT,   /* "simplify:U1,...,Un" */
 } ring_lod_kind;
 
@@ -136,9 +138,13 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
 /* Checks a spec against the layout it will run with: an explicit spec needs one keep fraction per
  * ring ("ring LOD: 3 keep fractions for 5 rings (expected one per ring)"). FS_ERR_USAGE. */
 fs_status ring_lod_check(const ring_lod_spec *s, const fov_layout *l, char *err, int err_size);
-/* Ring i's keep fraction: 1 for OFF and for a ring index the spec has no value for. */
+/* Ring i's keep fraction: 1 for OFF and for a ring index the spec has no value for; under the
+ * per-card schedule the smallest a card of the ring can get (RING_LOD_U_MIN in a reduced ring),
+ * which bounds how far its cards grow (culling). */
 float ring_lod_u(const ring_lod_spec *s, const fov_layout *l, int ring);
-/* Ring i's law: ring_lod_law_for(ring_lod_u(...)). */
+/* True when ring i's cards each take their own u (the default schedule in a reduced ring). */
+bool ring_lod_ring_is_per_card(const ring_lod_spec *s, const fov_layout *l, int ring);
+/* Ring i's law: ring_lod_law_for(ring_lod_u(...)); for a per-card ring the law of its smallest u. */
 ring_lod_law ring_lod_ring_law(const ring_lod_spec *s, const fov_layout *l, int ring);
 /* True when some ring of the layout is simplified (its law is not the identity). False for OFF,
  * for foveation off under the schedule and for explicit specs of all 1s. */
@@ -146,7 +152,8 @@ bool ring_lod_active(const ring_lod_spec *s, const fov_layout *l);
 /* "off", "simplify" or "simplify:1,1,0.25,0.0625,0.0625" (shortest round-trip decimals): the
  * spec's text form, which ring_lod_parse reads back to the same spec (records, EXR headers). */
 void ring_lod_format(const ring_lod_spec *s, char *buf, int size);
-/* Every ring's u as "1,1,0.25,0.0625,0.0625" for `fovsim plan` ("1" for each ring when OFF). */
+/* Every ring's u as "1,1,0.25,0.0625,0.0625" for `fovsim plan` ("1" for each ring when OFF;
+ * "card" for a ring whose cards take their own u). */
 void ring_lod_format_u(const ring_lod_spec *s, const fov_layout *l, char *buf, int size);
 
 #ifdef __cplusplus

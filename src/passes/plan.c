@@ -429,9 +429,13 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     if (p->ring_lod) {
         char u[160];
         ring_lod_format_u(&p->ring_lod_spec, &p->layout, u, sizeof u);
-        fprintf(f, "ring LOD   per ring keep fraction u = %s of the cards of %d MASK primitives (%llu cards in the "
-                   "scene), kept cards scaled by sqrt(1/u) about their centres (RING_LOD)\n",
-                u, p->ring_lod_prims, (unsigned long long)p->ring_lod_cards);
+        fprintf(f, "ring LOD   keep fraction u per ring = %s of the cards of %d MASK primitives (%llu cards in the "
+                   "scene), kept cards scaled by sqrt(1/u) about their centres (RING_LOD)%s\n",
+                u, p->ring_lod_prims, (unsigned long long)p->ring_lod_cards,
+                p->ring_lod_spec.kind == RING_LOD_SCHEDULE
+                    ? "; card: each card's own u = its area in ring pixels, at least 1/16 (cards of a ring pixel "
+                      "or more are drawn as they are)"
+                    : "");
     }
     if (p->sway)
         fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",

@@ -74,6 +74,7 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_hash_primitive = glGetUniformLocation(p, "u_hash_primitive");
     out->u_ring_lod = glGetUniformLocation(p, "u_ring_lod");
     out->u_ring_lod_instance = glGetUniformLocation(p, "u_ring_lod_instance");
+    out->u_ring_lod_px = glGetUniformLocation(p, "u_ring_lod_px");
     return FS_OK;
 }
 
@@ -204,7 +205,7 @@ void renderer_destroy(renderer *r)
                     glDeleteVertexArrays(1, &ga->prims[p].vao);
                     glDeleteBuffers(4, ga->prims[p].vbo);
                     glDeleteBuffers(1, &ga->prims[p].ibo);
-                    glDeleteBuffers(1, &ga->prims[p].card_vbo);
+                    glDeleteBuffers(2, ga->prims[p].card_vbo);
                 }
             if (ga->textures)
                 glDeleteTextures(as->image_count, ga->textures);

@@ -40,6 +40,13 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     if (pg->u_ring_lod >= 0) { /* RING_LOD passes: this ring's law (identity where u = 1) */
         ring_lod_law law = ring_lod_ring_law(&r->pl.ring_lod_spec, &r->pl.layout, ring);
         glProgramUniform3f(pg->id, pg->u_ring_lod, law.a, law.k, law.gain);
+        /* Per-card schedule: the ring's pixels per world unit at distance 1 (0: the law above). */
+        float px = 0.0f;
+        if (ring_lod_ring_is_per_card(&r->pl.ring_lod_spec, &r->pl.layout, ring)) {
+            display_desc dd = {r->width, r->height, fr->hfov_deg};
+            px = fov_focal_px(&dd) / exp2f((float)r->pl.layout.rings[ring].scale_log2);
+        }
+        glProgramUniform1f(pg->id, pg->u_ring_lod_px, px);
     }
     if (r->pl.sway) {
         glProgramUniform1f(pg->id, pg->u_time, fr->time);

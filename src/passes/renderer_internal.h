@@ -40,7 +40,7 @@ typedef struct gpu_program {
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
         u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive, u_ring_lod,
-        u_ring_lod_instance;
+        u_ring_lod_instance, u_ring_lod_px;
 } gpu_program;
 
 typedef struct composite_program {
@@ -57,7 +57,8 @@ typedef struct taa_program {
 
 typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
-    GLuint card_vbo;         /* plan.ring_lod, MASK primitives: (card centre, rank) per vertex */
+    GLuint card_vbo[2];      /* plan.ring_lod, MASK primitives: (card centre, rank) and the card's
+                              * side per vertex */
     GLsizei index_count;
     uint32_t first_triangle; /* triangles of the asset's earlier primitives (u_hash_primitive) */
 } gpu_prim;

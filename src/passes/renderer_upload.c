@@ -115,20 +115,27 @@ static fs_status upload_cards(renderer *r, const asset *as, gpu_asset *ga)
         if (!cards_prim_is_candidate(as, p))
             continue;
         const prim *pr = &as->prims[p];
-        float *attr = malloc(sizeof(float) * 4 * ((size_t)pr->vertex_count + 1));
+        float *attr = malloc(sizeof(float) * 5 * ((size_t)pr->vertex_count + 1));
         if (!attr) {
             st = FS_ERR_NOMEM;
             break;
         }
+        float *side = attr + 4 * (size_t)pr->vertex_count;
         prim_cards_vertex_attrib(&cards.prims[p], pr, attr);
+        prim_cards_vertex_side(&cards.prims[p], pr, side);
         gpu_prim *g = &ga->prims[p];
-        glCreateBuffers(1, &g->card_vbo);
-        glNamedBufferStorage(g->card_vbo, (GLsizeiptr)(sizeof(float) * 4 * pr->vertex_count), attr, 0);
+        glCreateBuffers(2, g->card_vbo);
+        glNamedBufferStorage(g->card_vbo[0], (GLsizeiptr)(sizeof(float) * 4 * pr->vertex_count), attr, 0);
+        glNamedBufferStorage(g->card_vbo[1], (GLsizeiptr)(sizeof(float) * pr->vertex_count), side, 0);
         free(attr);
-        glVertexArrayVertexBuffer(g->vao, 6, g->card_vbo, 0, 4 * sizeof(float));
-        glVertexArrayAttribFormat(g->vao, ATTR_CARD, 4, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(g->vao, ATTR_CARD, 6);
-        glEnableVertexArrayAttrib(g->vao, ATTR_CARD);
+        const GLuint locs[2] = {ATTR_CARD, ATTR_CARD_SIDE};
+        const GLint comps[2] = {4, 1};
+        for (int i = 0; i < 2; i++) {
+            glVertexArrayVertexBuffer(g->vao, 6 + (GLuint)i, g->card_vbo[i], 0, (GLsizei)(sizeof(float) * (size_t)comps[i]));
+            glVertexArrayAttribFormat(g->vao, locs[i], comps[i], GL_FLOAT, GL_FALSE, 0);
+            glVertexArrayAttribBinding(g->vao, locs[i], 6 + (GLuint)i);
+            glEnableVertexArrayAttrib(g->vao, locs[i]);
+        }
     }
     for (int k = 0; k < r->pl.layout.count && st == FS_OK; k++) {
         ring_lod_law law = ring_lod_ring_law(&r->pl.ring_lod_spec, &r->pl.layout, k);

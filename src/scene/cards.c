@@ -305,6 +305,14 @@ void prim_cards_vertex_attrib(const prim_cards *c, const prim *p, float *out4)
     }
 }
 
+void prim_cards_vertex_side(const prim_cards *c, const prim *p, float *out1)
+{
+    for (uint32_t v = 0; v < p->vertex_count; v++) {
+        uint32_t id = v < c->vertex_count ? c->vertex_card[v] : CARD_NONE;
+        out1[v] = id == CARD_NONE ? 0.0f : sqrtf(c->area[id]);
+    }
+}
+
 /* >>assets */
 
 bool cards_prim_is_candidate(const asset *a, int p)

@@ -83,6 +83,10 @@ void prim_cards_free(prim_cards *c);
  * for a vertex of no card (centre = its own position). Safe for any primitive: a zeroed prim_cards
  * (asset_cards' entry for a primitive that is not MASK) gives KEEP everywhere. */
 void prim_cards_vertex_attrib(const prim_cards *c, const prim *p, float *out4);
+/* The second attribute, at ATTR_CARD_SIDE: 1 float per vertex into out1 (p->vertex_count), the
+ * side of the vertex's card, sqrt(area) in asset units (what the per-card schedule measures in
+ * ring pixels); 0 for a vertex no triangle uses. */
+void prim_cards_vertex_side(const prim_cards *c, const prim *p, float *out1);
 
 /* The ranks of a primitive of n cards (prim_cards_build's, alone): rank[i] for card i. Exposed for
  * tests and for fields of identical cards built without geometry. FS_ERR_NOMEM (rank untouched). */

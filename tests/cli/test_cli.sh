@@ -93,7 +93,7 @@ assert on['primitives']['all_frames'] < off['primitives']['all_frames']"
 # 4x4 block there); check_bench_json.py. Without ring LOD nothing of it appears (the same script on
 # the runs above).
 "$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --modes traditional,hashed \
-  --rings "$BENCH_RINGS" --ring-lod simplify --format json >"$T/bench_lod.json" 2>/dev/null
+  --rings "$BENCH_RINGS" --ring-lod simplify:1,1,1/4,1/16 --format json >"$T/bench_lod.json" 2>/dev/null
 check "bench --ring-lod: foveated + ring LOD beside foveated, same frames, u = 1 rings unchanged, outer ring cheaper" \
   python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_lod.json" known --ring-lod 1,1,0.25,0.0625
 "$BIN" bench --builtin forest --frames 1 --warmup 0 --width 320 --height 180 --taa off --rings "$BENCH_RINGS" \

@@ -222,7 +222,7 @@ assert all(off[k] < on[k] for k in off), (off, on)  # TAA adds a full-screen res
 # as without it. Counts, not times: its u = 1 ring 0 is untouched, so the fragments it saves are the
 # simplified rings'; the forest's card aggregates are what it thins (the fence has none).
 "$BIN" bench forest --accuracy --modes traditional,hashed --width 128 --height 72 --frames 2 --warmup 1 "${REF[@]}" \
-  --rings 21.719414:1:0,34.564426:1/4:0,*:1/8:0 --ring-lod simplify --out "$T/acc_lod" --quiet >"$T/acc_lod.txt" 2>&1; rc=$?
+  --rings 21.719414:1:0,34.564426:1/4:0,*:1/8:0 --ring-lod simplify:1,1/4,1/16 --out "$T/acc_lod" --quiet >"$T/acc_lod.txt" 2>&1; rc=$?
 check "bench --accuracy --ring-lod exits 0" test $rc -eq 0
 check "accuracy.csv with ring LOD: 2 modes x 4 layouts x 2 TAA, sane values" python3 -c "
 import csv, math
@@ -241,7 +241,7 @@ for m in ('traditional', 'hashed'):
         assert int(lod['fs_invocations_median']) < int(plain['fs_invocations_median']), (plain, lod)
         assert 0.2 < float(lod['coverage_ratio_ring2']) < 3, lod
 "
-check "accuracy.md and plots with ring LOD: rows, u per ring, a diamond in the legend" bash -c "grep -q '^- default+lod: the default rings with ring LOD simplify, keep fraction u = 1,0.25,0.0625 per ring' '$T/acc_lod/accuracy.md' && [ \$(grep -c '^| [a-z *]* | default+lod | o[nf]* |' '$T/acc_lod/accuracy.md') -eq 4 ] && grep -q \"pt 12 ps 1.4 lc rgb 'black' t 'rings default+lod'\" '$T/acc_lod/accuracy.gp' && grep -q \"pt 12 ps 1.4 lc rgb 'black' t 'rings default+lod'\" '$T/acc_lod/accuracy-fragments.gp' && head -c 8 '$T/acc_lod/accuracy.png' | od -c | grep -q 'P   N   G'"
+check "accuracy.md and plots with ring LOD: rows, u per ring, a diamond in the legend" bash -c "grep -q '^- default+lod: the default rings with ring LOD simplify:1,0.25,0.0625, keep fraction u = 1,0.25,0.0625 per ring' '$T/acc_lod/accuracy.md' && [ \$(grep -c '^| [a-z *]* | default+lod | o[nf]* |' '$T/acc_lod/accuracy.md') -eq 4 ] && grep -q \"pt 12 ps 1.4 lc rgb 'black' t 'rings default+lod'\" '$T/acc_lod/accuracy.gp' && grep -q \"pt 12 ps 1.4 lc rgb 'black' t 'rings default+lod'\" '$T/acc_lod/accuracy-fragments.gp' && head -c 8 '$T/acc_lod/accuracy.png' | od -c | grep -q 'P   N   G'"
 check "bench --accuracy without --ring-lod: no default+lod" bash -c "! grep -q 'default+lod' '$T/acc/accuracy.csv' '$T/acc/accuracy.md' '$T/acc/accuracy.gp'"
 
 # ---- bad input: one line, exit 2, nothing created

@@ -41,6 +41,7 @@ typedef struct twin_in {
 typedef struct twin_out {
     float o0[4], o1[4], o2[4];
     uint32_t o3[4];
+    float o4[4];
 } twin_out;
 
 enum { COUNT = 1 << 16 };
@@ -88,6 +89,8 @@ static void make_input(twin_in *in)
     }
     in->card[3] = pick_rank(&l);
     in->key[0] = (uint32_t)rng_u64();
+    in->law[3] = rng01() < 0.1 ? rngf(-0.5, 1.5) : pick_u(); /* ring_lod_law_for's u, also outside (0, 1] */
+    in->p[3] = rng01() < 0.1 ? 0.0f : rngf(0.0, 2.0);         /* ring_lod_card_u's side in ring pixels */
 }
 
 static void run_cpu(const twin_in *in, twin_out *out)
@@ -107,6 +110,9 @@ static void run_cpu(const twin_in *in, twin_out *out)
     out->o2[0] = q.x, out->o2[1] = q.y, out->o2[2] = q.z;
     out->o3[0] = ring_lod_instance_offset(in->key[0]);
     memcpy(&out->o3[1], &rr, sizeof rr);
+    ring_lod_law f = ring_lod_law_for(in->law[3]);
+    out->o4[0] = f.a, out->o4[1] = f.k, out->o4[2] = f.gain;
+    out->o4[3] = ring_lod_card_u(in->p[3]);
 }
 
 /* >>run */
@@ -195,6 +201,33 @@ TEST(scale_and_apply_agree)
     CHECK(bad_dropped == 0);
 }
 
+/* The per-card schedule's twins: the GPU computes each card's u and law. u is bit-identical (a
+ * product, a division by 1 and a clamp); the law within 8 ULP (relative 2^-20): GLSL allows 2.5 ULP
+ * for a division, and k and gain are quotients. */
+TEST(per_card_u_and_law_agree)
+{
+    if (!have_gpu_results)
+        return;
+    int bad_u = 0, bad_law = 0, identity = 0;
+    for (int i = 0; i < COUNT; i++) {
+        const twin_out *g = &gpu[i], *c = &cpu[i];
+        bad_u += !twin_same_bits(g->o4[3], c->o4[3]);
+        bool same = true;
+        for (int k = 0; k < 3; k++) {
+            double d = fabs((double)g->o4[k] - (double)c->o4[k]);
+            same &= d <= fabs((double)c->o4[k]) * 0x1p-20 || twin_same_bits(g->o4[k], c->o4[k]);
+        }
+        if (!same && bad_law++ < 5)
+            fprintf(stderr, "  law at u %.9g: gpu %.9g %.9g %.9g cpu %.9g %.9g %.9g\n", inputs[i].law[3], g->o4[0],
+                    g->o4[1], g->o4[2], c->o4[0], c->o4[1], c->o4[2]);
+        identity += c->o4[1] == 0.0f && twin_same_bits(g->o4[1], 0.0f) && g->o4[2] == 1.0f;
+    }
+    fprintf(stderr, "per card: %d u and %d laws differ of %d; %d identity laws on both sides\n", bad_u, bad_law, COUNT,
+            identity);
+    CHECK(bad_u == 0 && bad_law == 0);
+    CHECK(identity > COUNT / 20); /* u >= 1 and u <= 0 reach the identity on both sides */
+}
+
 int main(void)
 {
     if (gl_device_create(&(gl_device_desc){.gpu_index = -1}) != FS_OK) {
@@ -215,6 +248,7 @@ int main(void)
     RUN(glsl_compiles_and_runs);
     RUN(integer_paths_and_weights_are_bit_identical);
     RUN(scale_and_apply_agree);
+    RUN(per_card_u_and_law_agree);
     free(inputs);
     free(gpu);
     free(cpu);

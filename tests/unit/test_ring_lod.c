@@ -282,13 +282,17 @@ TEST(instance_rotation_is_exact_and_keeps_the_strata)
 
 TEST(default_schedule)
 {
-    const float want[5] = {1.0f, 1.0f, 0.25f, 0.0625f, 0.0625f};
-    for (int k = 0; k <= 4; k++)
-        CHECK(ring_lod_u_for_scale(k) == want[k]);
-    CHECK(ring_lod_u_for_scale(-1) == 1.0f);
-    /* Constant cards per ring pixel between the reference and the floor: u / s^2 the same. */
-    CHECK_NEAR(ring_lod_u_for_scale(2) / 0.0625, 1.0 / (RING_LOD_SCALE_REF * RING_LOD_SCALE_REF), 1e-6);
-    CHECK_NEAR(ring_lod_u_for_scale(3) / (1.0 / 64.0), 1.0 / (RING_LOD_SCALE_REF * RING_LOD_SCALE_REF), 1e-6);
+    /* Per card: a card of a ring pixel or more keeps everything, a smaller one u = its area in ring
+     * pixels, down to RING_LOD_U_MIN; continuous in the card's size. */
+    CHECK(ring_lod_card_u(1.0f) == 1.0f && ring_lod_card_u(3.0f) == 1.0f && ring_lod_card_u(1e30f) == 1.0f);
+    CHECK(ring_lod_card_u(0.5f) == 0.25f && ring_lod_card_u(0.25f) == (float)RING_LOD_U_MIN);
+    CHECK(ring_lod_card_u(0.0f) == (float)RING_LOD_U_MIN && ring_lod_card_u(0.01f) == (float)RING_LOD_U_MIN);
+    float prev = ring_lod_card_u(0.0f);
+    for (int i = 1; i <= 2000; i++) {
+        float u = ring_lod_card_u((float)i / 1000.0f);
+        CHECK(u >= prev && u - prev <= 0.0041f); /* du/ds = 2 s <= 4 over steps of 0.001 */
+        prev = u;
+    }
 
     fov_layout l;
     char err[256];
@@ -296,21 +300,24 @@ TEST(default_schedule)
     ring_lod_spec s;
     CHECK(ring_lod_parse("simplify", &s, err, sizeof err) == FS_OK && s.kind == RING_LOD_SCHEDULE);
     CHECK(ring_lod_check(&s, &l, err, sizeof err) == FS_OK);
-    for (int i = 0; i < 5; i++)
-        CHECK(ring_lod_u(&s, &l, i) == want[i]);
-    ring_lod_law r0 = ring_lod_ring_law(&s, &l, 0), r1 = ring_lod_ring_law(&s, &l, 1),
-                 r2 = ring_lod_ring_law(&s, &l, 2);
-    CHECK(ring_lod_law_is_identity(&r0) && ring_lod_law_is_identity(&r1) && !ring_lod_law_is_identity(&r2));
+    CHECK(!ring_lod_ring_is_per_card(&s, &l, 0));
+    CHECK(ring_lod_u(&s, &l, 0) == 1.0f);
+    for (int i = 1; i < 5; i++)
+        CHECK(ring_lod_ring_is_per_card(&s, &l, i) && ring_lod_u(&s, &l, i) == (float)RING_LOD_U_MIN);
+    ring_lod_law r0 = ring_lod_ring_law(&s, &l, 0), r1 = ring_lod_ring_law(&s, &l, 1);
+    CHECK(ring_lod_law_is_identity(&r0) && !ring_lod_law_is_identity(&r1));
+    CHECK(ring_lod_max_scale(&r1) == 4.0f); /* culling: kept cards grow to at most 4 times their side */
     CHECK(ring_lod_active(&s, &l));
     char buf[128];
     ring_lod_format_u(&s, &l, buf, sizeof buf);
-    CHECK(strcmp(buf, "1,1,0.25,0.0625,0.0625") == 0);
+    CHECK(strcmp(buf, "1,card,card,card,card") == 0);
     /* Foveation off: one full-resolution ring, nothing simplified; a zeroed spec is off. */
     fov_layout off = fov_layout_off();
-    CHECK(!ring_lod_active(&s, &off));
+    CHECK(!ring_lod_active(&s, &off) && !ring_lod_ring_is_per_card(&s, &off, 0));
     ring_lod_spec z;
     memset(&z, 0, sizeof z);
     CHECK(z.kind == RING_LOD_OFF && !ring_lod_active(&z, &l) && ring_lod_u(&z, &l, 4) == 1.0f);
+    CHECK(!ring_lod_ring_is_per_card(&z, &l, 3));
     ring_lod_format_u(&z, &l, buf, sizeof buf);
     CHECK(strcmp(buf, "1,1,1,1,1") == 0);
 }
