@@ -21,6 +21,37 @@ static bool taa_history_valid(const renderer *r, const frame_record *fr)
     return r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
 }
 
+/* Per-card ring LOD: the ring's pixels per world unit at distance 1; 0 where the ring's law holds
+ * for every card (common/ring_lod.glsl). */
+static float ring_lod_px(const renderer *r, const frame_record *fr, int ring)
+{
+    if (!r->pl.ring_lod || !ring_lod_ring_is_per_card(&r->pl.ring_lod_spec, &r->pl.layout, ring))
+        return 0.0f;
+    display_desc dd = {r->width, r->height, fr->hfov_deg};
+    return fov_focal_px(&dd) / exp2f((float)r->pl.layout.rings[ring].scale_log2);
+}
+
+/* How far (asset units) a per-card ring's enlarged cards may reach beyond an instance's box. A
+ * card grows only while its side is below sqrt(RING_LOD_AREA_REF) ring pixels, and to at most that,
+ * so a vertex ends at most (radius / side) * sqrt(RING_LOD_AREA_REF) ring pixels from the card's
+ * centre (which lies in the box): at the box's farthest point from the eye, in world units, over
+ * the instance's smallest axis scale. */
+static float ring_lod_cull_pad(const gpu_asset *ga, const asset *as, const mat4 *model, vec3 eye, float px)
+{
+    float far = 0.0f;
+    for (int c = 0; c < 8; c++) {
+        vec3 q = v3(c & 1 ? as->bounds_max.x : as->bounds_min.x, c & 2 ? as->bounds_max.y : as->bounds_min.y,
+                    c & 4 ? as->bounds_max.z : as->bounds_min.z);
+        far = fmaxf(far, v3_len(v3_sub(m4_point(*model, q), eye)));
+    }
+    const float *m = model->m;
+    float sx = v3_len(v3(m[0], m[1], m[2])), sy = v3_len(v3(m[4], m[5], m[6])), sz = v3_len(v3(m[8], m[9], m[10]));
+    float smin = fmaxf(fminf(sx, fminf(sy, sz)), 1e-20f), smax = fmaxf(sx, fmaxf(sy, sz));
+    /* The shader measures a card by the cube root of the instance's volume change: a non-uniform
+     * scale can stretch it by up to smax / smin beyond what that predicts. */
+    return ga->lod_aspect * sqrtf((float)RING_LOD_AREA_REF) * far / px * (smax / smin) / smin;
+}
+
 static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
 {
     const light_desc *L = &r->sc->light;
@@ -40,13 +71,7 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     if (pg->u_ring_lod >= 0) { /* RING_LOD passes: this ring's law (identity where u = 1) */
         ring_lod_law law = ring_lod_ring_law(&r->pl.ring_lod_spec, &r->pl.layout, ring);
         glProgramUniform3f(pg->id, pg->u_ring_lod, law.a, law.k, law.gain);
-        /* Per-card schedule: the ring's pixels per world unit at distance 1 (0: the law above). */
-        float px = 0.0f;
-        if (ring_lod_ring_is_per_card(&r->pl.ring_lod_spec, &r->pl.layout, ring)) {
-            display_desc dd = {r->width, r->height, fr->hfov_deg};
-            px = fov_focal_px(&dd) / exp2f((float)r->pl.layout.rings[ring].scale_log2);
-        }
-        glProgramUniform1f(pg->id, pg->u_ring_lod_px, px);
+        glProgramUniform1f(pg->id, pg->u_ring_lod_px, ring_lod_px(r, fr, ring));
     }
     if (r->pl.sway) {
         glProgramUniform1f(pg->id, pg->u_time, fr->time);
@@ -123,6 +148,7 @@ static int cull_instances(renderer *r, const frame_record *fr, int ring)
 {
     display_desc dd = {r->width, r->height, fr->hfov_deg};
     float hole = r->pl.ring_cull ? fov_ring_cull_deg(&dd, &r->pl.layout, ring) : 0.0f;
+    float px = ring_lod_px(r, fr, ring);
     int drawn = 0;
     for (int a = 0; a < r->sc->asset_count; a++) {
         gpu_asset *ga = &r->assets[a];
@@ -131,8 +157,11 @@ static int cull_instances(renderer *r, const frame_record *fr, int ring)
             const mat4 *model = &r->sc->instances[ga->instance_ids[k]].transform;
             float d = ga->cull_pad ? ga->cull_pad[k] : 0.0f; /* a swaying instance's box grows */
             /* enlarged cards of a simplifying ring may reach beyond the asset's box (ring_lod.h) */
-            vec3 bmin = r->pl.ring_lod ? ga->lod_lo[ring] : as->bounds_min;
-            vec3 bmax = r->pl.ring_lod ? ga->lod_hi[ring] : as->bounds_max;
+            bool per_card = px > 0.0f;
+            vec3 bmin = r->pl.ring_lod && !per_card ? ga->lod_lo[ring] : as->bounds_min;
+            vec3 bmax = r->pl.ring_lod && !per_card ? ga->lod_hi[ring] : as->bounds_max;
+            if (per_card)
+                d += ring_lod_cull_pad(ga, as, model, fr->camera.position, px);
             vec3 lo = v3_sub(bmin, v3(d, d, d)), hi = v3_add(bmax, v3(d, d, d));
             bool vis = !m4_box_outside_clip(m4_mul(fr->ring_view_proj[ring], *model), lo, hi);
             float rect[4];

@@ -76,8 +76,10 @@ typedef struct gpu_asset {
     float *cull_pad;        /* plan.sway, per slot: how far (asset units) sway may leave the box */
     int instance_count;
     int slot_base;          /* instances of the earlier assets: slot k is the scene's slot_base + k */
-    /* plan.ring_lod: per ring, the asset-space box its enlarged cards may reach (culling) */
+    /* plan.ring_lod: per ring, the asset-space box its enlarged cards may reach (culling) under a
+     * per-ring law; for per-card rings, the largest card radius / side (ring_lod_cull_pad) */
     vec3 lod_lo[MAX_FOV_RINGS], lod_hi[MAX_FOV_RINGS];
+    float lod_aspect;
 } gpu_asset;
 
 /* Ring targets: colour and coverage are texture arrays with one layer per ring, each layer the

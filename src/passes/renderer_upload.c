@@ -121,6 +121,10 @@ static fs_status upload_cards(renderer *r, const asset *as, gpu_asset *ga)
             break;
         }
         float *side = attr + 4 * (size_t)pr->vertex_count;
+        const prim_cards *pc = &cards.prims[p];
+        for (uint32_t c = 0; pc->simplified && c < pc->card_count; c++)
+            if (pc->area[c] > 0.0f)
+                ga->lod_aspect = fmaxf(ga->lod_aspect, pc->radius[c] / sqrtf(pc->area[c]));
         prim_cards_vertex_attrib(&cards.prims[p], pr, attr);
         prim_cards_vertex_side(&cards.prims[p], pr, side);
         gpu_prim *g = &ga->prims[p];
