@@ -46,6 +46,8 @@
 #define RING_LOD_BAND 0.25          /* transition band: ranks within B * u below the cut fade out */
 #define RING_LOD_AREA_REF 1.0       /* default schedule: a card covering this many ring pixels or more
                                      * is kept; a smaller one keeps u = its area / this */
+#define RING_LOD_AREA_MIN 0.0625    /* "simplify:area=A": the range of A */
+#define RING_LOD_AREA_MAX 256.0
 #define RING_LOD_U_MIN 0.0625       /* default schedule: the fewest cards kept, 1/16 (kept cards at most
                                      * 4 times their side) */
 #define RING_LOD_U_FLOOR (1.0 / 4096.0) /* smallest keep fraction at all (kept cards scale by 64) */

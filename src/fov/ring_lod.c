@@ -157,7 +157,7 @@ static void set_err(char *err, int size, const char *fmt, ...)
     va_end(ap);
 }
 
-#define LOD_EXPECTED "expected off, simplify or simplify:U1,...,Un"
+#define LOD_EXPECTED "expected off, simplify, simplify:area=A or simplify:U1,...,Un"
 
 /* "0.25", "1/4" (blanks around '/' allowed) -> a keep fraction in [RING_LOD_U_FLOOR, 1]. */
 static bool parse_fraction(const char *tok, float *u)
@@ -209,8 +209,23 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
             *out = s;
         return FS_OK;
     }
-    s.kind = RING_LOD_EXPLICIT;
     const char *q = b + kl + 1;
+    if (e - q >= 5 && memcmp(q, "area=", 5) == 0) { /* the per-card schedule with another area */
+        char tok[FOV_TOKEN_MAX];
+        double v;
+        if (!fov_take_token(q + 5, e, tok) || !fov_parse_ratio(tok, &v) || !(v >= RING_LOD_AREA_MIN) ||
+            !(v <= RING_LOD_AREA_MAX)) {
+            set_err(err, err_size, "ring LOD area '%.*s' is not a number of ring pixels in [%g, %g]",
+                    (int)(e - q - 5 > 40 ? 40 : e - q - 5), q + 5, RING_LOD_AREA_MIN, RING_LOD_AREA_MAX);
+            return FS_ERR_USAGE;
+        }
+        s.kind = RING_LOD_SCHEDULE;
+        s.area = (float)v;
+        if (out)
+            *out = s;
+        return FS_OK;
+    }
+    s.kind = RING_LOD_EXPLICIT;
     for (;;) {
         const char *c = q;
         while (c < e && *c != ',')
@@ -279,6 +294,11 @@ float ring_lod_u(const ring_lod_spec *s, const fov_layout *l, int ring)
     return 1.0f;
 }
 
+float ring_lod_area(const ring_lod_spec *s)
+{
+    return s && s->area > 0.0f ? s->area : (float)RING_LOD_AREA_REF;
+}
+
 bool ring_lod_ring_is_per_card(const ring_lod_spec *s, const fov_layout *l, int ring)
 {
     return s && l && s->kind == RING_LOD_SCHEDULE && ring >= 0 && ring < l->count && ring < MAX_FOV_RINGS &&
@@ -334,7 +354,11 @@ void ring_lod_format(const ring_lod_spec *s, char *buf, int size)
     buf[0] = '\0';
     if (!s || s->kind == RING_LOD_OFF)
         snprintf(buf, (size_t)size, "off");
-    else if (s->kind == RING_LOD_SCHEDULE)
+    else if (s->kind == RING_LOD_SCHEDULE && ring_lod_area(s) != (float)RING_LOD_AREA_REF) {
+        char v[32];
+        fmt_float(v, sizeof v, ring_lod_area(s));
+        snprintf(buf, (size_t)size, "simplify:area=%s", v);
+    } else if (s->kind == RING_LOD_SCHEDULE)
         snprintf(buf, (size_t)size, "simplify");
     else
         format_list(s->u, s->count < 0 ? 0 : (s->count > MAX_FOV_RINGS ? MAX_FOV_RINGS : s->count), "simplify:", buf,

@@ -49,7 +49,10 @@
  *   kept ones cover about a ring pixel each (at most 4 times their side). The vertex shader
  *   evaluates it (ring_lod_card_u, then ring_lod_law_for per card); u changes smoothly with
  *   distance, and so does every card's weight. Full-resolution rings keep every card.
- *   Text form: "off" (no simplification), "simplify" (the default schedule) or
+ *   "simplify:area=A" is the per-card schedule with A ring pixels (in [1/16, 256]) in place of
+ *   RING_LOD_AREA_REF: cards up to sqrt(A) ring pixels wide are thinned, a dial between detail and
+ *   work.
+ *   Text form: "off" (no simplification), "simplify" (the default schedule), "simplify:area=A" or
  *   "simplify:U1,U2,...,Un", one keep fraction per ring, innermost first, each in
  *   [RING_LOD_U_FLOOR, 1] (1/4096: kept cards are then drawn 64 times their size), written
  *   as a decimal or a fraction ("0.25" or "1/4"); the count must equal the layout's
@@ -129,6 +132,8 @@ typedef struct ring_lod_spec {
     ring_lod_kind kind;
     int count;                /* EXPLICIT: keep fractions given, 1..MAX_FOV_RINGS */
     float u[MAX_FOV_RINGS];   /* EXPLICIT: each in [RING_LOD_U_FLOOR, 1], innermost ring first */
+    float area;               /* SCHEDULE: the card area in ring pixels from which cards are kept
+                               * ("simplify:area=A"); 0 = RING_LOD_AREA_REF */
 } ring_lod_spec;
 
 /* Parses "off", "simplify" or "simplify:U1,...,Un" (surrounding whitespace allowed). On error
@@ -142,6 +147,10 @@ fs_status ring_lod_check(const ring_lod_spec *s, const fov_layout *l, char *err,
  * per-card schedule the smallest a card of the ring can get (RING_LOD_U_MIN in a reduced ring),
  * which bounds how far its cards grow (culling). */
 float ring_lod_u(const ring_lod_spec *s, const fov_layout *l, int ring);
+/* The per-card schedule's area in ring pixels (RING_LOD_AREA_REF unless "simplify:area=A"). The
+ * renderer divides the ring's pixels per unit by its square root, so ring_lod_card_u keeps its
+ * RING_LOD_AREA_REF. */
+float ring_lod_area(const ring_lod_spec *s);
 /* True when ring i's cards each take their own u (the default schedule in a reduced ring). */
 bool ring_lod_ring_is_per_card(const ring_lod_spec *s, const fov_layout *l, int ring);
 /* Ring i's law: ring_lod_law_for(ring_lod_u(...)); for a per-card ring the law of its smallest u. */

@@ -427,15 +427,15 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
                 p->ring_cull ? ", and those wholly inside its hole (where the finer ring is shown alone)"
                              : " (--ring-cull off: not those in its hole)");
     if (p->ring_lod) {
-        char u[160];
+        char u[160], card[160] = "";
         ring_lod_format_u(&p->ring_lod_spec, &p->layout, u, sizeof u);
+        if (p->ring_lod_spec.kind == RING_LOD_SCHEDULE)
+            snprintf(card, sizeof card, "; card: each card's own u = its area in ring pixels / %g, at least 1/16 "
+                     "(cards of %g ring pixels or more are drawn as they are)",
+                     (double)ring_lod_area(&p->ring_lod_spec), (double)ring_lod_area(&p->ring_lod_spec));
         fprintf(f, "ring LOD   keep fraction u per ring = %s of the cards of %d MASK primitives (%llu cards in the "
                    "scene), kept cards scaled by sqrt(1/u) about their centres (RING_LOD)%s\n",
-                u, p->ring_lod_prims, (unsigned long long)p->ring_lod_cards,
-                p->ring_lod_spec.kind == RING_LOD_SCHEDULE
-                    ? "; card: each card's own u = its area in ring pixels, at least 1/16 (cards of a ring pixel "
-                      "or more are drawn as they are)"
-                    : "");
+                u, p->ring_lod_prims, (unsigned long long)p->ring_lod_cards, card);
     }
     if (p->sway)
         fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",

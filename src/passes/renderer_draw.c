@@ -21,18 +21,20 @@ static bool taa_history_valid(const renderer *r, const frame_record *fr)
     return r->have_prev && !fr->cut && fr->index == r->prev_index + 1;
 }
 
-/* Per-card ring LOD: the ring's pixels per world unit at distance 1; 0 where the ring's law holds
- * for every card (common/ring_lod.glsl). */
+/* Per-card ring LOD: the ring's pixels per world unit at distance 1 (over sqrt(A / AREA_REF) for
+ * "simplify:area=A"); 0 where the ring's law holds for every card (common/ring_lod.glsl). */
 static float ring_lod_px(const renderer *r, const frame_record *fr, int ring)
 {
     if (!r->pl.ring_lod || !ring_lod_ring_is_per_card(&r->pl.ring_lod_spec, &r->pl.layout, ring))
         return 0.0f;
     display_desc dd = {r->width, r->height, fr->hfov_deg};
-    return fov_focal_px(&dd) / exp2f((float)r->pl.layout.rings[ring].scale_log2);
+    /* "simplify:area=A": sides measured in units of sqrt(A / RING_LOD_AREA_REF) ring pixels */
+    float area = ring_lod_area(&r->pl.ring_lod_spec) / (float)RING_LOD_AREA_REF;
+    return fov_focal_px(&dd) / exp2f((float)r->pl.layout.rings[ring].scale_log2) / sqrtf(area);
 }
 
 /* How far (asset units) a per-card ring's enlarged cards may reach beyond an instance's box. A
- * card grows only while its side is below sqrt(RING_LOD_AREA_REF) ring pixels, and to at most that,
+ * card grows only while its side is below sqrt(RING_LOD_AREA_REF) units of px, and to at most that,
  * so a vertex ends at most (radius / side) * sqrt(RING_LOD_AREA_REF) ring pixels from the card's
  * centre (which lies in the box): at the box's farthest point from the eye, in world units, over
  * the instance's smallest axis scale. */
@@ -49,7 +51,7 @@ static float ring_lod_cull_pad(const gpu_asset *ga, const asset *as, const mat4 
     float smin = fmaxf(fminf(sx, fminf(sy, sz)), 1e-20f), smax = fmaxf(sx, fmaxf(sy, sz));
     /* The shader measures a card by the cube root of the instance's volume change: a non-uniform
      * scale can stretch it by up to smax / smin beyond what that predicts. */
-    return ga->lod_aspect * sqrtf((float)RING_LOD_AREA_REF) * far / px * (smax / smin) / smin;
+    return ga->lod_aspect * sqrtf((float)RING_LOD_AREA_REF) * far / px * (smax / smin) / smin; /* px: ring_lod_px */
 }
 
 static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
