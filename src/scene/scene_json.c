@@ -282,7 +282,7 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
         ring_lod_spec spec;
         char err[256];
         if (strlen(str) >= sizeof sc->ring_lod || ring_lod_parse(str, &spec, err, sizeof err) != FS_OK)
-            return jfail(c, "ring_lod", "expected \"off\", \"simplify\" or \"simplify:U1,U2,...\" (%s)",
+            return jfail(c, "ring_lod", "expected \"off\", \"simplify\", \"simplify:area=A\" or \"simplify:U1,U2,...\" (%s)",
                          strlen(str) >= sizeof sc->ring_lod ? "too long" : err);
         snprintf(sc->ring_lod, sizeof sc->ring_lod, "%s", str);
     }

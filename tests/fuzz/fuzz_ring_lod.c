@@ -43,7 +43,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     ring_lod_format(&s, buf, sizeof buf);
     ring_lod_spec back;
     FUZZ_CHECK(ring_lod_parse(buf, &back, err, sizeof err) == FS_OK);
-    FUZZ_CHECK(back.kind == s.kind && back.count == s.count);
+    FUZZ_CHECK(back.kind == s.kind && back.count == s.count && ring_lod_area(&back) == ring_lod_area(&s));
     for (int i = 0; i < s.count; i++)
         FUZZ_CHECK(back.u[i] == s.u[i]);
 

@@ -342,8 +342,25 @@ TEST(text_form_parses_and_reports_errors)
     ring_lod_format(&s, buf, sizeof buf);
     CHECK(strcmp(buf, "off") == 0);
     s.kind = RING_LOD_SCHEDULE;
+    s.area = 0.0f;
     ring_lod_format(&s, buf, sizeof buf);
-    CHECK(strcmp(buf, "simplify") == 0);
+    CHECK(strcmp(buf, "simplify") == 0 && ring_lod_area(&s) == (float)RING_LOD_AREA_REF);
+    /* The per-card schedule with another area: parsed, formatted back, and checked. */
+    CHECK(ring_lod_parse("simplify:area=16", &s, err, sizeof err) == FS_OK && s.kind == RING_LOD_SCHEDULE);
+    CHECK(ring_lod_area(&s) == 16.0f);
+    ring_lod_format(&s, buf, sizeof buf);
+    CHECK(strcmp(buf, "simplify:area=16") == 0);
+    CHECK(ring_lod_parse(buf, &back, err, sizeof err) == FS_OK && memcmp(&back, &s, sizeof s) == 0);
+    CHECK(ring_lod_parse("simplify:area= 1/4 ", &s, err, sizeof err) == FS_OK && ring_lod_area(&s) == 0.25f);
+    CHECK(ring_lod_parse("simplify:area=1", &s, err, sizeof err) == FS_OK);
+    ring_lod_format(&s, buf, sizeof buf);
+    CHECK(strcmp(buf, "simplify") == 0); /* the default area */
+    static const char *const bad_area[] = {"simplify:area=", "simplify:area=0", "simplify:area=-1", "simplify:area=1000",
+                                           "simplify:area=x", "simplify:area=nan", "simplify:area=4,1"};
+    for (size_t i = 0; i < sizeof bad_area / sizeof bad_area[0]; i++) {
+        CHECK(ring_lod_parse(bad_area[i], &s, err, sizeof err) == FS_ERR_USAGE);
+        CHECK(strstr(err, "ring LOD area") != NULL);
+    }
     CHECK(ring_lod_parse("simplify:0.5", NULL, err, sizeof err) == FS_OK); /* validation only */
     CHECK(ring_lod_parse("simplify:1/4096", &s, err, sizeof err) == FS_OK && s.u[0] == (float)RING_LOD_U_FLOOR);
 
@@ -351,7 +368,7 @@ TEST(text_form_parses_and_reports_errors)
     const struct {
         const char *text, *want;
     } bad[] = {
-        {"", "expected off, simplify or simplify:U1,...,Un"},
+        {"", "expected off, simplify, simplify:area=A or simplify:U1,...,Un"},
         {"   ", "empty ring LOD"},
         {"on", "ring LOD 'on' is not understood (expected off, simplify"},
         {"simplifyx", "ring LOD 'simplifyx' is not understood"},
