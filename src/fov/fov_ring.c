@@ -86,8 +86,7 @@ static int block_of(const fov_ring *r)
     return 1 << clampi(r->scale_log2, 0, MAX_FOV_SCALE_LOG2);
 }
 
-static void set_err(char *err, int size, const char *fmt, ...) FS_PRINTF(3, 4);
-static void set_err(char *err, int size, const char *fmt, ...)
+void fov_set_err(char *err, int size, const char *fmt, ...)
 {
     if (!err || size <= 0)
         return;
@@ -97,8 +96,7 @@ static void set_err(char *err, int size, const char *fmt, ...)
     va_end(ap);
 }
 
-/* Shortest %g form of v that reads back as the same float ("-0" printed as "0"). */
-static void fmt_float(char *buf, size_t size, float v)
+void fov_format_float(char *buf, size_t size, float v)
 {
     if (v == 0.0f)
         v = 0.0f;
@@ -296,7 +294,7 @@ static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, 
     const char *q = b;
     char probe[FOV_TOKEN_MAX];
     if (fov_take_token(b, e, probe) && probe[0] == '\0') {
-        set_err(err, err_size, "ring %d: empty (expected R:S:B)", n);
+        fov_set_err(err, err_size, "ring %d: empty (expected R:S:B)", n);
         return FS_ERR_USAGE;
     }
     for (;;) {
@@ -304,7 +302,7 @@ static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, 
         while (c < e && *c != ':')
             c++;
         if (fields < 3 && !fov_take_token(q, c, tok[fields])) {
-            set_err(err, err_size, "ring %d: %s field is too long", n, names[fields]);
+            fov_set_err(err, err_size, "ring %d: %s field is too long", n, names[fields]);
             return FS_ERR_USAGE;
         }
         fields++;
@@ -313,12 +311,12 @@ static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, 
         q = c + 1;
     }
     if (fields != 3) {
-        set_err(err, err_size, "ring %d: expected 3 fields R:S:B (radius:scale:mip bias), got %d", n, fields);
+        fov_set_err(err, err_size, "ring %d: expected 3 fields R:S:B (radius:scale:mip bias), got %d", n, fields);
         return FS_ERR_USAGE;
     }
     for (int k = 0; k < 3; k++)
         if (!tok[k][0]) {
-            set_err(err, err_size, "ring %d: %s is empty", n, names[k]);
+            fov_set_err(err, err_size, "ring %d: %s is empty", n, names[k]);
             return FS_ERR_USAGE;
         }
 
@@ -328,16 +326,16 @@ static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, 
     } else if (parse_number(tok[0], &v) && v > 0.0 && isfinite((float)v)) {
         out->outer_deg = (float)v;
     } else {
-        set_err(err, err_size, "ring %d: radius '%s' is not a positive finite number of degrees (or '*')", n, tok[0]);
+        fov_set_err(err, err_size, "ring %d: radius '%s' is not a positive finite number of degrees (or '*')", n, tok[0]);
         return FS_ERR_USAGE;
     }
     if (!parse_scale(tok[1], &out->scale_log2)) {
-        set_err(err, err_size, "ring %d: scale %s is not a power of two (1, 1/2, ... 1/%d)", n, tok[1],
+        fov_set_err(err, err_size, "ring %d: scale %s is not a power of two (1, 1/2, ... 1/%d)", n, tok[1],
                 1 << MAX_FOV_SCALE_LOG2);
         return FS_ERR_USAGE;
     }
     if (!parse_number(tok[2], &v) || !isfinite((float)v)) {
-        set_err(err, err_size, "ring %d: mip bias '%s' is not a finite number", n, tok[2]);
+        fov_set_err(err, err_size, "ring %d: mip bias '%s' is not a finite number", n, tok[2]);
         return FS_ERR_USAGE;
     }
     out->mip_bias = (float)v;
@@ -349,7 +347,7 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
     if (err && err_size > 0)
         err[0] = '\0';
     if (!text) {
-        set_err(err, err_size, "empty ring layout");
+        fov_set_err(err, err_size, "empty ring layout");
         return FS_ERR_USAGE;
     }
     const char *b = text, *e = text + strlen(text);
@@ -358,13 +356,13 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
     while (e > b && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\n' || e[-1] == '\r'))
         e--;
     if (b == e) {
-        set_err(err, err_size, "empty ring layout (expected auto, off or R:S:B,...,*:S:B)");
+        fov_set_err(err, err_size, "empty ring layout (expected auto, off or R:S:B,...,*:S:B)");
         return FS_ERR_USAGE;
     }
     size_t len = (size_t)(e - b);
     if (len == 4 && memcmp(b, "auto", 4) == 0) {
         if (!d) {
-            set_err(err, err_size, "ring layout auto needs the display");
+            fov_set_err(err, err_size, "ring layout auto needs the display");
             return FS_ERR_USAGE;
         }
         if (out)
@@ -387,7 +385,7 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
         while (c < e && *c != ',')
             c++;
         if (l.count == MAX_FOV_RINGS) {
-            set_err(err, err_size, "ring %d: more than %d rings", l.count + 1, MAX_FOV_RINGS);
+            fov_set_err(err, err_size, "ring %d: more than %d rings", l.count + 1, MAX_FOV_RINGS);
             return FS_ERR_USAGE;
         }
         fs_status s = parse_ring(q, c, l.count + 1, &l.rings[l.count], err, err_size);
@@ -407,51 +405,51 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
 fs_status fov_layout_check(const fov_layout *l, char *err, int err_size)
 {
     if (!l) {
-        set_err(err, err_size, "no ring layout");
+        fov_set_err(err, err_size, "no ring layout");
         return FS_ERR_USAGE;
     }
     if (l->count < 1 || l->count > MAX_FOV_RINGS) {
-        set_err(err, err_size, "layout has %d rings (expected 1..%d)", l->count, MAX_FOV_RINGS);
+        fov_set_err(err, err_size, "layout has %d rings (expected 1..%d)", l->count, MAX_FOV_RINGS);
         return FS_ERR_USAGE;
     }
     for (int i = 0; i < l->count; i++) {
         const fov_ring *r = &l->rings[i];
         bool last = i == l->count - 1;
         if (last && !(isinf(r->outer_deg) && r->outer_deg > 0)) {
-            set_err(err, err_size, "ring %d: the last ring's radius must be '*' (got %g)", i + 1, (double)r->outer_deg);
+            fov_set_err(err, err_size, "ring %d: the last ring's radius must be '*' (got %g)", i + 1, (double)r->outer_deg);
             return FS_ERR_USAGE;
         }
         if (!last && isinf(r->outer_deg) && r->outer_deg > 0) {
-            set_err(err, err_size, "ring %d: radius '*' is allowed only for the last ring", i + 1);
+            fov_set_err(err, err_size, "ring %d: radius '*' is allowed only for the last ring", i + 1);
             return FS_ERR_USAGE;
         }
         if (!last && !(r->outer_deg > 0 && isfinite(r->outer_deg))) {
-            set_err(err, err_size, "ring %d: radius %g is not a positive finite number of degrees", i + 1,
+            fov_set_err(err, err_size, "ring %d: radius %g is not a positive finite number of degrees", i + 1,
                     (double)r->outer_deg);
             return FS_ERR_USAGE;
         }
         if (!last && i > 0 && !(r->outer_deg > l->rings[i - 1].outer_deg)) {
-            set_err(err, err_size, "ring %d: radius %g is not larger than ring %d's %g", i + 1, (double)r->outer_deg,
+            fov_set_err(err, err_size, "ring %d: radius %g is not larger than ring %d's %g", i + 1, (double)r->outer_deg,
                     i, (double)l->rings[i - 1].outer_deg);
             return FS_ERR_USAGE;
         }
         if (r->scale_log2 < 0 || r->scale_log2 > MAX_FOV_SCALE_LOG2) {
-            set_err(err, err_size, "ring %d: scale 2^-%d is not one of 1, 1/2, ... 1/%d", i + 1, r->scale_log2,
+            fov_set_err(err, err_size, "ring %d: scale 2^-%d is not one of 1, 1/2, ... 1/%d", i + 1, r->scale_log2,
                     1 << MAX_FOV_SCALE_LOG2);
             return FS_ERR_USAGE;
         }
         if (i > 0 && r->scale_log2 < l->rings[i - 1].scale_log2) {
-            set_err(err, err_size, "ring %d: scale 1/%d is finer than ring %d's 1/%d", i + 1, 1 << r->scale_log2, i,
+            fov_set_err(err, err_size, "ring %d: scale 1/%d is finer than ring %d's 1/%d", i + 1, 1 << r->scale_log2, i,
                     1 << l->rings[i - 1].scale_log2);
             return FS_ERR_USAGE;
         }
         if (!isfinite(r->mip_bias)) {
-            set_err(err, err_size, "ring %d: mip bias %g is not finite", i + 1, (double)r->mip_bias);
+            fov_set_err(err, err_size, "ring %d: mip bias %g is not finite", i + 1, (double)r->mip_bias);
             return FS_ERR_USAGE;
         }
     }
     if (!(l->blend_deg >= 0.0f && isfinite(l->blend_deg))) {
-        set_err(err, err_size, "blend band %g is not a finite angle >= 0", (double)l->blend_deg);
+        fov_set_err(err, err_size, "blend band %g is not a finite angle >= 0", (double)l->blend_deg);
         return FS_ERR_USAGE;
     }
     return FS_OK;
@@ -472,7 +470,7 @@ void fov_layout_format(const fov_layout *l, char *buf, int size)
         if (isinf(r->outer_deg) && r->outer_deg > 0)
             snprintf(rad, sizeof rad, "*");
         else
-            fmt_float(rad, sizeof rad, r->outer_deg);
+            fov_format_float(rad, sizeof rad, r->outer_deg);
         int k = r->scale_log2;
         if (k == 0)
             snprintf(scale, sizeof scale, "1");
@@ -480,7 +478,7 @@ void fov_layout_format(const fov_layout *l, char *buf, int size)
             snprintf(scale, sizeof scale, "1/%d", 1 << k);
         else
             snprintf(scale, sizeof scale, "2^%d", -k); /* invalid; printed so it is visible */
-        fmt_float(bias, sizeof bias, r->mip_bias);
+        fov_format_float(bias, sizeof bias, r->mip_bias);
         int w = snprintf(buf + n, cap - n, "%s%s:%s:%s", i ? "," : "", rad, scale, bias);
         if (w < 0)
             break;

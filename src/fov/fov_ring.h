@@ -24,6 +24,7 @@
 
 #include "core/config.h"
 #include "core/fmath.h"
+#include "core/log.h"
 #include "core/status.h"
 #include "scene/scene.h"
 
@@ -105,6 +106,10 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
 bool fov_take_token(const char *b, const char *e, char tok[FOV_TOKEN_MAX]);
 /* A whole token as a finite number: "1", "0.25" or "1/4" (blanks around '/' allowed). */
 bool fov_parse_ratio(const char *tok, double *out);
+/* Writes one formatted line into err (size bytes; nothing when err is NULL). */
+void fov_set_err(char *err, int size, const char *fmt, ...) FS_PRINTF(3, 4);
+/* The shortest %g form of v that reads back as the same float ("-0" printed as "0"). */
+void fov_format_float(char *buf, size_t size, float v);
 /* Checks an explicit layout: 1..MAX_FOV_RINGS rings, radii positive, finite and increasing, last
  * INFINITY, scales in [0, MAX_FOV_SCALE_LOG2] and non-decreasing outwards, biases finite. */
 fs_status fov_layout_check(const fov_layout *l, char *err, int err_size);

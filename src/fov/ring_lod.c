@@ -146,17 +146,6 @@ float ring_lod_card_u(float side_px)
 
 /* >>text form */
 
-static void set_err(char *err, int size, const char *fmt, ...) FS_PRINTF(3, 4);
-static void set_err(char *err, int size, const char *fmt, ...)
-{
-    if (!err || size <= 0)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, (size_t)size, fmt, ap);
-    va_end(ap);
-}
-
 #define LOD_EXPECTED "expected off, simplify, simplify:area=A or simplify:U1,...,Un"
 
 /* "0.25", "1/4" (blanks around '/' allowed) -> a keep fraction in [RING_LOD_U_FLOOR, 1]. */
@@ -177,7 +166,7 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
     if (err && err_size > 0)
         err[0] = '\0';
     if (!text) {
-        set_err(err, err_size, "empty ring LOD (" LOD_EXPECTED ")");
+        fov_set_err(err, err_size, "empty ring LOD (" LOD_EXPECTED ")");
         return FS_ERR_USAGE;
     }
     const char *b = text, *e = text + strlen(text);
@@ -189,7 +178,7 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
     ring_lod_spec s;
     memset(&s, 0, sizeof s);
     if (len == 0) {
-        set_err(err, err_size, "empty ring LOD (" LOD_EXPECTED ")");
+        fov_set_err(err, err_size, "empty ring LOD (" LOD_EXPECTED ")");
         return FS_ERR_USAGE;
     }
     if (len == 3 && memcmp(b, "off", 3) == 0) {
@@ -200,7 +189,7 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
     static const char kw[] = "simplify";
     const size_t kl = sizeof kw - 1;
     if (len < kl || memcmp(b, kw, kl) != 0 || (len > kl && b[kl] != ':')) {
-        set_err(err, err_size, "ring LOD '%.*s' is not understood (" LOD_EXPECTED ")", (int)(len > 40 ? 40 : len), b);
+        fov_set_err(err, err_size, "ring LOD '%.*s' is not understood (" LOD_EXPECTED ")", (int)(len > 40 ? 40 : len), b);
         return FS_ERR_USAGE;
     }
     if (len == kl) {
@@ -215,7 +204,7 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
         double v;
         if (!fov_take_token(q + 5, e, tok) || !fov_parse_ratio(tok, &v) || !(v >= RING_LOD_AREA_MIN) ||
             !(v <= RING_LOD_AREA_MAX)) {
-            set_err(err, err_size, "ring LOD area '%.*s' is not a number of ring pixels in [%g, %g]",
+            fov_set_err(err, err_size, "ring LOD area '%.*s' is not a number of ring pixels in [%g, %g]",
                     (int)(e - q - 5 > 40 ? 40 : e - q - 5), q + 5, RING_LOD_AREA_MIN, RING_LOD_AREA_MAX);
             return FS_ERR_USAGE;
         }
@@ -232,20 +221,20 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
             c++;
         int n = s.count + 1;
         if (s.count == MAX_FOV_RINGS) {
-            set_err(err, err_size, "ring LOD ring %d: more than %d rings", n, MAX_FOV_RINGS);
+            fov_set_err(err, err_size, "ring LOD ring %d: more than %d rings", n, MAX_FOV_RINGS);
             return FS_ERR_USAGE;
         }
         char tok[FOV_TOKEN_MAX];
         if (!fov_take_token(q, c, tok)) {
-            set_err(err, err_size, "ring LOD ring %d: keep fraction is too long", n);
+            fov_set_err(err, err_size, "ring LOD ring %d: keep fraction is too long", n);
             return FS_ERR_USAGE;
         }
         if (!tok[0]) {
-            set_err(err, err_size, "ring LOD ring %d: keep fraction is empty (" LOD_EXPECTED ")", n);
+            fov_set_err(err, err_size, "ring LOD ring %d: keep fraction is empty (" LOD_EXPECTED ")", n);
             return FS_ERR_USAGE;
         }
         if (!parse_fraction(tok, &s.u[s.count])) {
-            set_err(err, err_size, "ring LOD ring %d: keep fraction '%s' is not in [1/%g, 1] (e.g. 0.25 or 1/4)", n, tok,
+            fov_set_err(err, err_size, "ring LOD ring %d: keep fraction '%s' is not in [1/%g, 1] (e.g. 0.25 or 1/4)", n, tok,
                     1.0 / RING_LOD_U_FLOOR);
             return FS_ERR_USAGE;
         }
@@ -264,19 +253,19 @@ fs_status ring_lod_check(const ring_lod_spec *s, const fov_layout *l, char *err,
     if (err && err_size > 0)
         err[0] = '\0';
     if (s->kind != RING_LOD_OFF && s->kind != RING_LOD_SCHEDULE && s->kind != RING_LOD_EXPLICIT) {
-        set_err(err, err_size, "ring LOD: unknown kind %d", (int)s->kind);
+        fov_set_err(err, err_size, "ring LOD: unknown kind %d", (int)s->kind);
         return FS_ERR_USAGE;
     }
     if (s->kind != RING_LOD_EXPLICIT)
         return FS_OK;
     if (s->count != l->count) {
-        set_err(err, err_size, "ring LOD: %d keep fraction%s for %d ring%s (expected one per ring)", s->count,
+        fov_set_err(err, err_size, "ring LOD: %d keep fraction%s for %d ring%s (expected one per ring)", s->count,
                 s->count == 1 ? "" : "s", l->count, l->count == 1 ? "" : "s");
         return FS_ERR_USAGE;
     }
     for (int i = 0; i < s->count; i++)
         if (!(s->u[i] >= (float)RING_LOD_U_FLOOR) || !(s->u[i] <= 1.0f)) {
-            set_err(err, err_size, "ring LOD ring %d: keep fraction %g is not in [1/%g, 1]", i + 1, (double)s->u[i],
+            fov_set_err(err, err_size, "ring LOD ring %d: keep fraction %g is not in [1/%g, 1]", i + 1, (double)s->u[i],
                     1.0 / RING_LOD_U_FLOOR);
             return FS_ERR_USAGE;
         }
@@ -320,16 +309,6 @@ bool ring_lod_active(const ring_lod_spec *s, const fov_layout *l)
     return false;
 }
 
-/* Shortest %g form of v that reads back as the same float. */
-static void fmt_float(char *buf, size_t size, float v)
-{
-    for (int prec = 6; prec <= 9; prec++) {
-        snprintf(buf, size, "%.*g", prec, (double)v);
-        if (strtof(buf, NULL) == v)
-            return;
-    }
-}
-
 static void format_list(const float *u, int count, const char *prefix, char *buf, int size)
 {
     size_t n = 0, cap = (size_t)size;
@@ -339,7 +318,7 @@ static void format_list(const float *u, int count, const char *prefix, char *buf
     n = (size_t)w;
     for (int i = 0; i < count && n < cap; i++) {
         char v[32];
-        fmt_float(v, sizeof v, u[i]);
+        fov_format_float(v, sizeof v, u[i]);
         w = snprintf(buf + n, cap - n, "%s%s", i ? "," : "", v);
         if (w < 0)
             break;
@@ -356,7 +335,7 @@ void ring_lod_format(const ring_lod_spec *s, char *buf, int size)
         snprintf(buf, (size_t)size, "off");
     else if (s->kind == RING_LOD_SCHEDULE && ring_lod_area(s) != (float)RING_LOD_AREA_REF) {
         char v[32];
-        fmt_float(v, sizeof v, ring_lod_area(s));
+        fov_format_float(v, sizeof v, ring_lod_area(s));
         snprintf(buf, (size_t)size, "simplify:area=%s", v);
     } else if (s->kind == RING_LOD_SCHEDULE)
         snprintf(buf, (size_t)size, "simplify");
