@@ -49,6 +49,10 @@ static float ring_lod_cull_pad(const gpu_asset *ga, const asset *as, const mat4 
     const float *m = model->m;
     float sx = v3_len(v3(m[0], m[1], m[2])), sy = v3_len(v3(m[4], m[5], m[6])), sz = v3_len(v3(m[8], m[9], m[10]));
     float smin = fmaxf(fminf(sx, fminf(sy, sz)), 1e-20f), smax = fmaxf(sx, fmaxf(sy, sz));
+    /* Even the narrowest card spans sqrt(AREA_REF) units of px at the box's farthest point (the
+     * shader's measure, the cube root of the volume change, is at least smin): nothing grows. */
+    if (ga->lod_side_min * smin * px / fmaxf(far, 1e-20f) >= sqrtf((float)RING_LOD_AREA_REF))
+        return 0.0f;
     /* The shader measures a card by the cube root of the instance's volume change: a non-uniform
      * scale can stretch it by up to smax / smin beyond what that predicts. */
     return ga->lod_aspect * sqrtf((float)RING_LOD_AREA_REF) * far / px * (smax / smin) / smin; /* px: ring_lod_px */

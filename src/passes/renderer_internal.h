@@ -79,7 +79,7 @@ typedef struct gpu_asset {
     /* plan.ring_lod: per ring, the asset-space box its enlarged cards may reach (culling) under a
      * per-ring law; for per-card rings, the largest card radius / side (ring_lod_cull_pad) */
     vec3 lod_lo[MAX_FOV_RINGS], lod_hi[MAX_FOV_RINGS];
-    float lod_aspect;
+    float lod_aspect, lod_side_min; /* and the narrowest card's side, asset units */
 } gpu_asset;
 
 /* Ring targets: colour and coverage are texture arrays with one layer per ring, each layer the

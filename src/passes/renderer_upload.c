@@ -111,6 +111,7 @@ static fs_status upload_cards(renderer *r, const asset *as, gpu_asset *ga)
     fs_status st = asset_cards_build(as, &cards);
     if (st != FS_OK)
         return st;
+    ga->lod_side_min = INFINITY;
     for (int p = 0; p < as->prim_count && st == FS_OK; p++) {
         if (!cards_prim_is_candidate(as, p))
             continue;
@@ -122,9 +123,13 @@ static fs_status upload_cards(renderer *r, const asset *as, gpu_asset *ga)
         }
         float *side = attr + 4 * (size_t)pr->vertex_count;
         const prim_cards *pc = &cards.prims[p];
-        for (uint32_t c = 0; pc->simplified && c < pc->card_count; c++)
-            if (pc->area[c] > 0.0f)
-                ga->lod_aspect = fmaxf(ga->lod_aspect, pc->radius[c] / sqrtf(pc->area[c]));
+        for (uint32_t c = 0; pc->simplified && c < pc->card_count; c++) {
+            float side = sqrtf(pc->area[c]);
+            if (side > 0.0f) { /* a card without area draws nothing, enlarged or not */
+                ga->lod_side_min = fminf(ga->lod_side_min, side);
+                ga->lod_aspect = fmaxf(ga->lod_aspect, pc->radius[c] / side);
+            }
+        }
         prim_cards_vertex_attrib(&cards.prims[p], pr, attr);
         prim_cards_vertex_side(&cards.prims[p], pr, side);
         gpu_prim *g = &ga->prims[p];
