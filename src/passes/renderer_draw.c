@@ -55,7 +55,7 @@ static float ring_lod_cull_pad(const gpu_asset *ga, const asset *as, const mat4 
         return 0.0f;
     /* The shader measures a card by the cube root of the instance's volume change: a non-uniform
      * scale can stretch it by up to smax / smin beyond what that predicts. */
-    return ga->lod_aspect * sqrtf((float)RING_LOD_AREA_REF) * far / px * (smax / smin) / smin; /* px: ring_lod_px */
+    return ga->lod_aspect * sqrtf((float)RING_LOD_AREA_REF) * far / px * (smax / smin) / smin;
 }
 
 static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
