@@ -1,13 +1,11 @@
 /* fuzz_ring_lod.c: the --ring-lod parser (ring_lod_parse; also a scene file's ring LOD string).
  *
- * Input: the text as given on the command line ("off", "simplify", "simplify:1,1,1/4,0.0625").
+ * Input: the text as given on the command line ("off", "simplify", "simplify:area=4",
+ * "simplify:1,1,1/4,0.0625").
  * Checks beyond "no crash": a refused text leaves *out alone and says why in one line; an accepted
  * one prints (ring_lod_format) to text that parses back to the same spec, passes ring_lod_check
  * against a layout of as many rings as it has values, and every ring's law keeps the law's
  * promises: weights in [0, 1], scales finite and >= 0, E[g] gain = 1, u = 1 the identity.
- *
- * Not yet in FOVSIM_FUZZ_TARGETS (CMakeLists.txt) nor tests/fuzz/run.sh: add "ring_lod" to both
- * (max_len 512, as rings) when the option is wired into the CLI.
  */
 #include <math.h>
 #include <stdlib.h>
