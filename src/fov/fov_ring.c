@@ -231,12 +231,17 @@ double fov_layout_acuity_margin(const display_desc *d, const fov_layout *l, floa
     return worst > 0.0 ? 1.0 / worst : INFINITY;
 }
 
+void fov_trim(const char **b, const char **e)
+{
+    while (*b < *e && (**b == ' ' || **b == '\t' || **b == '\n' || **b == '\r'))
+        (*b)++;
+    while (*e > *b && ((*e)[-1] == ' ' || (*e)[-1] == '\t' || (*e)[-1] == '\n' || (*e)[-1] == '\r'))
+        (*e)--;
+}
+
 bool fov_take_token(const char *b, const char *e, char tok[FOV_TOKEN_MAX])
 {
-    while (b < e && (*b == ' ' || *b == '\t' || *b == '\n' || *b == '\r'))
-        b++;
-    while (e > b && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\n' || e[-1] == '\r'))
-        e--;
+    fov_trim(&b, &e);
     if (e - b >= FOV_TOKEN_MAX)
         return false;
     memcpy(tok, b, (size_t)(e - b));
@@ -351,10 +356,7 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
         return FS_ERR_USAGE;
     }
     const char *b = text, *e = text + strlen(text);
-    while (b < e && (*b == ' ' || *b == '\t' || *b == '\n' || *b == '\r'))
-        b++;
-    while (e > b && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\n' || e[-1] == '\r'))
-        e--;
+    fov_trim(&b, &e);
     if (b == e) {
         fov_set_err(err, err_size, "empty ring layout (expected auto, off or R:S:B,...,*:S:B)");
         return FS_ERR_USAGE;

@@ -102,6 +102,8 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
 
 /* What the text forms of fov_ring.c and ring_lod.c share. FOV_TOKEN_MAX: the longest token + 1. */
 #define FOV_TOKEN_MAX 64
+/* Moves b forward and e back past blanks, tabs and line ends: [b, e) trimmed. */
+void fov_trim(const char **b, const char **e);
 /* Copies [b, e) without surrounding whitespace into tok; false when it does not fit. */
 bool fov_take_token(const char *b, const char *e, char tok[FOV_TOKEN_MAX]);
 /* A whole token as a finite number: "1", "0.25" or "1/4" (blanks around '/' allowed). */

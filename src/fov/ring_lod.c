@@ -170,10 +170,7 @@ fs_status ring_lod_parse(const char *text, ring_lod_spec *out, char *err, int er
         return FS_ERR_USAGE;
     }
     const char *b = text, *e = text + strlen(text);
-    while (b < e && (*b == ' ' || *b == '\t' || *b == '\n' || *b == '\r'))
-        b++;
-    while (e > b && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\n' || e[-1] == '\r'))
-        e--;
+    fov_trim(&b, &e);
     size_t len = (size_t)(e - b);
     ring_lod_spec s;
     memset(&s, 0, sizeof s);

@@ -61,7 +61,6 @@ static float ring_lod_cull_pad(const gpu_asset *ga, const asset *as, const mat4 
 static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const frame_record *fr, int ring)
 {
     const light_desc *L = &r->sc->light;
-    (void)fr;
     glProgramUniformMatrix4fv(pg->id, pg->u_view_proj, 1, GL_FALSE, r->draw_vp.m);
     glProgramUniform3f(pg->id, pg->u_eye, fr->camera.position.x, fr->camera.position.y, fr->camera.position.z);
     glProgramUniform3f(pg->id, pg->u_light_dir, L->direction.x, L->direction.y, L->direction.z);
