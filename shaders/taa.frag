@@ -20,6 +20,11 @@ layout(binding = 4) uniform sampler2DArray u_hist_coverage;
 #ifdef TAA_OBJECT_MOTION
 layout(binding = 5) uniform sampler2D u_motion;             // this ring's per-object motion (world)
 #endif
+#ifdef TAA_DISOCCLUSION
+layout(binding = 6) uniform sampler2DArray u_hist_depth;    // last frame's history: nearest depth, P(unseen)
+uniform mat4 u_prev_inv_view_proj; // this ring, last frame, unjittered: NDC -> world
+uniform mat4 u_view_proj;          // this ring, this frame, unjittered: world -> clip
+#endif
 uniform int u_layer;             // this ring's layer in both arrays
 uniform vec2 u_size;             // this frame's footprint, ring pixels
 uniform vec2 u_prev_size;        // last frame's footprint of this ring, ring pixels
@@ -54,6 +59,9 @@ bool culled_history(vec2 at, int layer)
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
+#ifdef TAA_DISOCCLUSION
+layout(location = 2) out vec4 o_depth; // the history's nearest surface: window depth, P(frames unseen)
+#endif
 
 // Compile-time variants (`fovsim plan` shows which; docs/taa.md "A leaner resolve" has their
 // measured accuracy and cost): TAA_NEIGHBOURS 9 (3x3) or 5 (the cross) taps for the clip box;
@@ -100,6 +108,26 @@ vec4 fetch_history(vec2 p, int layer, vec2 prev_size, out float cov)
     return taa_history_sum(t, w, n, TAA_PER_TAP);
 }
 
+#ifdef TAA_DISOCCLUSION
+// The history's nearest surface around ring-pixel position p of layer `layer` (the nearest of the
+// four texels around it, with how likely its unseen frames are), at hist_ndc (xy) of this ring's
+// previous frame: does it land on this pixel (common/taa.glsl: taa_history_surface_here)?
+bool surface_here(vec2 p, int layer, vec2 hist_ndc, vec3 motion, vec2 here_ndc, float depth_cur, out vec2 keep,
+                  out vec2 offset)
+{
+    vec3 at = vec3(p / u_array_px, float(layer));
+    vec4 gz = textureGather(u_hist_depth, at, 0), gu = textureGather(u_hist_depth, at, 1);
+    vec2 h = vec2(gz.x, gu.x);
+    h = gz.y < h.x ? vec2(gz.y, gu.y) : h;
+    h = gz.z < h.x ? vec2(gz.z, gu.z) : h;
+    h = gz.w < h.x ? vec2(gz.w, gu.w) : h;
+    float cov = textureLod(u_hist_coverage, at, 0.0).r;
+    return taa_history_surface_here(vec3(hist_ndc, h.x * 2.0 - 1.0), h.y, cov, motion, u_prev_inv_view_proj,
+                                    u_view_proj, here_ndc, u_size, depth_cur, float(TAA_PARALLAX_PX),
+                                    float(TAA_UNSEEN_ALPHA), keep, offset);
+}
+#endif
+
 // p (ring pixels) lies where the Catmull-Rom fetch has rendered texels around it.
 bool inside_footprint(vec2 p, vec2 size)
 {
@@ -130,15 +158,28 @@ void main()
     bool valid = u_history_valid;
     vec2 prev = vec2(0.0), prev_size = u_prev_size;
     int prev_layer = u_layer;
+#if defined(TAA_CAMERA_MOTION) || defined(TAA_OBJECT_MOTION)
+    vec2 ndc = (vec2(pix) + 0.5) / u_size * 2.0 - 1.0; // this pixel's centre, this frame's NDC
+    vec2 prev_ndc = ndc;                               // where it was last frame
+    vec3 motion = vec3(0.0);                           // its own motion (world, last frame - now)
+#endif
     if (valid) {
 #if defined(TAA_CAMERA_MOTION) || defined(TAA_OBJECT_MOTION)
         // The camera moves, or instances sway: through depth and last frame's camera and ring
         // frustum, plus where the fragment's own motion (swaying instances) moved it.
-        vec2 ndc = (vec2(pix) + 0.5) / u_size * 2.0 - 1.0;
-        float z = texelFetch(u_depth, pix, 0).r * 2.0 - 1.0;
-        vec2 prev_ndc;
+        // Through the nearest surface of the neighbourhood (Karis 2014): a pixel whose sample missed a
+        // thin leaf or wire the neighbours hit follows that leaf, whose history it shares.
+        ivec2 near_px = pix;
+        float zw = texelFetch(u_depth, pix, 0).r;
+        for (int k = 1; k < TAA_NEIGHBOURS; k++) {
+            ivec2 q = clamp(pix + TAA_OFFSET[k], ivec2(0), ivec2(u_size) - 1);
+            float zq = texelFetch(u_depth, q, 0).r;
+            near_px = zq < zw ? q : near_px;
+            zw = min(zq, zw);
+        }
+        float z = zw * 2.0 - 1.0;
 #ifdef TAA_OBJECT_MOTION
-        vec3 motion = texelFetch(u_motion, pix, 0).xyz;
+        motion = texelFetch(u_motion, near_px, 0).xyz;
         valid = taa_reproject_moving(vec3(ndc, z), motion, u_inv_view_proj, u_prev_view_proj, prev_ndc);
 #else
         valid = taa_reproject(vec3(ndc, z), u_inv_view_proj, u_prev_view_proj, prev_ndc);
@@ -179,22 +220,45 @@ void main()
         }
 #endif
     }
+#ifdef TAA_DISOCCLUSION
+    // Disocclusion: the history records, per pixel, the depth of the nearest surface it holds and
+    // how far that surface has drifted against the pixels since it was last seen. Carried into this
+    // frame, it must still lie on this pixel; where it has moved away (the pixel's surface now moves
+    // differently from what the history shows), the history is of something else: none
+    // (taa_history_surface_here; docs/taa.md, "Disocclusion").
+    float depth_cur = texelFetch(u_depth, pix, 0).r;
+    vec2 keep = vec2(depth_cur, 1.0);
+    if (valid) {
+        vec2 offset;
+        valid = surface_here(prev, prev_layer, prev_ndc, motion, ndc, depth_cur, keep, offset);
+        // Not here: the history whose nearest surface does land here lies `offset` back from where
+        // this pixel's own surface came from (a missed leaf's history, where the sample saw what is
+        // behind it). Look there once, in this ring's own history.
+        vec2 back = prev - offset;
+        if (!valid && prev_layer == u_layer && inside_footprint(back, u_prev_size) && dot(offset, offset) > 0.0) {
+            vec2 back_ndc = back / u_prev_size * 2.0 - 1.0;
+            valid = surface_here(back, prev_layer, back_ndc, motion, ndc, depth_cur, keep, offset);
+            prev = valid ? back : prev;
+        }
+    }
+    o_depth = vec4(keep, 0.0, 1.0);
+#endif
     vec4 hist = cur;
     float hist_cov = cur_cov;
     if (valid) {
         hist = fetch_history(prev, prev_layer, prev_size, hist_cov);
-        // Sparse stochastic coverage: where the nine samples all missed (or all hit) a surface the
-        // history covers partly, widen the coverage range by what they can miss, and the colour
-        // box by a quarter of that (docs/taa.md). Only where alpha tests are noise in time (the
-        // plan's TAA_SPARSE_COVERAGE): deterministic samples would only gain ghosts from it.
+        // Sparse coverage: the history's coverage is kept unless this pixel's own sample refutes it
+        // (taa_sparse_coverage, docs/taa.md); the colour box and the alpha range widen by what it
+        // keeps outside the neighbourhood's range. Without TAA_SPARSE_COVERAGE (--taa-sparse off, or
+        // no alpha-tested surface): the plain clamp to the neighbourhood.
+        float m;
 #ifdef TAA_SPARSE_COVERAGE
-        float m = taa_sparse_margin(hist_cov, box.coverage.x, box.coverage.y, u_sparse);
+        hist_cov = taa_sparse_coverage(hist_cov, cur_cov, box.coverage.x, box.coverage.y, u_sparse, m);
 #else
-        const float m = 0.0;
+        hist_cov = taa_sparse_coverage(hist_cov, cur_cov, box.coverage.x, box.coverage.y, 0.0, m);
 #endif
         vec3 y = taa_clip_to_box(taa_rgb_to_ycocg(hist.rgb), box.mean, box.sigma, u_gamma, float(TAA_SPARSE_COLOR) * m);
         hist = vec4(taa_ycocg_to_rgb(y), clamp(hist.a, box.alpha.x - m, box.alpha.y + m));
-        hist_cov = clamp(hist_cov, box.coverage.x - m, box.coverage.y + m);
     }
     o_color = taa_resolve4(cur, hist, valid, u_blend);
     o_coverage = vec4(taa_resolve(cur_cov, hist_cov, valid, u_blend), 0.0, 0.0, 1.0);

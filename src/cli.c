@@ -125,8 +125,11 @@ void cli_print_help(command cmd)
            "  --taa on|off        temporal antialiasing per ring (default on for more than one frame)\n"
            "  --taa-blend W       weight of the current frame in the history (default 0.1)\n"
            "  --taa-gamma G       history clipping box, in standard deviations (default 1)\n"
-           "  --taa-sparse S|off  coverage a uniform 3x3 neighbourhood may have missed, kept in the\n"
-           "                      history (sparse stochastic coverage, docs/taa.md; default 0.28)\n"
+           "  --taa-sparse S|off  how far the history's coverage may stay from each pixel's own\n"
+           "                      sample: 1 - alpha of a one-sample test (docs/taa.md \"Sparse\n"
+           "                      coverage\"; default 0.95); off clamps it to the neighbourhood's range\n"
+           "  --taa-disocclusion on|off  drop history whose nearest surface moved off the pixel\n"
+           "                      (depth; default on; off to measure what it buys)\n"
            "  --taa-neighbourhood 3x3|cross  taps of the history clipping box (docs/taa.md; default cross)\n"
            "  --taa-history catmull|bilinear  history fetch: 5-tap Catmull-Rom or one bilinear tap\n"
            "                      (default catmull)\n"
@@ -345,7 +348,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--warmup", "--first-frame", "--markdown", "--compression", "--rings", "--ring-lod",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
                                                  "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
-                                                 "--taa-gamma", "--taa-sparse", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
+                                                 "--taa-gamma", "--taa-sparse", "--taa-disocclusion", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
                                                  "--asset-root", "--max-image-mpixels", "--max-scene-mpixels"};
         bool known = false;
@@ -486,6 +489,11 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             int k = 0;
             ok = parse_choice(opt, val, "on", "off", &k);
             d->no_object_motion = k;
+        }
+        else if (!strcmp(opt, "--taa-disocclusion")) {
+            int k = 0;
+            ok = parse_choice(opt, val, "on", "off", &k);
+            d->no_disocclusion = k;
         }
         else if (!strcmp(opt, "--modes")) {
             d->bench_mode_count = 0;

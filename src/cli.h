@@ -57,9 +57,10 @@ typedef struct run_desc {
     int taa;                 /* --taa on|off: 1 / 0; -1 = the scene's, else on (for more than one frame) */
     float taa_blend;         /* --taa-blend, 0 = default 0.1 */
     float taa_gamma;         /* --taa-gamma, 0 = default 1 */
-    float taa_sparse;        /* --taa-sparse S|off, 0 = default 0.28, negative = off */
+    float taa_sparse;        /* --taa-sparse S|off, 0 = default TAA_SPARSE_SLACK, negative = off */
     int jitter_length;       /* --jitter-length, 0 = default 16 */
     bool no_object_motion;   /* --object-motion off: TAA ignores swaying instances' own motion */
+    bool no_disocclusion;    /* --taa-disocclusion off: TAA keeps history whose surface moved away */
     bool no_ring_cull;       /* --ring-cull off: rings draw what only their hole would see */
     bool composite_per_pixel; /* --composite per-pixel: no tile classification (to measure it) */
     int taa_neighbourhood;   /* --taa-neighbourhood 3x3|cross: TAA_NEIGHBOURHOOD_* (plan.h), 0 = default */

@@ -90,8 +90,16 @@
 #define TAA_GAMMA_DEFAULT 1.0        /* variance clipping box: mean +- gamma * sigma */
 #define TAA_BLEND_DEFAULT 0.1        /* weight of the current sample in the exponential blend */
 #define TAA_MAX_VALUE 65504.0        /* half-float max: history is RGBA16F, larger values clamp */
-#define TAA_SPARSE_SLACK 0.28        /* default coverage a uniform 3x3 may miss (taa_sparse_margin) */
-#define TAA_SPARSE_COLOR 0.25        /* colour box widening per unit of that coverage (docs/taa.md) */
+#define TAA_SPARSE_SLACK 0.95        /* default 1 - alpha: the largest coverage difference one binary
+                                        sample cannot refute at significance alpha = 0.05
+                                        (taa_sparse_coverage, docs/taa.md) */
+#define TAA_SPARSE_COLOR 0.25        /* colour box widening per unit of coverage kept outside the
+                                        neighbourhood's range (docs/taa.md) */
+#define TAA_PARALLAX_PX 0.5          /* history is of this pixel's surfaces while its nearest surface,
+                                        carried to this frame, lands within this many ring pixels
+                                        (taa_history_surface_here, docs/taa.md "Disocclusion") */
+#define TAA_UNSEEN_ALPHA 0.05        /* ... and while the frames that did not see it are not less
+                                        likely than this under the history's coverage */
 #define TAA_MAX_TAPS 9               /* neighbourhood taps at most (3x3; the cross uses the first 5) */
 
 /* The exact reference's per-pixel fragment lists (A-buffer; docs/reference.md). GLSL:

@@ -141,15 +141,24 @@ vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma, float mar
 
 // >>sparse
 
-// C twin: taa_sparse_margin. min(|history_coverage - c|, slack) where the neighbourhood's coverage
-// samples all equal c (cov_min == cov_max); 0 otherwise. slack NaN -> 0, clamped to [0, 1].
-float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, float slack)
+// C twin: taa_sparse_coverage. The history's coverage, kept where this frame's samples cannot refute
+// it: clamped to the union of the neighbourhood's coverage range [cov_min, cov_max] and `slack`
+// (clamped to [0, 1]; NaN -> 0) around the pixel's own sample `current`. `margin` is how far the
+// result lies outside [cov_min, cov_max]; the caller widens the colour box by TAA_SPARSE_COLOR times
+// it and the alpha range by it. slack 0 is the plain clamp to [cov_min, cov_max]. Inputs through
+// taa_sanitize; a NaN history or sample counts as cov_min; NaN range ends as 0 and 1.
+float taa_sparse_coverage(float history_coverage, float current, float cov_min, float cov_max, float slack,
+                          out float margin)
 {
-    if (taa_is_nan(history_coverage) || taa_is_nan(cov_min) || taa_is_nan(cov_max) || taa_is_nan(slack) ||
-        cov_min != cov_max)
-        return 0.0;
-    precise float d = abs(history_coverage - cov_min);
-    return min(d, clamp(slack, 0.0, 1.0));
+    float lo = taa_is_nan(cov_min) ? 0.0 : taa_sanitize(cov_min), hi = taa_is_nan(cov_max) ? 1.0 : taa_sanitize(cov_max);
+    float h = taa_is_nan(history_coverage) ? lo : taa_sanitize(history_coverage);
+    float c = taa_is_nan(current) ? lo : taa_sanitize(current);
+    float s = taa_is_nan(slack) ? 0.0 : clamp(slack, 0.0, 1.0);
+    precise float a = c - s, b = c + s;
+    float r = clamp(h, min(lo, a), max(hi, b));
+    precise float below = lo - r, above = r - hi;
+    margin = max(max(below, above), 0.0);
+    return r;
 }
 
 // >>resolve
@@ -368,6 +377,52 @@ bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, o
     bool valid = taa_reproject(ndc, inv_view_proj_jittered, prev_view_proj, p);
     prev_ndc_xy = p.xy;
     return valid;
+}
+
+// >>disocclusion
+
+// C twin: taa_history_surface_here. Is the nearest surface of the history fetched for this pixel
+// still on it? hist_ndc is where the history was fetched, in the previous frame's NDC of this ring
+// (xy), with the window depth of the nearest surface the history holds there as NDC (z);
+// hist_unseen the probability, under the history's coverage, of the frames since that surface was
+// last seen at the pixels it was carried through (1 when seen last frame); hist_coverage the
+// history's coverage there. The surface is carried into this frame through prev_inv_view_proj and
+// view_proj (unjittered), moved by -motion (the pixel's own per-object motion, last frame - now),
+// and must land within max_px ring pixels (Chebyshev) of here_ndc, this pixel's centre (footprint:
+// size ring pixels). Where this frame's sample (window depth depth_cur) does not see it (lies
+// behind it), the run of frames that missed it grows by one of probability 1 - hist_coverage: a
+// run less likely than unseen_alpha says the surface is gone (a ghost), not missed. keep: what the
+// history records for this pixel now, (window depth, unseen probability): (depth_cur through
+// taa_sanitize, clamped to [0, 1], 1) where the
+// sample is at least as near or the result is false, else (the carried depth, the run's
+// probability). offset: where it landed minus here_ndc, in ring pixels ((0, 0) where it cannot be
+// carried), for the caller's look for the history whose surface does land here.
+bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
+                              mat4 prev_inv_view_proj, mat4 view_proj, vec2 here_ndc, vec2 size, float depth_cur,
+                              float max_px, float unseen_alpha, out vec2 keep, out vec2 offset)
+{
+    vec3 now;
+    float dc = clamp(taa_sanitize(depth_cur), 0.0, 1.0);
+    keep = vec2(dc, 1.0);
+    offset = vec2(0.0);
+    if (!taa_reproject_moving(hist_ndc, -taa_sanitize3(motion), prev_inv_view_proj, view_proj, now))
+        return false;
+    precise vec2 d = (now.xy - here_ndc) * 0.5 * size;
+    offset = vec2(taa_sanitize(d.x), taa_sanitize(d.y));
+    float far = max(abs(d.x), abs(d.y));
+    if (!taa_is_finite(far) || far > max_px)
+        return false;
+    precise float z = now.z * 0.5 + 0.5;
+    float depth_now = clamp(z, 0.0, 1.0);
+    if (dc <= depth_now)
+        return true;
+    float u = taa_is_nan(hist_unseen) ? 1.0 : clamp(hist_unseen, 0.0, 1.0);
+    float c = taa_is_nan(hist_coverage) ? 0.0 : clamp(hist_coverage, 0.0, 1.0);
+    precise float p = u * (1.0 - c);
+    if (!(p >= unseen_alpha))
+        return false;
+    keep = vec2(depth_now, p);
+    return true;
 }
 
 #endif

@@ -37,8 +37,8 @@ struct twin_out {
     vec4 o6;   // taa_reproject(d.xyz, inv, prev), valid ? 1 : 0
     vec4 o7;   // taa_resolve4(a, vec4(b.xyz, c.w), v.x != 0, b.w)
     vec4 o8;   // taa_sanitize4(a)
-    vec4 o9;   // taa_resolve(a.w, c.w, v.x != 0, b.w) (one channel), taa_sparse_margin(d.w / 4, 0, 0, c.z),
-               // taa_sparse_margin(d.w, c.x, c.x, TAA_SPARSE_SLACK), taa_sparse_margin(d.w, c.x, c.y, c.z)
+    vec4 o9;   // taa_resolve(a.w, c.w, v.x != 0, b.w) (one channel), taa_sparse_coverage(d.w, a.w, c.x, c.y, c.z)
+               // and its margin, taa_sparse_coverage(d.w, c.x, c.x, c.x, TAA_SPARSE_SLACK)
     vec4 o10;  // taa_reproject_moving(d.xyz, e.xyz, inv, prev), valid ? 1 : 0
     vec4 o11;  // sway_motion(g, f.xy, f.z, f.w, e.w), sway_wave(f.x, f.y, f.w)
     vec4 o12;  // sway_displacement(g, f.xy, f.z, f.w), sway_weight(f.z, g.w)
@@ -50,6 +50,8 @@ struct twin_out {
     vec4 o18;  //   tap 4 (x, y), weights 0, 1
     vec4 o19;  //   weights 2, 3, 4, 0
     vec4 o20;  // taa_history_sum(nb[0..4], hw, w.z, w.y != 0)
+    vec4 o21;  // taa_history_surface_here(d.xyz, c.z, c.x, e.xyz, inv, prev, a.xy, h.zw, b.w, c.w, b.z): keep, offset
+    vec4 o22;  //   its result ? 1 : 0, 0, 0, 0
 };
 
 layout(std430, binding = 0) readonly buffer twin_inputs { twin_in tin[]; };
@@ -74,9 +76,10 @@ void main()
     r.o6 = vec4(prev_ndc, valid ? 1.0 : 0.0);
     r.o7 = taa_resolve4(p.a, vec4(p.b.xyz, p.c.w), p.v.x != 0u, p.b.w);
     r.o8 = taa_sanitize4(p.a);
-    r.o9 = vec4(taa_resolve(p.a.w, p.c.w, p.v.x != 0u, p.b.w), taa_sparse_margin(p.d.w * 0.25, 0.0, 0.0, p.c.z),
-                taa_sparse_margin(p.d.w, p.c.x, p.c.x, float(TAA_SPARSE_SLACK)),
-                taa_sparse_margin(p.d.w, p.c.x, p.c.y, p.c.z));
+    float margin, unused;
+    float sc = taa_sparse_coverage(p.d.w, p.a.w, p.c.x, p.c.y, p.c.z, margin);
+    r.o9 = vec4(taa_resolve(p.a.w, p.c.w, p.v.x != 0u, p.b.w), sc, margin,
+                taa_sparse_coverage(p.d.w, p.c.x, p.c.x, p.c.x, float(TAA_SPARSE_SLACK), unused));
     valid = taa_reproject_moving(p.d.xyz, p.e.xyz, p.inv, p.prev, prev_ndc);
     r.o10 = vec4(prev_ndc, valid ? 1.0 : 0.0);
     r.o11 = vec4(sway_motion(p.g, p.f.xy, p.f.z, p.f.w, p.e.w), sway_wave(p.f.x, p.f.y, p.f.w));
@@ -104,5 +107,10 @@ void main()
         hw[k] = p.hw[k / 4][k % 4];
     }
     r.o20 = taa_history_sum(ht, hw, int(p.w.z), p.w.y != 0u);
+    vec2 keep, offset;
+    bool here = taa_history_surface_here(p.d.xyz, p.c.z, p.c.x, p.e.xyz, p.inv, p.prev, p.a.xy, p.h.zw, p.b.w, p.c.w,
+                                         p.b.z, keep, offset);
+    r.o21 = vec4(keep, offset);
+    r.o22 = vec4(here ? 1.0 : 0.0, 0.0, 0.0, 0.0);
     tout[i] = r;
 }

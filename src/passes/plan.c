@@ -134,6 +134,15 @@ static void fullscreen_pass(plan_pass *ps, const char *name, const char *fs)
 }
 
 /* Some alpha-tested pass draws with a stochastic threshold (its samples are noise). */
+/* Some surface is alpha-tested (a MASK pass, any mode). */
+static bool has_mask(const plan *p)
+{
+    for (int i = 0; i < p->pass_count; i++)
+        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK)
+            return true;
+    return false;
+}
+
 static bool has_stochastic_mask(const plan *p)
 {
     for (int i = 0; i < p->pass_count; i++) {
@@ -279,12 +288,18 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         if (out->taa_controls.nan_check == TAA_NAN_SET)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
         out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
-        /* The sparse-coverage slack (docs/taa.md): only where samples are noise in time, which
-         * hashed ones are too, with or without the frame offset: the camera's motion and the
-         * jitter move pixels across the object-anchored cells (docs/taa.md measures it). */
-        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_stochastic_mask(out);
+        /* The sparse-coverage rule (docs/taa.md, "Sparse coverage"): wherever a surface is
+         * alpha-tested, a pixel's coverage sample is a binary draw (a stochastic or hashed
+         * threshold, or a jittered sub-pixel leaf under any test), which its neighbours cannot
+         * refute. Scenes without MASK surfaces keep the plain clamp. */
+        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out);
         if (out->taa_sparse)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
+        /* Disocclusion (docs/taa.md): only where pixels move, i.e. where TAA reprojects through
+         * depth; a still camera without sway keeps every surface on its pixel. */
+        out->taa_disocclusion = (out->camera_motion || out->velocity) && !out->taa_controls.no_disocclusion;
+        if (out->taa_disocclusion)
+            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_DISOCCLUSION 1");
         /* Rings that skip instances in their hole: history from there is not whole. */
         if (out->ring_cull)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_CULL 1");
@@ -445,20 +460,24 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             p->msaa ? ", drawn through a shared MSAA target and resolved" : "", p->composite ? "colour + coverage + debug (composite)" : "the ring itself");
     char sparse[96];
     if (p->taa_sparse)
-        snprintf(sparse, sizeof sparse, "sparse-coverage slack %.2f", p->taa_controls.sparse);
+        snprintf(sparse, sizeof sparse, "sparse coverage kept within %.2f of each pixel's sample", p->taa_controls.sparse);
     else
-        snprintf(sparse, sizeof sparse, "no sparse-coverage slack (%s)",
-                 p->taa_controls.sparse > 0.0f ? "no alpha test is noise in time" : "off");
+        snprintf(sparse, sizeof sparse, "no sparse-coverage rule (%s)",
+                 p->taa_controls.sparse > 0.0f ? "no alpha-tested surface" : "off");
+    const char *disocc = p->taa_disocclusion ? "; history whose nearest surface moved off the pixel dropped (depth)"
+                         : (p->camera_motion || p->velocity) ? "; no disocclusion test (off)"
+                                                              : "";
     if (p->taa)
-        fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F x 2 per ring; "
-                   "blend %.2f, gamma %.2f, %s, Halton(2,3) jitter of %d frames; %s; %s%s; "
+        fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F%s x 2 per ring; "
+                   "blend %.2f, gamma %.2f, %s, Halton(2,3) jitter of %d frames; %s%s; %s%s; "
                    "clip box from the %s, %s history, NaN checked per %s\n",
-                p->taa_pass.vs, p->taa_pass.fs, p->taa_controls.blend, p->taa_controls.gamma,
-                sparse, p->taa_controls.jitter_length,
+                p->taa_pass.vs, p->taa_pass.fs, p->taa_disocclusion ? " + depth and drift RG32F" : "", p->taa_controls.blend,
+                p->taa_controls.gamma, sparse, p->taa_controls.jitter_length,
                 p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
                                                        : "reprojection through depth and per-object motion (instances sway)")
                 : p->camera_motion ? "reprojection through depth (the camera moves)"
                                    : "no reprojection (still camera: only the rings move with the gaze)",
+                disocc,
                 p->taa_coarse_history ? "history that leaves its ring's footprint from a coarser ring"
                                       : "history that leaves its ring's footprint dropped",
                 p->ring_cull ? "; history from where a ring culled (its hole) dropped" : "",

@@ -67,8 +67,10 @@ typedef struct taa_controls {
     float blend;        /* weight of the current frame, default TAA_BLEND_DEFAULT (0.1) */
     float gamma;        /* variance-box half-width in sigmas, default TAA_GAMMA_DEFAULT (1) */
     int jitter_length;  /* Halton (2,3) period in frames, default TAA_JITTER_LENGTH_DEFAULT (16) */
-    float sparse;       /* sparse-coverage slack in (0, 1] (taa_sparse_margin), default
-                         * TAA_SPARSE_SLACK; negative = off */
+    float sparse;       /* sparse-coverage slack 1 - alpha in (0, 1] (taa_sparse_coverage),
+                         * default TAA_SPARSE_SLACK; negative = off */
+    bool no_disocclusion; /* keep history whose nearest surface moved away (no depth test):
+                           * for measuring what the test buys */
     bool no_object_motion; /* ignore swaying instances' motion (reproject them as if still):
                             * for measuring what per-object motion buys */
     taa_neighbourhood_kind neighbourhood; /* clip box from the 3x3 or the 5-tap cross (docs/taa.md) */
@@ -123,8 +125,11 @@ typedef struct plan {
     bool camera_motion;         /* the camera path moves: TAA reprojects through depth */
     bool taa_coarse_history;    /* stochastic alpha tests and rings: a pixel that left its ring's
                                  * footprint takes a coarser ring's history */
-    bool taa_sparse;            /* the sparse-coverage slack (TAA_SPARSE_COVERAGE): some alpha test
-                                 * is noise in time (stochastic or hashed) */
+    bool taa_sparse;            /* the sparse-coverage rule (TAA_SPARSE_COVERAGE): some surface is
+                                 * alpha-tested, so a pixel's coverage sample is one binary draw */
+    bool taa_disocclusion;      /* history carries its nearest depth and is dropped where that
+                                 * surface moved off the pixel (TAA_DISOCCLUSION): TAA reprojects
+                                 * through depth (the camera moves or instances sway) */
     bool coverage;              /* coverage channel written (always: opaque scenes write zeros) */
     fov_layout layout;          /* count >= 1; kind OFF = one full-resolution ring */
     bool rings;                 /* foveation on: more than one ring or a reduced scale */

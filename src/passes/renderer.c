@@ -103,6 +103,8 @@ static fs_status taa_create(const plan_pass *ps, taa_program *out)
     out->u_cull_display_px = glGetUniformLocation(h, "u_cull_display_px");
     out->u_cull_focal_px = glGetUniformLocation(h, "u_cull_focal_px");
     out->u_ring_hole_deg = glGetUniformLocation(h, "u_ring_hole_deg");
+    out->u_prev_inv_view_proj = glGetUniformLocation(h, "u_prev_inv_view_proj");
+    out->u_view_proj = glGetUniformLocation(h, "u_view_proj");
     return FS_OK;
 }
 
@@ -263,6 +265,7 @@ void renderer_destroy(renderer *r)
         glDeleteFramebuffers(MAX_FOV_RINGS, r->taa_fbo[k]);
         glDeleteTextures(1, &r->taa_color[k]);
         glDeleteTextures(1, &r->taa_coverage[k]);
+        glDeleteTextures(1, &r->taa_depth[k]);
     }
     glDeleteFramebuffers(1, &r->out_fbo);
     glDeleteTextures(OUT_COUNT, r->out_tex);

@@ -306,6 +306,13 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glProgramUniformMatrix4fv(p->id, p->u_inv_view_proj, 1, GL_FALSE, inv.m);
     glProgramUniformMatrix4fv(p->id, p->u_prev_view_proj, 1, GL_FALSE,
                               (valid ? r->prev_vp[ring] : fr->ring_view_proj[ring]).m);
+    if (r->pl.taa_disocclusion) {
+        mat4 prev_inv;
+        m4_invert(valid ? r->prev_vp[ring] : fr->ring_view_proj[ring], &prev_inv);
+        glProgramUniformMatrix4fv(p->id, p->u_prev_inv_view_proj, 1, GL_FALSE, prev_inv.m);
+        glProgramUniformMatrix4fv(p->id, p->u_view_proj, 1, GL_FALSE, fr->ring_view_proj[ring].m);
+        glBindTextureUnit(6, r->taa_depth[1 - r->parity]); /* textureGather: no filtering */
+    }
     glProgramUniform1i(p->id, p->u_history_valid, valid);
     glProgramUniform1f(p->id, p->u_blend, r->pl.taa_controls.blend);
     glProgramUniform1f(p->id, p->u_gamma, r->pl.taa_controls.gamma);

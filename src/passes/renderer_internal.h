@@ -52,7 +52,7 @@ typedef struct taa_program {
     GLuint id;
     GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
         u_gamma, u_sparse, u_rect, u_prev_rect, u_block, u_ring_prev_rect, u_ring_block, u_cull_gaze_px,
-        u_cull_display_px, u_cull_focal_px, u_ring_hole_deg;
+        u_cull_display_px, u_cull_focal_px, u_ring_hole_deg, u_prev_inv_view_proj, u_view_proj;
 } taa_program;
 
 typedef struct gpu_prim {
@@ -134,6 +134,7 @@ struct renderer {
      * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
     taa_program taa;
     GLuint taa_color[2], taa_coverage[2], taa_fbo[2][MAX_FOV_RINGS];
+    GLuint taa_depth[2];     /* plan.taa_disocclusion: each history pixel's nearest depth and its drift, RG32F */
     GLuint taa_sampler;
     int parity;                             /* the pair this frame writes */
     int out_parity;                         /* the pair the last frame wrote */

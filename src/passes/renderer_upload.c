@@ -332,17 +332,28 @@ fs_status renderer_create_targets(renderer *r)
             return st;
     }
     if (r->pl.taa) {
-        static const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        static const GLenum bufs3[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+        int outputs = r->pl.taa_disocclusion ? 3 : 2;
         for (int k = 0; k < 2; k++) {
             glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_color[k]);
             glTextureStorage3D(r->taa_color[k], 1, GL_RGBA16F, r->width, r->height, n);
             glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_coverage[k]);
             glTextureStorage3D(r->taa_coverage[k], 1, GL_R16F, r->width, r->height, n);
+            if (r->pl.taa_disocclusion) { /* each history pixel's nearest depth and its drift (taa.frag) */
+                glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_depth[k]);
+                glTextureStorage3D(r->taa_depth[k], 1, GL_RG32F, r->width, r->height, n);
+                glTextureParameteri(r->taa_depth[k], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+                glTextureParameteri(r->taa_depth[k], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+                glTextureParameteri(r->taa_depth[k], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+                glTextureParameteri(r->taa_depth[k], GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            }
             for (int i = 0; i < n; i++) {
                 glCreateFramebuffers(1, &r->taa_fbo[k][i]);
                 glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT0, r->taa_color[k], 0, i);
                 glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT1, r->taa_coverage[k], 0, i);
-                glNamedFramebufferDrawBuffers(r->taa_fbo[k][i], 2, two);
+                if (r->pl.taa_disocclusion)
+                    glNamedFramebufferTextureLayer(r->taa_fbo[k][i], GL_COLOR_ATTACHMENT2, r->taa_depth[k], 0, i);
+                glNamedFramebufferDrawBuffers(r->taa_fbo[k][i], outputs, bufs3);
                 fs_status st = check_fbo(r->taa_fbo[k][i], "TAA history", r->width, r->height);
                 if (st != FS_OK)
                     return st;

@@ -149,13 +149,18 @@ vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma, float mar
 
 /* >>sparse */
 
-float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, float slack)
+float taa_sparse_coverage(float history_coverage, float current, float cov_min, float cov_max, float slack,
+                          float *margin)
 {
-    if (is_nan_bits(history_coverage) || is_nan_bits(cov_min) || is_nan_bits(cov_max) || is_nan_bits(slack) ||
-        cov_min != cov_max)
-        return 0.0f;
-    float d = fabsf(history_coverage - cov_min), s = clampf(slack, 0.0f, 1.0f);
-    return d < s ? d : s;
+    float lo = is_nan_bits(cov_min) ? 0.0f : taa_sanitize(cov_min), hi = is_nan_bits(cov_max) ? 1.0f : taa_sanitize(cov_max);
+    float h = is_nan_bits(history_coverage) ? lo : taa_sanitize(history_coverage);
+    float c = is_nan_bits(current) ? lo : taa_sanitize(current);
+    float s = is_nan_bits(slack) ? 0.0f : clampf(slack, 0.0f, 1.0f);
+    float a = c - s, b = c + s;
+    float r = clampf(h, fminf(lo, a), fmaxf(hi, b));
+    float below = lo - r, above = r - hi;
+    *margin = fmaxf(fmaxf(below, above), 0.0f);
+    return r;
 }
 
 /* >>resolve */
@@ -360,4 +365,40 @@ void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jitte
     world[1] = world[1] + m.y * world[3];
     world[2] = world[2] + m.z * world[3];
     reproject_world(ndc, world, prev_view_proj, out, valid);
+}
+
+/* >>disocclusion */
+
+bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
+                              const mat4 *prev_inv_view_proj, const mat4 *view_proj, float here_x, float here_y,
+                              float size_x, float size_y, float depth_cur, float max_px, float unseen_alpha,
+                              float keep[2], float offset[2])
+{
+    vec3 now, m = sanitize3(motion);
+    bool valid;
+    float dc = clampf(taa_sanitize(depth_cur), 0.0f, 1.0f);
+    keep[0] = dc;
+    keep[1] = 1.0f;
+    offset[0] = offset[1] = 0.0f;
+    taa_reproject_moving(hist_ndc, v3(-m.x, -m.y, -m.z), prev_inv_view_proj, view_proj, &now, &valid);
+    if (!valid)
+        return false;
+    float dx = (now.x - here_x) * 0.5f * size_x, dy = (now.y - here_y) * 0.5f * size_y;
+    offset[0] = taa_sanitize(dx);
+    offset[1] = taa_sanitize(dy);
+    float far = fmaxf(fabsf(dx), fabsf(dy));
+    if (!is_finite_bits(far) || far > max_px)
+        return false;
+    float z = now.z * 0.5f + 0.5f;
+    float depth_now = clampf(z, 0.0f, 1.0f);
+    if (dc <= depth_now)
+        return true;
+    float u = is_nan_bits(hist_unseen) ? 1.0f : clampf(hist_unseen, 0.0f, 1.0f);
+    float c = is_nan_bits(hist_coverage) ? 0.0f : clampf(hist_coverage, 0.0f, 1.0f);
+    float p = u * (1.0f - c);
+    if (!(p >= unseen_alpha))
+        return false;
+    keep[0] = depth_now;
+    keep[1] = p;
+    return true;
 }

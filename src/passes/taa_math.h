@@ -10,7 +10,9 @@
  *   taa_rgb_to_ycocg / _to_rgb      the colour space of the neighbourhood clip
  *   taa_clip_to_box                 variance clipping (Salvi 2016, Karis 2014): AABB clip of the
  *                                   history towards the neighbourhood mean
- *   taa_sparse_margin               how far the box widens for sparse stochastic coverage
+ *   taa_sparse_coverage             the history coverage that this frame's samples cannot refute
+ *   taa_history_surface_here        disocclusion: does the history's nearest surface still lie on
+ *                                   this pixel
  *   taa_neighbourhood               the clip box's statistics from the 3x3 or cross taps
  *   taa_catmull_rom_weights         4-tap cubic weights of one axis, for the history fetch
  *   taa_catmull_rom_taps            the 5 bilinear taps of the Catmull-Rom history fetch
@@ -25,9 +27,11 @@
  *   taa_reproject(ndc, inv_vp_jittered, prev_vp, &prev, &valid);      // -> history uv
  *   vec3 c = taa_rgb_to_ycocg(taa_sanitize_color(current));
  *   vec3 h = taa_rgb_to_ycocg(taa_sanitize_color(history_catmull_rom));
- *   float m = taa_sparse_margin(history_coverage, cov_min, cov_max, TAA_SPARSE_SLACK);
- *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT, TAA_SPARSE_COLOR * m); // 3x3 YCoCg
- *   history_coverage = clamp(history_coverage, cov_min - m, cov_max + m);
+ *   valid = valid && taa_history_surface_here(hist_ndc, unseen, hist_cov, motion, prev_inv_vp, vp, here, size,
+ *                                             depth, TAA_PARALLAX_PX, TAA_UNSEEN_ALPHA, keep, offset);
+ *   float m;
+ *   history_coverage = taa_sparse_coverage(history_coverage, cur_cov, cov_min, cov_max, TAA_SPARSE_SLACK, &m);
+ *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT, TAA_SPARSE_COLOR * m); // YCoCg
  *   out = taa_resolve(current, taa_ycocg_to_rgb(h), valid && inside, TAA_BLEND_DEFAULT);
  *
  * Guarantees: taa_sanitize, taa_sanitize_color, taa_clip_to_box, taa_catmull_rom_weights and
@@ -82,15 +86,20 @@ void taa_sanitize4(const float c[4], float out[4]);
  * GLSL twin: taa_clip_to_box. */
 vec3 taa_clip_to_box(vec3 history, vec3 mean, vec3 sigma, float gamma, float margin);
 
-/* Sparse stochastic coverage (docs/taa.md). A stochastic or hashed test passes a thin wire in none
- * of the 3x3 neighbours in many frames; clipping the history to that neighbourhood would reset the
- * wire to the background each time. Where all nine coverage samples agree (cov_min == cov_max == c),
- * the samples may have missed a coverage of up to `slack` (clamped to [0, 1]; NaN -> 0): returns
- * min(|history_coverage - c|, slack); the caller widens the coverage range by it and the colour
- * box by TAA_SPARSE_COLOR times it. Otherwise (mixed samples already make a wide box, or NaN)
- * returns 0: clip as usual. A colour ghost thus survives only as far as a coverage of <= slack can
- * explain, at TAA_SPARSE_COLOR colour units per unit of coverage. GLSL twin: taa_sparse_margin. */
-float taa_sparse_margin(float history_coverage, float cov_min, float cov_max, float slack);
+/* Sparse coverage (docs/taa.md, "Sparse coverage"). A pixel's coverage sample is one binary draw of
+ * its expected coverage (an alpha test of a surface thinner than the pixel, or a jittered edge), and
+ * its neighbours' samples are draws of other expectations: nothing this frame can refute a history
+ * coverage h except the pixel's own sample, and that only where P(sample | h) < alpha, i.e. a miss
+ * under h > 1 - alpha or a hit under h < alpha. So the history's coverage is clamped to the union of
+ * the neighbourhood's range [cov_min, cov_max] (what the usual clip allows) and [current - slack,
+ * current + slack], slack = 1 - alpha (clamped to [0, 1], NaN -> 0; default TAA_SPARSE_SLACK, alpha
+ * = 0.05). Returns the clamped coverage; *margin = how far it lies outside [cov_min, cov_max], by
+ * which the caller widens the alpha range and, times TAA_SPARSE_COLOR, the colour box. slack 0 is
+ * the plain clamp (margin 0). Inputs through taa_sanitize (so the results are finite); NaN history
+ * or current count as cov_min, NaN range ends as 0 and 1.
+ * GLSL twin: taa_sparse_coverage. */
+float taa_sparse_coverage(float history_coverage, float current, float cov_min, float cov_max, float slack,
+                          float *margin);
 
 /* Catmull-Rom weights of the taps at -1, 0, 1, 2 for a sample at frac in [0, 1] (clamped, NaN -> 0)
  * past tap 0. They sum to 1 (up to rounding) and reproduce linear functions.
@@ -156,6 +165,32 @@ void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *pre
  * out vec3 prev_ndc) (and an out vec2 overload). */
 void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj,
                           vec3 *out, bool *valid);
+
+/* Disocclusion (docs/taa.md, "Disocclusion"): is the history fetched for a pixel still of the
+ * surfaces that lie on it? The history records, per pixel, the window depth of the nearest surface
+ * it holds and how likely the frames since that surface was last seen are: the product of 1 -
+ * coverage over the frames whose sample lay behind it (1 when seen last frame). hist_ndc is that
+ * surface in the previous frame's NDC of this ring (xy where the history was fetched, z its depth
+ * as NDC), hist_unseen that probability (NaN -> 1, clamped to [0, 1]), hist_coverage the history's
+ * coverage there (NaN -> 0, clamped to [0, 1]). The surface is carried into this frame through
+ * prev_inv_view_proj and view_proj (unjittered), moved by -motion (the pixel's own per-object
+ * motion, last frame - now), with taa_reproject_moving, and must land within max_px ring pixels
+ * (Chebyshev, for a footprint of size_x x size_y ring pixels) of (here_x, here_y), the pixel's
+ * centre in this frame's NDC. Where this frame's sample (window depth depth_cur) lies behind it,
+ * the run of frames that missed it grows: p = hist_unseen * (1 - hist_coverage) must stay >=
+ * unseen_alpha (a run less likely than that under the history's own coverage says the surface is
+ * gone, a ghost, rather than missed). Returns whether the history stays. keep[] = what the history
+ * records for the pixel now: (depth_cur through taa_sanitize, clamped to [0, 1], 1) where the
+ * sample is at least as near (seen) or the
+ * result is false, else (the carried surface's window depth clamped to [0, 1], p). offset[] = where
+ * it landed minus the pixel's centre, in ring pixels, through taa_sanitize ((0, 0) where it cannot
+ * be carried: behind either camera, not finite): the resolve looks for the history whose surface
+ * lands here at the fetch position minus it. A still camera and no motion land every surface on
+ * its own pixel. GLSL twin: taa_history_surface_here. */
+bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
+                              const mat4 *prev_inv_view_proj, const mat4 *view_proj, float here_x, float here_y,
+                              float size_x, float size_y, float depth_cur, float max_px, float unseen_alpha,
+                              float keep[2], float offset[2]);
 
 #ifdef __cplusplus
 }

@@ -141,8 +141,9 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "taa: %d, blend %.9g, gamma %.9g, sparse %.9g, jitter %d, neighbourhood %d, history %d, nan %d\n",
             d->taa, d->taa_blend, d->taa_gamma, d->taa_sparse, d->jitter_length, d->taa_neighbourhood, d->taa_history,
             d->taa_nan);
-        sb_printf(&t, "object motion: %s, ring cull: %s, composite: %s\n", d->no_object_motion ? "off" : "on",
-            d->no_ring_cull ? "off" : "on", d->composite_per_pixel ? "per-pixel" : "tiled");
+        sb_printf(&t, "object motion: %s, ring cull: %s, composite: %s, disocclusion: %s\n",
+            d->no_object_motion ? "off" : "on", d->no_ring_cull ? "off" : "on",
+            d->composite_per_pixel ? "per-pixel" : "tiled", d->no_disocclusion ? "off" : "on");
     }
     if (has_ref)
         sb_printf(&t, "reference: kind %d, supersample %d, samples %d, memory %d MB\n", d->reference_kind, d->supersample,

@@ -110,6 +110,7 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .jitter_length = d->jitter_length > 0 ? d->jitter_length
                                                                                  : sc->taa.jitter_length,
                                            .no_object_motion = d->no_object_motion,
+                                           .no_disocclusion = d->no_disocclusion,
                                            .neighbourhood = (taa_neighbourhood_kind)d->taa_neighbourhood,
                                            .history = (taa_history_kind)d->taa_history,
                                            .nan_check = (taa_nan_kind)d->taa_nan},

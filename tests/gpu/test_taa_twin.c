@@ -56,7 +56,7 @@ typedef struct twin_in {
 } twin_in;
 
 typedef struct twin_out {
-    float o[21][4];
+    float o[23][4];
 } twin_out;
 
 enum { GROUP = 1 << 15, GROUPS = 2, COUNT = GROUP * GROUPS };
@@ -202,9 +202,9 @@ static void run_cpu(const twin_in *p, twin_out *r)
     taa_resolve4(p->a, hist4, p->v[0] != 0, p->b[3], r->o[7]);
     taa_sanitize4(p->a, r->o[8]);
     r->o[9][0] = taa_resolve1(p->a[3], p->c[3], p->v[0] != 0, p->b[3]);
-    r->o[9][1] = taa_sparse_margin(p->d[3] * 0.25f, 0.0f, 0.0f, p->c[2]);
-    r->o[9][2] = taa_sparse_margin(p->d[3], p->c[0], p->c[0], (float)TAA_SPARSE_SLACK);
-    r->o[9][3] = taa_sparse_margin(p->d[3], p->c[0], p->c[1], p->c[2]);
+    float unused;
+    r->o[9][1] = taa_sparse_coverage(p->d[3], p->a[3], p->c[0], p->c[1], p->c[2], &r->o[9][2]);
+    r->o[9][3] = taa_sparse_coverage(p->d[3], p->c[0], p->c[0], p->c[0], (float)TAA_SPARSE_SLACK, &unused);
     taa_reproject_moving(v3(p->d[0], p->d[1], p->d[2]), v3(p->e[0], p->e[1], p->e[2]), &inv, &prev, &o, &valid);
     set3(r->o[10], o, valid ? 1.0f : 0.0f);
     const instance_sway sw = {.offset = {p->g[0], p->g[1], p->g[2]}, .height = p->g[3], .frequency = p->f[0],
@@ -224,6 +224,10 @@ static void run_cpu(const twin_in *p, twin_out *r)
                              {ct[2][2], ct[3][2], ct[4][2], 0.0f}};
     memcpy(r->o[16], cto, sizeof cto);
     taa_history_sum(p->nb, p->hw, (int)p->w[2], p->w[1] != 0, r->o[20]);
+    bool here = taa_history_surface_here(v3(p->d[0], p->d[1], p->d[2]), p->c[2], p->c[0], v3(p->e[0], p->e[1], p->e[2]),
+                                         &inv, &prev, p->a[0], p->a[1], p->h[2], p->h[3], p->b[3], p->c[3], p->b[2],
+                                         r->o[21], r->o[21] + 2);
+    r->o[22][0] = here ? 1.0f : 0.0f;
 }
 
 /* >>gpu */
@@ -278,7 +282,8 @@ TEST(gpu_results_are_finite)
                   finite4(g->o[5], 3) && finite4(g->o[6], 3) && finite4(g->o[7], 4) && finite4(g->o[8], 4) &&
                   isfinite(g->o[9][0]) && finite4(g->o[10], 3) && finite4(g->o[11], 4) && finite4(g->o[12], 4) &&
                   finite4(g->o[13], 4) && finite4(g->o[14], 4) && finite4(g->o[15], 2) && finite4(g->o[16], 4) &&
-                  finite4(g->o[17], 4) && finite4(g->o[18], 4) && finite4(g->o[19], 3) && finite4(g->o[20], 4);
+                  finite4(g->o[17], 4) && finite4(g->o[18], 4) && finite4(g->o[19], 3) && finite4(g->o[20], 4) &&
+                  finite4(g->o[9], 4) && finite4(g->o[21], 4);
         for (int k = 0; k < 4; k++) /* the history fetch is in [0, TAA_MAX_VALUE] */
             ok = ok && g->o[20][k] >= 0.0f && g->o[20][k] <= (float)TAA_MAX_VALUE;
         for (int k = 0; k < 4; k++)
@@ -341,16 +346,17 @@ static double operand_scale(const twin_in *p, int k)
     return s;
 }
 
-enum { SLOTS = 21 };
+enum { SLOTS = 23 };
 static const char *slot_name[SLOTS] = {"sanitize",  "rgb_to_ycocg", "ycocg_to_rgb", "clip_to_box", "catmull_rom",
                                        "resolve",   "reproject",    "resolve4",     "sanitize4",   "resolve1+sparse",
                                        "reproject_moving", "sway_motion+wave", "sway_displacement+weight",
                                        "neighbourhood mean+alpha", "neighbourhood sigma+alpha", "neighbourhood coverage",
                                        "catmull_rom_taps 0-1", "catmull_rom_taps 2-3", "catmull_rom_taps 4+w",
-                                       "catmull_rom_taps w", "history_sum"};
+                                       "catmull_rom_taps w", "history_sum", "history_surface_here keep+offset",
+                                       "history_surface_here"};
 /* Elements compared in a slot: [first, last). */
-static const int slot_first[SLOTS] = {3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-static const int slot_last[SLOTS] = {4, 3, 3, 3, 4, 3, 3, 4, 4, 4, 3, 4, 4, 4, 4, 2, 4, 4, 4, 3, 4};
+static const int slot_first[SLOTS] = {3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+static const int slot_last[SLOTS] = {4, 3, 3, 3, 4, 3, 3, 4, 4, 4, 3, 4, 4, 4, 4, 2, 4, 4, 4, 3, 4, 4, 1};
 /* Relative tolerance of a slot: sway goes through GLSL's sin (see the header). */
 static double slot_tolerance(int k)
 {
@@ -370,10 +376,13 @@ TEST(float_functions_agree)
             const twin_out *g = &gpu[i], *c = &cpu[i];
             bool gv = g->o[6][3] != 0.0f, cv = c->o[6][3] != 0.0f;
             bool gmv = g->o[10][3] != 0.0f, cmv = c->o[10][3] != 0.0f;
-            valid_mismatch += (gv != cv) + (gmv != cmv);
+            /* history_surface_here: its result and the branch taken (keep[1] == 1: seen or dropped) */
+            bool gh = g->o[22][0] != 0.0f && g->o[21][1] != 1.0f, ch = c->o[22][0] != 0.0f && c->o[21][1] != 1.0f;
+            bool ghv = g->o[22][0] != 0.0f, chv = c->o[22][0] != 0.0f;
+            valid_mismatch += (gv != cv) + (gmv != cmv) + (gh != ch) + (ghv != chv);
             for (int k = 0; k < SLOTS; k++) {
                 int first = slot_first[k], last = slot_last[k];
-                if ((k == 6 && gv != cv) || (k == 10 && gmv != cmv))
+                if ((k == 6 && gv != cv) || (k == 10 && gmv != cmv) || ((k == 21 || k == 22) && (gh != ch || ghv != chv)))
                     continue; /* different branches: counted above */
                 for (int e = first; e < last; e++) {
                     double a = g->o[k][e], b = c->o[k][e];
