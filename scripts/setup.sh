@@ -22,7 +22,7 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
   libcjson-dev                                                      # scene files
   zlib1g-dev                                                        # PNG export (FovVideoVDP input)
-  python3                                                           # tests: checks bench JSON
+  python3 python3-numpy python3-openimageio                         # tests: bench JSON, EXR layers (test_taa_fidelity)
   gnuplot-nox                                                       # bench --accuracy: the accuracy-vs-time plot
   parallel                                                          # tests: a sweep's jobs file through GNU parallel
 )

@@ -112,8 +112,8 @@ vec4 fetch_history(vec2 p, int layer, vec2 prev_size, out float cov)
 // The history's nearest surface around ring-pixel position p of layer `layer` (the nearest of the
 // four texels around it, with how likely its unseen frames are), at hist_ndc (xy) of this ring's
 // previous frame: does it land on this pixel (common/taa.glsl: taa_history_surface_here)?
-bool surface_here(vec2 p, int layer, vec2 hist_ndc, vec3 motion, vec2 here_ndc, float depth_cur, out vec2 keep,
-                  out vec2 offset)
+bool surface_here(vec2 p, int layer, vec2 hist_ndc, vec3 motion, vec2 here_ndc, float depth_cur, float cur_cov,
+                  out vec2 keep, out vec2 offset)
 {
     vec3 at = vec3(p / u_array_px, float(layer));
     vec4 gz = textureGather(u_hist_depth, at, 0), gu = textureGather(u_hist_depth, at, 1);
@@ -123,7 +123,7 @@ bool surface_here(vec2 p, int layer, vec2 hist_ndc, vec3 motion, vec2 here_ndc, 
     h = gz.w < h.x ? vec2(gz.w, gu.w) : h;
     float cov = textureLod(u_hist_coverage, at, 0.0).r;
     return taa_history_surface_here(vec3(hist_ndc, h.x * 2.0 - 1.0), h.y, cov, motion, u_prev_inv_view_proj,
-                                    u_view_proj, here_ndc, u_size, depth_cur, float(TAA_PARALLAX_PX),
+                                    u_view_proj, here_ndc, u_size, depth_cur, cur_cov, float(TAA_PARALLAX_PX),
                                     float(TAA_UNSEEN_ALPHA), keep, offset);
 }
 #endif
@@ -230,14 +230,14 @@ void main()
     vec2 keep = vec2(depth_cur, 1.0);
     if (valid) {
         vec2 offset;
-        valid = surface_here(prev, prev_layer, prev_ndc, motion, ndc, depth_cur, keep, offset);
+        valid = surface_here(prev, prev_layer, prev_ndc, motion, ndc, depth_cur, cur_cov, keep, offset);
         // Not here: the history whose nearest surface does land here lies `offset` back from where
         // this pixel's own surface came from (a missed leaf's history, where the sample saw what is
         // behind it). Look there once, in this ring's own history.
         vec2 back = prev - offset;
         if (!valid && prev_layer == u_layer && inside_footprint(back, u_prev_size) && dot(offset, offset) > 0.0) {
             vec2 back_ndc = back / u_prev_size * 2.0 - 1.0;
-            valid = surface_here(back, prev_layer, back_ndc, motion, ndc, depth_cur, keep, offset);
+            valid = surface_here(back, prev_layer, back_ndc, motion, ndc, depth_cur, cur_cov, keep, offset);
             prev = valid ? back : prev;
         }
     }

@@ -389,8 +389,9 @@ bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, o
 // history's coverage there. The surface is carried into this frame through prev_inv_view_proj and
 // view_proj (unjittered), moved by -motion (the pixel's own per-object motion, last frame - now),
 // and must land within max_px ring pixels (Chebyshev) of here_ndc, this pixel's centre (footprint:
-// size ring pixels). Where this frame's sample (window depth depth_cur) does not see it (lies
-// behind it), the run of frames that missed it grows by one of probability 1 - hist_coverage: a
+// size ring pixels). Where this frame's sample (window depth depth_cur, coverage
+// current_coverage) does not see it (lies behind it and passed no alpha test), the run of frames
+// that missed it grows by one of probability 1 - hist_coverage: a
 // run less likely than unseen_alpha says the surface is gone (a ghost), not missed. keep: what the
 // history records for this pixel now, (window depth, unseen probability): (depth_cur through
 // taa_sanitize, clamped to [0, 1], 1) where the
@@ -399,7 +400,7 @@ bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, o
 // carried), for the caller's look for the history whose surface does land here.
 bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
                               mat4 prev_inv_view_proj, mat4 view_proj, vec2 here_ndc, vec2 size, float depth_cur,
-                              float max_px, float unseen_alpha, out vec2 keep, out vec2 offset)
+                              float current_coverage, float max_px, float unseen_alpha, out vec2 keep, out vec2 offset)
 {
     vec3 now;
     float dc = clamp(taa_sanitize(depth_cur), 0.0, 1.0);
@@ -416,6 +417,10 @@ bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_cover
     float depth_now = clamp(z, 0.0, 1.0);
     if (dc <= depth_now)
         return true;
+    if (current_coverage > 0.0) {
+        keep = vec2(depth_now, 1.0);
+        return true;
+    }
     float u = taa_is_nan(hist_unseen) ? 1.0 : clamp(hist_unseen, 0.0, 1.0);
     float c = taa_is_nan(hist_coverage) ? 0.0 : clamp(hist_coverage, 0.0, 1.0);
     precise float p = u * (1.0 - c);

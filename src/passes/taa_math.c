@@ -371,8 +371,8 @@ void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jitte
 
 bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
                               const mat4 *prev_inv_view_proj, const mat4 *view_proj, float here_x, float here_y,
-                              float size_x, float size_y, float depth_cur, float max_px, float unseen_alpha,
-                              float keep[2], float offset[2])
+                              float size_x, float size_y, float depth_cur, float current_coverage, float max_px,
+                              float unseen_alpha, float keep[2], float offset[2])
 {
     vec3 now, m = sanitize3(motion);
     bool valid;
@@ -393,6 +393,10 @@ bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_cover
     float depth_now = clampf(z, 0.0f, 1.0f);
     if (dc <= depth_now)
         return true;
+    if (current_coverage > 0.0f) {
+        keep[0] = depth_now;
+        return true;
+    }
     float u = is_nan_bits(hist_unseen) ? 1.0f : clampf(hist_unseen, 0.0f, 1.0f);
     float c = is_nan_bits(hist_coverage) ? 0.0f : clampf(hist_coverage, 0.0f, 1.0f);
     float p = u * (1.0f - c);

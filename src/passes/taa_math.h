@@ -28,7 +28,7 @@
  *   vec3 c = taa_rgb_to_ycocg(taa_sanitize_color(current));
  *   vec3 h = taa_rgb_to_ycocg(taa_sanitize_color(history_catmull_rom));
  *   valid = valid && taa_history_surface_here(hist_ndc, unseen, hist_cov, motion, prev_inv_vp, vp, here, size,
- *                                             depth, TAA_PARALLAX_PX, TAA_UNSEEN_ALPHA, keep, offset);
+ *                                             depth, cur_cov, TAA_PARALLAX_PX, TAA_UNSEEN_ALPHA, keep, offset);
  *   float m;
  *   history_coverage = taa_sparse_coverage(history_coverage, cur_cov, cov_min, cov_max, TAA_SPARSE_SLACK, &m);
  *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT, TAA_SPARSE_COLOR * m); // YCoCg
@@ -176,8 +176,9 @@ void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jitte
  * prev_inv_view_proj and view_proj (unjittered), moved by -motion (the pixel's own per-object
  * motion, last frame - now), with taa_reproject_moving, and must land within max_px ring pixels
  * (Chebyshev, for a footprint of size_x x size_y ring pixels) of (here_x, here_y), the pixel's
- * centre in this frame's NDC. Where this frame's sample (window depth depth_cur) lies behind it,
- * the run of frames that missed it grows: p = hist_unseen * (1 - hist_coverage) must stay >=
+ * centre in this frame's NDC. Where this frame's sample (window depth depth_cur) lies behind it and
+ * passed no alpha test (current_coverage 0, which the history's coverage says happens with
+ * probability 1 - hist_coverage), the run of frames that missed it grows: p = hist_unseen * (1 - hist_coverage) must stay >=
  * unseen_alpha (a run less likely than that under the history's own coverage says the surface is
  * gone, a ghost, rather than missed). Returns whether the history stays. keep[] = what the history
  * records for the pixel now: (depth_cur through taa_sanitize, clamped to [0, 1], 1) where the
@@ -189,8 +190,8 @@ void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jitte
  * its own pixel. GLSL twin: taa_history_surface_here. */
 bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
                               const mat4 *prev_inv_view_proj, const mat4 *view_proj, float here_x, float here_y,
-                              float size_x, float size_y, float depth_cur, float max_px, float unseen_alpha,
-                              float keep[2], float offset[2]);
+                              float size_x, float size_y, float depth_cur, float current_coverage, float max_px,
+                              float unseen_alpha, float keep[2], float offset[2]);
 
 #ifdef __cplusplus
 }

@@ -225,7 +225,7 @@ static void run_cpu(const twin_in *p, twin_out *r)
     memcpy(r->o[16], cto, sizeof cto);
     taa_history_sum(p->nb, p->hw, (int)p->w[2], p->w[1] != 0, r->o[20]);
     bool here = taa_history_surface_here(v3(p->d[0], p->d[1], p->d[2]), p->c[2], p->c[0], v3(p->e[0], p->e[1], p->e[2]),
-                                         &inv, &prev, p->a[0], p->a[1], p->h[2], p->h[3], p->b[3], p->c[3], p->b[2],
+                                         &inv, &prev, p->a[0], p->a[1], p->h[2], p->h[3], p->b[3], p->a[3], p->c[3], p->b[2],
                                          r->o[21], r->o[21] + 2);
     r->o[22][0] = here ? 1.0f : 0.0f;
 }

@@ -279,24 +279,29 @@ TEST(history_surface_stays_or_leaves)
     /* a still camera: the history's nearest surface (a leaf at 2 m) stays on the pixel whose sample
      * sees the background at 50 m; the unseen run is the history's chance of missing it once */
     CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), 1.0f, 0.3f, v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100,
-                                   100, far, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+                                   100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
     CHECK_NEAR(keep[0], near, 1e-6);
     CHECK_NEAR(keep[1], 0.7, 1e-6);
     CHECK(fabsf(off[0]) < 1e-3f && fabsf(off[1]) < 1e-3f);
     /* seen this frame (the sample is as near): drift reset */
     CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), 0.2f, 0.3f, v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100,
-                                   100, near, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+                                   100, near, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
     CHECK(keep[0] == near && keep[1] == 1.0f);
+    /* ... or the sample passed an alpha test behind it: the run of misses is broken, the record kept */
+    CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), 0.2f, 0.3f, v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100,
+                                   100, far, 1.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+    CHECK_NEAR(keep[0], near, 1e-6);
+    CHECK(keep[1] == 1.0f);
     /* the camera moves 0.1 m right: the leaf at 2 m moves 2.5 px left against the background, whose
      * pixel no longer holds it; the offset says where it went */
     mat4 moved = look_down_z(v3(0.1f, 0, 0));
     CHECK(!taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), 1.0f, 0.3f, v3(0, 0, 0), &inv, &moved, -0.002f, 0.0f,
-                                    100, 100, far, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+                                    100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
     CHECK_NEAR(off[0], -2.4, 0.05);
     CHECK(keep[0] == far && keep[1] == 1.0f);
     /* ... unless it moved with the pixel's own surface: the leaf's own motion (+0.1 m) cancels it */
     CHECK(taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), 1.0f, 0.3f, v3(-0.1f, 0, 0), &inv, &moved, 0.0f, 0.0f,
-                                   100, 100, far, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+                                   100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
     /* a ghost: dense foliage (coverage 0.9) that no frame sees any more is gone after two frames,
      * a sparse leaf (coverage 0.1) after 29 (0.9^29 < 0.05 <= 0.9^28) */
     const float covs[2] = {0.9f, 0.1f};
@@ -305,7 +310,7 @@ TEST(history_surface_stays_or_leaves)
         float u = 1.0f;
         int f = 0;
         while (taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), u, covs[c], v3(0, 0, 0), &inv, &still, 0.1f, 0.2f,
-                                        100, 100, far, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off) &&
+                                        100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off) &&
                f < 100) {
             u = keep[1];
             f++;
@@ -313,10 +318,10 @@ TEST(history_surface_stays_or_leaves)
         CHECK(f + 1 == frames[c]);
     }
     /* hard inputs: finite keep and offset, and no history kept from a surface behind the camera */
-    CHECK(!taa_history_surface_here(v3(NAN, 0, 0), 1.0f, 0.3f, v3(0, 0, 0), &inv, &still, 0, 0, 100, 100, NAN,
+    CHECK(!taa_history_surface_here(v3(NAN, 0, 0), 1.0f, 0.3f, v3(0, 0, 0), &inv, &still, 0, 0, 100, 100, NAN, 0.0f,
                                     (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
     CHECK(keep[0] == 0.0f && keep[1] == 1.0f && off[0] == 0.0f && off[1] == 0.0f);
-    CHECK(!taa_history_surface_here(v3(0, 0, 0.5f), 1.0f, 0.3f, v3(1e30f, 0, 0), &inv, &still, 0, 0, 100, 100, far,
+    CHECK(!taa_history_surface_here(v3(0, 0, 0.5f), 1.0f, 0.3f, v3(1e30f, 0, 0), &inv, &still, 0, 0, 100, 100, far, 0.0f,
                                     (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
 }
 
@@ -752,7 +757,7 @@ TEST(hard_cases_stay_finite)
                 CHECK(isfinite(sc) && isfinite(sm) && sm >= 0.0f);
                 float keep[2], off[2];
                 mat4 hm = m4_translate(va);
-                taa_history_surface_here(va, x, y, vb, &hm, &hm, x, y, z, z, x, z, y, keep, off);
+                taa_history_surface_here(va, x, y, vb, &hm, &hm, x, y, z, z, x, y, z, y, keep, off);
                 CHECK(isfinite(keep[0]) && isfinite(keep[1]) && isfinite(off[0]) && isfinite(off[1]));
                 vec3 r = taa_resolve(va, vb, (a & 1) != 0, hard_values[(b + c) % HARD_COUNT]);
                 CHECK(v3_finite(r) && r.x >= 0 && r.y >= 0 && r.z >= 0);
