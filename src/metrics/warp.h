@@ -29,8 +29,28 @@ typedef struct warp_desc {
 
 #define WARP_DEPTH_TOLERANCE_DEFAULT 0.02f
 
+/* The camera did not move between two frames when no corner of the current view frustum (NDC
+ * (+-1, +-1, +-1)), taken back to the world by the current view-projection and projected by the
+ * previous one, lands more than this many display pixels (x or y) from where it is now. Computed in
+ * double. Why 1e-3: moving a bilinear sample of an image in [0, 1] by 1e-3 pixel changes it by at
+ * most 1e-3, about one half-float ulp at 1.0 (2^-10), the resolution of the frames the metrics
+ * read; a camera path that rounds one float ulp off a still key moves the corners by ~1e-5 pixel
+ * (docs/metrics.md "Still camera"), and the slowest moving camera of the built-in scenes by whole
+ * pixels per frame. */
+#define WARP_STILL_TOLERANCE_PX 1e-3
+
+/* Whether the camera is still between view-projections prev and cur (WARP_STILL_TOLERANCE_PX)
+ * on a width x height display. Bit-identical matrices are still; a matrix that cannot be inverted,
+ * or a corner behind the previous camera, is not. The one test of "the camera did not move" that
+ * the warp (identity) and the static-view flicker (commands/measure.c) share. */
+bool warp_camera_still(const mat4 *prev, const mat4 *cur, int width, int height);
+
 /* The warp of one frame, computed once for every image warped with it: coords (2 floats per pixel)
  * gets each pixel's position in the previous frame, valid[] 1 where it is warped and 0 where not.
+ * When the camera is still (warp_camera_still) the warp is the identity exactly: each pixel's own
+ * integer position, which warp_apply copies without resampling (the disocclusion test still runs,
+ * on the two frames' depths at the pixel), so an unchanged frame's temporal error is exactly 0.
+ * The warp knows the camera only: foliage that sways is not followed (docs/metrics.md).
  * Returns the number of valid pixels, or -1 when the current view-projection cannot be inverted
  * (nothing is written). */
 long warp_build(const warp_desc *w, float *coords, unsigned char *valid);
