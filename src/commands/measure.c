@@ -123,6 +123,7 @@ fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view
     fs_status st = renderer_draw(t->probe, &fp);
     if (st == FS_OK)
         st = renderer_read_depth(t->probe, t->depth[0]);
+    t->near_depth = st == FS_OK ? warp_min_depth(t->depth[0], t->width, t->height) : 0.0f;
     warp_desc wd = {.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
                     .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
                     .prev_zfar = t->prev.zfar};
@@ -164,7 +165,8 @@ double temporal_reference_noise2(const reference *rf, bool still, double e_now, 
  * WARP_STILL_TOLERANCE_PX, the test that makes the temporal error's warp the identity. */
 bool temporal_still(const temporal *t, const frame_record *fr)
 {
-    return t->have_prev && !fr->cut && warp_camera_still(&t->prev.view_proj, &fr->view_proj, t->width, t->height);
+    return t->have_prev && !fr->cut && warp_camera_still(&t->prev.view_proj, &fr->view_proj, t->width, t->height,
+                                                          t->near_depth);
 }
 
 /* This frame becomes the previous one. */

@@ -52,6 +52,7 @@ typedef struct temporal {
     float *depth[2];         /* this frame's, the previous frame's */
     frame_record prev;       /* the previous frame (valid when have_prev) */
     bool have_prev, warped;  /* a previous frame exists; this frame's reference was warped */
+    float near_depth;        /* this frame's smallest depth (warp_camera_still) */
 } temporal;
 
 /* The rings metrics are reported in: the run's own layout when it is foveated, else the acuity

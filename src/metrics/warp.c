@@ -73,15 +73,26 @@ static bool invert_d(const mat4 *a, double inv[16])
     return true;
 }
 
-bool warp_camera_still(const mat4 *prev, const mat4 *cur, int width, int height)
+float warp_min_depth(const float *depth, int width, int height)
+{
+    float m = 1.0f;
+    const size_t n = (size_t)width * (size_t)height;
+    for (size_t i = 0; i < n; i++)
+        if (depth[i] < m) /* false for NaN */
+            m = depth[i];
+    return m > 0.0f ? m : 0.0f;
+}
+
+bool warp_camera_still(const mat4 *prev, const mat4 *cur, int width, int height, float near_depth)
 {
     if (memcmp(prev, cur, sizeof *cur) == 0)
         return true;
     double inv[16];
     if (!invert_d(cur, inv))
         return false;
+    const double zn = isfinite(near_depth) ? 2.0 * fmin(fmax((double)near_depth, 0.0), 1.0) - 1.0 : -1.0;
     for (int c = 0; c < 8; c++) {
-        const double ndc[4] = {c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : -1.0, 1.0};
+        const double ndc[4] = {c & 1 ? 1.0 : -1.0, c & 2 ? 1.0 : -1.0, c & 4 ? 1.0 : zn, 1.0};
         double world[4] = {0, 0, 0, 0}, clip[4] = {0, 0, 0, 0};
         for (int r = 0; r < 4; r++)
             for (int k = 0; k < 4; k++)
@@ -107,7 +118,8 @@ long warp_build(const warp_desc *w, float *coords, unsigned char *valid)
         return -1;
     const float tol = w->depth_tolerance > 0.0f ? w->depth_tolerance : WARP_DEPTH_TOLERANCE_DEFAULT;
     long n_valid = 0;
-    if (warp_camera_still(&w->prev_view_proj, &w->view_proj, w->width, w->height)) {
+    if (warp_camera_still(&w->prev_view_proj, &w->view_proj, w->width, w->height,
+                          warp_min_depth(w->depth, w->width, w->height))) {
         /* The identity: each pixel at its own position, copied by warp_apply. */
         for (int y = 0; y < w->height; y++)
             for (int x = 0; x < w->width; x++) {

@@ -227,7 +227,7 @@ TEST(an_unchanged_frame_scores_exactly_0_under_a_still_camera)
         mat4 prev = s.vp;
         for (int k = 0; k < 16 && ulp; k++)
             prev.m[k] = nextafterf(prev.m[k], INFINITY);
-        CHECK(warp_camera_still(&prev, &s.vp, W, H));
+        CHECK(warp_camera_still(&prev, &s.vp, W, H, warp_min_depth(s.depth, W, H)));
         warp_desc wd = {.width = W, .height = H, .depth = s.depth, .view_proj = s.vp, .prev_view_proj = prev,
                         .prev_depth = s.depth, .prev_znear = ZNEAR, .prev_zfar = ZFAR};
         CHECK(warp_previous(&wd, &v, out, valid) == W * H);
@@ -245,30 +245,44 @@ TEST(an_unchanged_frame_scores_exactly_0_under_a_still_camera)
     ring_mask_free(&m);
 }
 
-/* "The camera did not move" (WARP_STILL_TOLERANCE_PX = 1e-3 display pixels at the frustum's
- * corners): ulps of rounding are still, a shift of 1/100 pixel or a real camera step is not. */
+/* "The camera did not move" (WARP_STILL_TOLERANCE_PX = 1e-3 display pixels at the display's
+ * corners, at the nearest surface's depth and at the far plane): ulps of rounding are still, a
+ * shift of 1/100 pixel or a real camera step is not, and a sideways step that moves the plane 10 m
+ * away by 1/1200 pixel is still only when nothing nearer is in view. */
 TEST(still_means_within_a_thousandth_of_a_pixel)
 {
     mat4 vp = camera(0.3f);
-    CHECK(warp_camera_still(&vp, &vp, W, H));
+    CHECK(warp_camera_still(&vp, &vp, W, H, 0.0f));
     mat4 ulp = vp;
     for (int k = 0; k < 16; k++)
         ulp.m[k] = nextafterf(nextafterf(ulp.m[k], -INFINITY), -INFINITY);
-    CHECK(warp_camera_still(&ulp, &vp, W, H));
-    CHECK(warp_camera_still(&vp, &ulp, W, H));
+    CHECK(warp_camera_still(&ulp, &vp, W, H, 0.0f));
+    CHECK(warp_camera_still(&vp, &ulp, W, H, 0.0f));
     /* The whole image shifted by s pixels (a translation in NDC, as TAA's jitter is applied). */
     const float shifts[4] = {1e-4f, 5e-4f, 2e-3f, 1e-2f};
     for (int i = 0; i < 4; i++) {
         mat4 t = m4_mul(m4_translate(v3(2.0f * shifts[i] / W, 0.0f, 0.0f)), vp);
-        CHECK(warp_camera_still(&vp, &t, W, H) == (shifts[i] < 1e-3f));
+        CHECK(warp_camera_still(&vp, &t, W, H, 0.0f) == (shifts[i] < 1e-3f));
         mat4 u = m4_mul(m4_translate(v3(0.0f, 2.0f * shifts[i] / H, 0.0f)), vp);
-        CHECK(warp_camera_still(&vp, &u, W, H) == (shifts[i] < 1e-3f));
+        CHECK(warp_camera_still(&vp, &u, W, H, 0.0f) == (shifts[i] < 1e-3f));
     }
-    mat4 moved = camera(0.31f); /* 1 cm sideways at 10 m */
-    CHECK(!warp_camera_still(&vp, &moved, W, H));
+    /* 0.1 mm sideways: focal 83.1 px, so 8.3e-4 px at the plane 10 m away, 1.2e-3 px at the square
+     * 7 m away, 1.7e-2 px at the near plane (0.5 m). */
+    static shot s;
+    render(&s, 0.3f);
+    float plane = 1.0f; /* the plane's depth: the largest of the frame's (the square is nearer) */
+    for (int i = 0; i < W * H; i++)
+        plane = s.occ[i] ? plane : fminf(plane, s.depth[i]);
+    mat4 step = camera(0.3001f);
+    CHECK(warp_camera_still(&vp, &step, W, H, plane));
+    CHECK(!warp_camera_still(&vp, &step, W, H, warp_min_depth(s.depth, W, H))); /* the square */
+    CHECK(!warp_camera_still(&vp, &step, W, H, 0.0f));
+    mat4 moved = camera(0.31f); /* 1 cm sideways */
+    CHECK(!warp_camera_still(&vp, &moved, W, H, 1.0f));
     mat4 zero = {{0}};
-    CHECK(!warp_camera_still(&vp, &zero, W, H));
-    CHECK(warp_camera_still(&zero, &zero, W, H) == true); /* bit-identical */
+    CHECK(!warp_camera_still(&vp, &zero, W, H, 0.0f));
+    CHECK(warp_camera_still(&zero, &zero, W, H, 0.0f)); /* bit-identical */
+    CHECK(warp_min_depth(s.depth, W, H) < plane && warp_min_depth(s.depth, W, H) > 0.0f);
 }
 
 int main(void)
