@@ -156,7 +156,9 @@ double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
 /* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
  * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,
  * temporal_error,disoccluded,static_flicker,frame_ms; static_flicker is `change` on frames with a
- * still camera (the caller says: still) and -1 otherwise. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
+ * still camera (the caller says: still) and -1 otherwise. coverage_ratio is written as given: compare
+ * sets it to -1 first where the reference holds too little (measure_gate_ratios,
+ * metrics_coverage_ratio_rests). `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
  * not finite means "not measured" and is written as -1; a non-finite time as 0. Both return
  * false when the stream reports an error. */
 bool metrics_csv_header(FILE *f);
