@@ -438,7 +438,9 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
            "Pareto front of (time, %s) (--error)\n", k_error_names[d->acc_error]);
         MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
-           "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n\n");
+           "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
+        MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
+           "holds under %g ring texels of coverage)\n\n", METRICS_MIN_REF_TEXELS);
         MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
            d->acc_error == 2 ? "PSNR" : k_error_names[d->acc_error]);
         for (int k = 0; k < ml.count; k++)
@@ -466,9 +468,15 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             else
                 MD(" n/a |");
             for (int k = 0; k < ml.count; k++) {
-                double r = measure_mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0);
+                /* The ratio of the coverage summed over frames, -1 (n/a) where the reference holds
+                 * too little in the ring (measure_coverage_ratio). The texels are the measurement
+                 * rings' (the default layout's) for every row: the reference is the same for all. */
+                double r = measure_coverage_ratio(mr, k, measure_block(&ml, k));
                 CSV(",%.4f", r);
-                MD(" %.2f |", r);
+                if (r < 0.0)
+                    MD(" n/a |");
+                else
+                    MD(" %.2f |", r);
             }
             for (int k = 0; k <= ml.count; k++) /* the whole display, then each ring */
                 CSV(",%.6f", measure_mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));

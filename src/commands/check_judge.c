@@ -14,13 +14,9 @@
 #include "core/log.h"
 #include "core/strbuf.h"
 #include "metrics/image_diff.h"
+#include "metrics/metrics.h"
 #include "output/exr_write.h"
 #include "scene/scene.h"
-
-/* Reference coverage, in texels of the ring (mean x pixels / block^2), below which a ring's coverage
- * ratio is not judged: a ratio of a few texels' coverage jumps with every flipped texel (the pixel
- * checks still see them). docs/check.md "Tolerances". */
-#define CHECK_MIN_REF_COVERAGE_TEXELS 4.0
 
 /* >>metrics.csv */
 
@@ -237,11 +233,14 @@ static fs_status judge_rows(judge *j, const rows *base, const rows *now)
         }
         if (b->pixels == 0) /* a ring off screen for this gaze: nothing measured */
             continue;
-        double block = b->ring >= 0 ? j->block[b->ring] : 1.0;
-        bool cov = fmin(b->ref_coverage, n->ref_coverage) * b->pixels / (block * block) >= CHECK_MIN_REF_COVERAGE_TEXELS;
+        /* The coverage ratio is judged only where both runs' reference holds enough coverage for
+         * a ratio: compare's own rule (metrics.h METRICS_MIN_REF_TEXELS; the pixel checks still see
+         * the rest). metrics.csv writes -1 where its run's reference holds less. */
+        bool cov = metrics_coverage_ratio_rests(fmin(b->ref_coverage, n->ref_coverage) * b->pixels,
+                                                b->ring >= 0 ? j->block[b->ring] : 1);
         for (int m = 0; m < CHECK_PIXEL && st == FS_OK; m++) {
             double x = b->v[m], y = n->v[m];
-            if (m == CHECK_COVERAGE && !cov)
+            if (m == CHECK_COVERAGE && (!cov || x < 0.0 || y < 0.0))
                 continue;
             if (m == CHECK_TEMPORAL && (x < 0.0 || y < 0.0)) /* not measured (first frame, after a cut) */
                 continue;

@@ -163,6 +163,8 @@ typedef struct report_desc {
     const mode_run *runs;
     int mode_count, frames;
     const fov_layout *layout; /* measurement rings */
+    const fov_layout *blocks; /* the rings' texel sizes for the coverage rule: layout when the run is
+                               * foveated, NULL (full resolution) when not */
     const reference *ref;
     double *ref_err;          /* per measured frame (sorted here) */
     int first;                /* the first measured frame (--first-frame): frame_ms[first..] */
@@ -206,23 +208,28 @@ static fs_status report(const report_desc *r)
            s->pl.width, s->pl.height, rings, s->pl.taa ? "on" : "off", r->seconds, r->out);
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
            r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
-    printf("measured in rings %s (eccentricity from each frame's gaze); means over frames\n\n", mrings);
-    printf("%-12s %-18s %10s %10s %10s %8s %8s %10s %9s\n", "mode", "ring", "coverage", "RMSE", "alpha RMSE", "FLIP",
-           "PSNR", "temporal", "static");
-    printf("%-12s %-18s %10s %10s %10s %8s %8s %10s %9s\n", "", "", "/ reference", "(linear)", "(band-lim.)", "(mean)",
-           "(dB)", "error", "flicker");
+    printf("measured in rings %s (eccentricity from each frame's gaze); coverage: the ratio of the coverage summed "
+           "over frames, resting on the reference's coverage in display pixels (ref px; n/a below %g ring texels); "
+           "the rest means over frames\n\n", mrings, METRICS_MIN_REF_TEXELS);
+    printf("%-12s %-18s %10s %11s %10s %10s %8s %8s %10s %9s\n", "mode", "ring", "coverage", "ref px", "RMSE",
+           "alpha RMSE", "FLIP", "PSNR", "temporal", "static");
+    printf("%-12s %-18s %10s %11s %10s %10s %8s %8s %10s %9s\n", "", "", "/ reference", "(summed)", "(linear)",
+           "(band-lim.)", "(mean)", "(dB)", "error", "flicker");
     for (int m = 0; m < nm; m++)
         for (int k = 0; k <= nr; k++) {
             const mode_run *mr = &r->runs[m];
             char label[48];
             ring_label(r->layout, k, label, sizeof label);
-            /* -1: not measured (no frame with a warped previous one; no frame with a still camera) */
+            /* -1: not measured (no frame with a warped previous one; no frame with a still camera;
+             * too little reference coverage for a ratio) */
             double te = measure_mean_or(mr->te_sum[k], mr->te_n[k], -1.0), sf = measure_mean_or(mr->still_sum[k], mr->still_n[k], -1.0);
-            char tes[32], sfs[32];
+            double cr = measure_coverage_ratio(mr, k, measure_block(r->blocks, k));
+            char tes[32], sfs[32], crs[32];
             snprintf(tes, sizeof tes, te < 0.0 ? "n/a" : "%.4f", te);
             snprintf(sfs, sizeof sfs, sf < 0.0 ? "n/a" : "%.4f", sf);
-            printf("%-12s %-18s %10.3f %10.4f %10.4f %8.4f %8.2f %10s %9s\n", k == 0 ? alpha_mode_name(mr->mode) : "",
-                   label, measure_mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0), measure_mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
+            snprintf(crs, sizeof crs, cr < 0.0 ? "n/a" : "%.3f", cr);
+            printf("%-12s %-18s %10s %11.0f %10.4f %10.4f %8.4f %8.2f %10s %9s\n", k == 0 ? alpha_mode_name(mr->mode) : "",
+                   label, crs, mr->ref_px[k], measure_mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0),
                    measure_mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), measure_mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
                    measure_mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), tes, sfs);
         }
@@ -258,14 +265,18 @@ static fs_status report(const report_desc *r)
         fprintf(f, "\"rings\": [");
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
-            fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"rmse\": %.6f, "
+            int block = measure_block(r->blocks, k);
+            fprintf(f, "%s\n      {\"ring\": %d, \"outer_deg\": %.3f, \"coverage_ratio\": %.5f, \"coverage_px\": %.3f, "
+                    "\"ref_coverage_px\": %.3f, \"ratio_min_ref_px\": %.0f, \"rmse\": %.6f, "
                     "\"alpha_rmse\": %.6f, \"flip\": %.6f, \"psnr\": %.3f, \"temporal_error\": %.6f, "
-                    "\"static_flicker\": %.6f, \"frames_measured\": %d}",
-                    k ? "," : "", k < nr ? k : -1, outer, measure_mean_or(mr->ratio_sum[k], mr->ratio_n[k], 1.0),
+                    "\"static_flicker\": %.6f, \"frames_measured\": %d, \"temporal_error_frames\": %d, "
+                    "\"static_flicker_frames\": %d}",
+                    k ? "," : "", k < nr ? k : -1, outer, measure_coverage_ratio(mr, k, block), mr->cov_px[k],
+                    mr->ref_px[k], METRICS_MIN_REF_TEXELS * block * block,
                     measure_mean_or(mr->rmse_sum[k], mr->err_n[k], 0.0), measure_mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0),
                     measure_mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
                     measure_mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), measure_mean_or(mr->te_sum[k], mr->te_n[k], -1.0),
-                    measure_mean_or(mr->still_sum[k], mr->still_n[k], -1.0), mr->err_n[k]);
+                    measure_mean_or(mr->still_sum[k], mr->still_n[k], -1.0), mr->err_n[k], mr->te_n[k], mr->still_n[k]);
         }
         fprintf(f, "]}%s\n", m + 1 < nm ? "," : "");
     }
@@ -432,6 +443,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             if (!measured)
                 continue;
             measure_accumulate(&runs[m], rm, ml.count, still);
+            measure_gate_ratios(rm, ml.count, s.pl.rings ? &ml : NULL); /* metrics.csv: -1 where too little reference */
             for (int k = 0; k <= ml.count && st == FS_OK; k++)
                 if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
                                      still, runs[m].frame_ms[i])) {
@@ -509,7 +521,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     }
     if (st == FS_OK)
         st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames - first,
-                                   .first = first, .layout = &ml, .ref = rf, .ref_err = ref_err + first,
+                                   .first = first, .layout = &ml, .blocks = s.pl.rings ? &ml : NULL, .ref = rf, .ref_err = ref_err + first,
                                    .ref_cached = ref_cached, .out = out,
                                    .json_path = json_path, .seconds = el, .jod = have_jod ? jod : NULL});
     if (st == FS_OK)

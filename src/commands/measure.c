@@ -47,10 +47,10 @@ void measure_accumulate(mode_run *mr, const ring_metrics *rm, int count, bool st
         mr->flip_sum[k] += m->flip;
         mr->psnr_sum[k] += m->psnr;
         mr->err_n[k]++;
-        if (m->ref_coverage > METRICS_EPS) {
-            mr->ratio_sum[k] += m->coverage_ratio;
-            mr->ratio_n[k]++;
-        }
+        /* Coverage in display pixels: every frame counts, one whose reference is empty too (what
+         * the method drew there is bloat), each by the coverage it holds, not as a ratio. */
+        mr->cov_px[k] += m->coverage * (double)m->pixels;
+        mr->ref_px[k] += m->ref_coverage * (double)m->pixels;
         if (m->has_prev && still) {
             mr->still_sum[k] += m->change;
             mr->still_n[k]++;
@@ -65,6 +65,23 @@ void measure_accumulate(mode_run *mr, const ring_metrics *rm, int count, bool st
 double measure_mean_or(double sum, int n, double none)
 {
     return n > 0 ? sum / n : none;
+}
+
+int measure_block(const fov_layout *l, int k)
+{
+    return l && k >= 0 && k < l->count ? 1 << l->rings[k].scale_log2 : 1;
+}
+
+double measure_coverage_ratio(const mode_run *mr, int k, int block)
+{
+    return metrics_coverage_ratio_of_sums(mr->cov_px[k], mr->ref_px[k], block);
+}
+
+void measure_gate_ratios(ring_metrics *rm, int count, const fov_layout *l)
+{
+    for (int k = 0; k <= count; k++)
+        if (!metrics_coverage_ratio_rests(rm[k].ref_coverage * (double)rm[k].pixels, measure_block(l, k)))
+            rm[k].coverage_ratio = -1.0;
 }
 
 
@@ -106,6 +123,7 @@ fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view
     fs_status st = renderer_draw(t->probe, &fp);
     if (st == FS_OK)
         st = renderer_read_depth(t->probe, t->depth[0]);
+    t->near_depth = st == FS_OK ? warp_min_depth(t->depth[0], t->width, t->height) : 0.0f;
     warp_desc wd = {.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
                     .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
                     .prev_zfar = t->prev.zfar};
@@ -143,10 +161,12 @@ double temporal_reference_noise2(const reference *rf, bool still, double e_now, 
     return reference_get_kind(rf) == REFERENCE_STOCHASTIC && !still ? e_now * e_now + e_prev * e_prev : 0.0;
 }
 
-/* Whether the camera has not moved since the previous frame (the static-view flicker counts). */
+/* Whether the camera has not moved since the previous frame (the static-view flicker counts): within
+ * WARP_STILL_TOLERANCE_PX, the test that makes the temporal error's warp the identity. */
 bool temporal_still(const temporal *t, const frame_record *fr)
 {
-    return t->have_prev && !fr->cut && memcmp(&t->prev.view_proj, &fr->view_proj, sizeof fr->view_proj) == 0;
+    return t->have_prev && !fr->cut && warp_camera_still(&t->prev.view_proj, &fr->view_proj, t->width, t->height,
+                                                          t->near_depth);
 }
 
 /* This frame becomes the previous one. */

@@ -24,15 +24,18 @@ typedef struct mode_run {
     exr_image img, prev;   /* this frame's and the previous frame's image */
     bool have_prev;
     double *frame_ms;      /* per frame: draw to glFinish */
-    /* Sums over frames, per measurement ring (+1: the whole display). */
-    double ratio_sum[MAX_FOV_RINGS + 1], rmse_sum[MAX_FOV_RINGS + 1], psnr_sum[MAX_FOV_RINGS + 1];
+    /* Sums over frames, per measurement ring (+1: the whole display). cov_px, ref_px: the method's
+     * and the reference's coverage summed over the ring's pixels and the frames (display pixels of
+     * coverage), whose ratio is the coverage ratio over frames (measure_coverage_ratio). */
+    double cov_px[MAX_FOV_RINGS + 1], ref_px[MAX_FOV_RINGS + 1];
+    double rmse_sum[MAX_FOV_RINGS + 1], psnr_sum[MAX_FOV_RINGS + 1];
     double alpha_rmse_sum[MAX_FOV_RINGS + 1]; /* against the band-limited reference */
     double flip_sum[MAX_FOV_RINGS + 1];       /* mean LDR-FLIP */
     double te_sum[MAX_FOV_RINGS + 1];         /* motion-compensated temporal error */
     int te_n[MAX_FOV_RINGS + 1];
     float *flip;                              /* this frame's FLIP map against the reference */
     double still_sum[MAX_FOV_RINGS + 1]; /* static-view flicker: change on frames with a still camera */
-    int ratio_n[MAX_FOV_RINGS + 1], err_n[MAX_FOV_RINGS + 1], still_n[MAX_FOV_RINGS + 1];
+    int err_n[MAX_FOV_RINGS + 1], still_n[MAX_FOV_RINGS + 1];
 } mode_run;
 
 /* The motion-compensated temporal error's per-frame state (docs/metrics.md "Temporal error"): a
@@ -49,6 +52,7 @@ typedef struct temporal {
     float *depth[2];         /* this frame's, the previous frame's */
     frame_record prev;       /* the previous frame (valid when have_prev) */
     bool have_prev, warped;  /* a previous frame exists; this frame's reference was warped */
+    float near_depth;        /* this frame's smallest depth (warp_camera_still) */
 } temporal;
 
 /* The rings metrics are reported in: the run's own layout when it is foveated, else the acuity
@@ -63,6 +67,17 @@ fs_status measure_flip(const metrics_view *img, const metrics_view *ref, const d
 void measure_accumulate(mode_run *mr, const ring_metrics *rm, int count, bool still);
 /* sum / n, or none when n is 0. */
 double measure_mean_or(double sum, int n, double none);
+/* Display pixels per texel of measurement ring k of layout l (1 << scale_log2); 1 for the whole
+ * display (k == l->count) and when l is NULL (a run at full resolution everywhere). */
+int measure_block(const fov_layout *l, int k);
+/* Measurement ring k's coverage ratio over the frames: the ratio of sums cov_px / ref_px, or -1
+ * (not reported: n/a) when the reference's coverage is below METRICS_MIN_REF_TEXELS texels of
+ * `block` (metrics_coverage_ratio_rests, the rule of fovsim check). */
+double measure_coverage_ratio(const mode_run *mr, int k, int block);
+/* Per frame: sets each ring's coverage_ratio (count rings + the whole display) to -1 where the
+ * frame's reference holds less coverage than a ratio needs (the same rule); blocks as
+ * measure_block(l, k). */
+void measure_gate_ratios(ring_metrics *rm, int count, const fov_layout *l);
 
 /* The temporal error (measure.c documents each step): begin once, then per frame temporal_frame,
  * temporal_measure per mode, temporal_next; temporal_end frees it. */

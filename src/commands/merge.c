@@ -13,6 +13,7 @@
 #include "core/log.h"
 #include "output/out_path.h"
 #include "core/strbuf.h"
+#include "metrics/metrics.h"
 #include "session/session.h"
 #include "commands/commands.h"
 #include "commands/sweep_manifest.h"
@@ -23,8 +24,9 @@ typedef struct point {
     char mode[32];
     double *ms;
     int n, cap;
-    double flip, ratio;
-    int rows;
+    double flip, ratio;  /* sums over rows: FLIP, the per-frame coverage ratios reported (>= 0) */
+    double cov_px, ref_px; /* coverage summed over pixels and rows (display pixels), method and reference */
+    int rows, ratio_rows;
 } point;
 
 typedef struct points {
@@ -103,7 +105,8 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
         return FS_ERR_IO;
     }
     int c_mode = column(header, "mode"), c_ring = column(header, "ring"), c_ms = column(header, "frame_ms"),
-        c_flip = column(header, "flip"), c_ratio = column(header, "coverage_ratio");
+        c_flip = column(header, "flip"), c_ratio = column(header, "coverage_ratio"), c_px = column(header, "pixels"),
+        c_cov = column(header, "coverage"), c_ref = column(header, "ref_coverage");
     for (char *row = nl + 1; *row && st == FS_OK;) {
         char *end = strchr(row, '\n');
         size_t len = end ? (size_t)(end - row) : strlen(row);
@@ -129,8 +132,18 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
             p->ms[p->n++] = atof(v);
             field(row, c_flip, v, sizeof v);
             p->flip += atof(v);
+            /* A per-frame ratio of -1 was not reported (too little reference coverage, metrics.h) */
             field(row, c_ratio, v, sizeof v);
-            p->ratio += atof(v);
+            if (atof(v) >= 0.0) {
+                p->ratio += atof(v);
+                p->ratio_rows++;
+            }
+            field(row, c_px, v, sizeof v);
+            double px = atof(v);
+            field(row, c_cov, v, sizeof v);
+            p->cov_px += atof(v) * px;
+            field(row, c_ref, v, sizeof v);
+            p->ref_px += atof(v) * px;
             p->rows++;
         }
         row = end ? end + 1 : row + len;
@@ -282,7 +295,8 @@ fs_status cmd_merge(int argc, char **argv)
         st = all.oom ? FS_ERR_NOMEM : out_write_atomic(path, all.p);
         free(all.p);
         /* accuracy.csv: one point per configuration and mode */
-        const char *ah = "scene,gaze,rings,taa,mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames\n";
+        const char *ah = "scene,gaze,rings,taa,mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames,coverage_ratio,"
+                         "ref_coverage_px\n";
         sb_append(&acc, ah, strlen(ah));
         for (int i = 0; i < ps.n && st == FS_OK; i++) {
             point *p = &ps.v[i];
@@ -292,9 +306,11 @@ fs_status cmd_merge(int argc, char **argv)
             char sc[128], gz[128], line[1024];
             short_of(m.scenes[s], sc, sizeof sc);
             short_of(m.gaze[g], gz, sizeof gz);
-            int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.4f,%.6f,%.5f,%d\n", sc, gz, m.rings[r], m.taa[t],
-                             p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows, p->ratio / p->rows,
-                             p->rows);
+            /* The whole display: texels are display pixels (metrics_coverage_ratio_rests, block 1). */
+            int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.4f,%.6f,%.5f,%d,%.5f,%.3f\n", sc, gz, m.rings[r],
+                             m.taa[t], p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows,
+                             p->ratio_rows ? p->ratio / p->ratio_rows : -1.0, p->rows,
+                             metrics_coverage_ratio_of_sums(p->cov_px, p->ref_px, 1), p->ref_px);
             sb_append(&acc, line, (size_t)l);
         }
         snprintf(path, sizeof path, "%s/accuracy.csv", dir);

@@ -169,6 +169,17 @@ fs_status metrics_compute(const metrics_view *img, const metrics_view *ref, cons
     return FS_OK;
 }
 
+bool metrics_coverage_ratio_rests(double ref_px, int block)
+{
+    const double b = block > 1 ? (double)block : 1.0;
+    return ref_px / (b * b) >= METRICS_MIN_REF_TEXELS; /* false for NaN */
+}
+
+double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block)
+{
+    return metrics_coverage_ratio_rests(ref_px, block) ? cov_px / ref_px : -1.0;
+}
+
 // >>temporal error
 
 fs_status metrics_temporal(const metrics_view *img, const metrics_view *wprev, const metrics_view *ref,

@@ -47,6 +47,16 @@ extern "C" {
 #ifndef METRICS_EPS
 #define METRICS_EPS 1e-6
 #endif
+/* A coverage ratio rests on the reference's coverage: below this many ring texels of it (the sum of
+ * the reference's coverage over the ring's display pixels, divided by block^2 display pixels per
+ * texel) a ratio is not reported, per frame (metrics.csv writes -1) nor over frames (summaries
+ * write -1 and print n/a), and `fovsim check` does not judge it. A ratio of a few texels' coverage
+ * jumps with every flipped texel: 1 texel of method coverage over 1/4 texel of reference reads 4.
+ * One definition for compare, bench --accuracy, merge and check (docs/metrics.md "Coverage ratio
+ * over frames"). */
+#ifndef METRICS_MIN_REF_TEXELS
+#define METRICS_MIN_REF_TEXELS 4.0
+#endif
 /* PSNR of identical images, in dB: 10 log10(1 / MSE) reaches it at MSE = 1e-10, far below the
  * error of a half-float frame (ulp 2^-11 at 1.0 gives MSE ~ 1e-7 at worst). */
 #ifndef METRICS_PSNR_CAP_DB
@@ -134,10 +144,21 @@ fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, con
                              const fov_ring_rect *rects, float gx_px, float gy_px, float *const out[4],
                              metrics_view *band);
 
+/* Whether a coverage ratio resting on ref_px display pixels of reference coverage (the sum of the
+ * reference's coverage over the pixels, e.g. ref_coverage * pixels, or its sum over frames) in a ring
+ * of block x block display pixels per texel is reported: ref_px / block^2 >= METRICS_MIN_REF_TEXELS.
+ * block < 1 counts as 1 (a full-resolution ring, the whole display). */
+bool metrics_coverage_ratio_rests(double ref_px, int block);
+/* The ratio of sums cov_px / ref_px (coverage summed over pixels and frames) when
+ * metrics_coverage_ratio_rests(ref_px, block), else -1 (not reported). */
+double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
+
 /* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
  * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,
  * temporal_error,disoccluded,static_flicker,frame_ms; static_flicker is `change` on frames with a
- * still camera (the caller says: still) and -1 otherwise. `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
+ * still camera (the caller says: still) and -1 otherwise. coverage_ratio is written as given: compare
+ * sets it to -1 first where the reference holds too little (measure_gate_ratios,
+ * metrics_coverage_ratio_rests). `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or
  * not finite means "not measured" and is written as -1; a non-finite time as 0. Both return
  * false when the stream reports an error. */
 bool metrics_csv_header(FILE *f);

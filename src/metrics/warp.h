@@ -29,8 +29,33 @@ typedef struct warp_desc {
 
 #define WARP_DEPTH_TOLERANCE_DEFAULT 0.02f
 
+/* The camera did not move between two frames when no pixel of the frame moves by more than this
+ * many display pixels (x or y) when reprojected into the previous frame: checked at the display's
+ * corners at the depth of the frame's nearest surface and at the far plane (for the small motions in
+ * question the reprojection's displacement is largest at those corners: rotation moves the corners
+ * most, translation the nearest points). Computed in double. Why 1e-3: moving a bilinear sample of
+ * an image in [0, 1] by 1e-3 pixel changes it by at most 1e-3, about one half-float ulp at 1.0
+ * (2^-10), the resolution of the frames the metrics read. Measured (docs/metrics.md "Still camera"):
+ * the 1-ulp camera jitter the wind scene had moved a surface 1 m away by under 1e-4 pixel, and the
+ * slowest moving camera of the built-in scenes moves it by hundreds of pixels per frame. */
+#define WARP_STILL_TOLERANCE_PX 1e-3
+
+/* Whether the camera is still between view-projections prev and cur (WARP_STILL_TOLERANCE_PX) on
+ * a width x height display whose nearest surface lies at window depth near_depth (the smallest value
+ * of the frame's depth, warp_min_depth; 0, the near plane, is the strictest). Bit-identical matrices
+ * are still; a matrix that cannot be inverted, or a point behind the previous camera, is not. The
+ * one test of "the camera did not move" that the warp (identity) and the static-view flicker
+ * (commands/measure.c) share. */
+bool warp_camera_still(const mat4 *prev, const mat4 *cur, int width, int height, float near_depth);
+/* The smallest finite window depth of a frame clamped to [0, 1] (1 when there is none: all sky). */
+float warp_min_depth(const float *depth, int width, int height);
+
 /* The warp of one frame, computed once for every image warped with it: coords (2 floats per pixel)
  * gets each pixel's position in the previous frame, valid[] 1 where it is warped and 0 where not.
+ * When the camera is still (warp_camera_still) the warp is the identity exactly: each pixel's own
+ * integer position, which warp_apply copies without resampling (the disocclusion test still runs,
+ * on the two frames' depths at the pixel), so an unchanged frame's temporal error is exactly 0.
+ * The warp knows the camera only: foliage that sways is not followed (docs/metrics.md).
  * Returns the number of valid pixels, or -1 when the current view-projection cannot be inverted
  * (nothing is written). */
 long warp_build(const warp_desc *w, float *coords, unsigned char *valid);

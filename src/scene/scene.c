@@ -274,8 +274,14 @@ camera_state camera_path_eval(const camera_path *path, float t)
         bool target = which == 1;
         vec3 p0 = key_point(k0, target), p1 = key_point(k1, target);
         vec3 m0 = key_tangent(path, i, a, b, target), m1 = key_tangent(path, i + 1, a, b, target);
-        vec3 r = v3_add(v3_add(v3_scale(p0, h00), v3_scale(m0, h10 * h)),
-                        v3_add(v3_scale(p1, h01), v3_scale(m1, h11 * h)));
+        /* Two equal keys hold still (key_tangent gives a pause zero tangents): the key itself, not
+         * p0 h00 + p1 h01, which rounds to an ulp off p0 at some s and would jitter a still camera
+         * (and make its frames' view-projections differ). */
+        bool hold = p0.x == p1.x && p0.y == p1.y && p0.z == p1.z && m0.x == 0.0f && m0.y == 0.0f && m0.z == 0.0f &&
+                    m1.x == 0.0f && m1.y == 0.0f && m1.z == 0.0f;
+        vec3 r = hold ? p0
+                      : v3_add(v3_add(v3_scale(p0, h00), v3_scale(m0, h10 * h)),
+                               v3_add(v3_scale(p1, h01), v3_scale(m1, h11 * h)));
         if (target)
             st.target = r;
         else

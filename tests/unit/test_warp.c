@@ -197,8 +197,98 @@ TEST(a_frozen_image_scores_worse_than_the_method_it_froze)
     ring_mask_free(&m);
 }
 
+/* A still camera's warp is the identity exactly (issue 27): a frame that did not change scores
+ * temporal error 0, not the float rounding of reprojecting through inverse(VP) VP, which moves
+ * pixels by ~1e-5 and read 8.3e-5 on a real run. A noisy image makes any resampling show. The
+ * previous view-projection is the same matrix, then the same matrix one float ulp off in every
+ * element (what a camera path rounding off its key gave). */
+TEST(an_unchanged_frame_scores_exactly_0_under_a_still_camera)
+{
+    static shot s, f; /* the method (noise) and the reference (the smooth plane and square) */
+    render(&s, 0.3f);
+    render(&f, 0.3f);
+    unsigned state = 12345u;
+    for (int i = 0; i < W * H; i++) { /* noise: neighbours differ by up to 1 */
+        state = state * 1664525u + 1013904223u;
+        s.r[i] = (float)(state >> 8) / 16777216.0f;
+        s.g[i] = 1.0f - s.r[i];
+        s.cov[i] = (float)((state >> 4) & 1u);
+    }
+    display_desc d = {W, H, 60.0f};
+    fov_layout off = fov_layout_off();
+    ring_mask m;
+    CHECK(ring_mask_build(&d, &off, W / 2.0f, H / 2.0f, &m) == FS_OK);
+    static float wr[W * H], wg[W * H], wb[W * H], wc[W * H], fr[W * H], fg[W * H], fb[W * H], fc[W * H];
+    float *out[4] = {wr, wg, wb, wc}, *fout[4] = {fr, fg, fb, fc};
+    static unsigned char valid[W * H];
+    metrics_view v = {W, H, s.r, s.g, s.b, s.cov}, wv = {W, H, wr, wg, wb, wc};
+    metrics_view vf = {W, H, f.r, f.g, f.b, f.cov}, wvf = {W, H, fr, fg, fb, fc};
+    for (int ulp = 0; ulp < 2; ulp++) {
+        mat4 prev = s.vp;
+        for (int k = 0; k < 16 && ulp; k++)
+            prev.m[k] = nextafterf(prev.m[k], INFINITY);
+        CHECK(warp_camera_still(&prev, &s.vp, W, H, warp_min_depth(s.depth, W, H)));
+        warp_desc wd = {.width = W, .height = H, .depth = s.depth, .view_proj = s.vp, .prev_view_proj = prev,
+                        .prev_depth = s.depth, .prev_znear = ZNEAR, .prev_zfar = ZFAR};
+        CHECK(warp_previous(&wd, &v, out, valid) == W * H);
+        CHECK(warp_previous(&wd, &vf, fout, valid) == W * H);
+        long same = 0;
+        for (int i = 0; i < W * H; i++)
+            same += wr[i] == s.r[i] && wg[i] == s.g[i] && wb[i] == s.b[i] && wc[i] == s.cov[i];
+        CHECK(same == W * H);
+        ring_metrics te[2];
+        CHECK(metrics_temporal(&v, &wv, &vf, &wvf, valid, &m, te) == FS_OK);
+        fprintf(stderr, "still camera%s: %ld of %d pixels copied exactly, temporal error %.3g\n",
+                ulp ? " (1 ulp off)" : "", same, W * H, te[1].temporal_error);
+        CHECK(te[0].temporal_error == 0.0 && te[1].temporal_error == 0.0 && te[1].disoccluded == 0.0);
+    }
+    ring_mask_free(&m);
+}
+
+/* "The camera did not move" (WARP_STILL_TOLERANCE_PX = 1e-3 display pixels at the display's
+ * corners, at the nearest surface's depth and at the far plane): ulps of rounding are still, a
+ * shift of 1/100 pixel or a real camera step is not, and a sideways step that moves the plane 10 m
+ * away by 1/1200 pixel is still only when nothing nearer is in view. */
+TEST(still_means_within_a_thousandth_of_a_pixel)
+{
+    mat4 vp = camera(0.3f);
+    CHECK(warp_camera_still(&vp, &vp, W, H, 0.0f));
+    mat4 ulp = vp;
+    for (int k = 0; k < 16; k++)
+        ulp.m[k] = nextafterf(nextafterf(ulp.m[k], -INFINITY), -INFINITY);
+    CHECK(warp_camera_still(&ulp, &vp, W, H, 0.0f));
+    CHECK(warp_camera_still(&vp, &ulp, W, H, 0.0f));
+    /* The whole image shifted by s pixels (a translation in NDC, as TAA's jitter is applied). */
+    const float shifts[4] = {1e-4f, 5e-4f, 2e-3f, 1e-2f};
+    for (int i = 0; i < 4; i++) {
+        mat4 t = m4_mul(m4_translate(v3(2.0f * shifts[i] / W, 0.0f, 0.0f)), vp);
+        CHECK(warp_camera_still(&vp, &t, W, H, 0.0f) == (shifts[i] < 1e-3f));
+        mat4 u = m4_mul(m4_translate(v3(0.0f, 2.0f * shifts[i] / H, 0.0f)), vp);
+        CHECK(warp_camera_still(&vp, &u, W, H, 0.0f) == (shifts[i] < 1e-3f));
+    }
+    /* 0.1 mm sideways: focal 83.1 px, so 8.3e-4 px at the plane 10 m away, 1.2e-3 px at the square
+     * 7 m away, 1.7e-2 px at the near plane (0.5 m). */
+    static shot s;
+    render(&s, 0.3f);
+    float plane = 1.0f; /* the plane's depth: the largest of the frame's (the square is nearer) */
+    for (int i = 0; i < W * H; i++)
+        plane = s.occ[i] ? plane : fminf(plane, s.depth[i]);
+    mat4 step = camera(0.3001f);
+    CHECK(warp_camera_still(&vp, &step, W, H, plane));
+    CHECK(!warp_camera_still(&vp, &step, W, H, warp_min_depth(s.depth, W, H))); /* the square */
+    CHECK(!warp_camera_still(&vp, &step, W, H, 0.0f));
+    mat4 moved = camera(0.31f); /* 1 cm sideways */
+    CHECK(!warp_camera_still(&vp, &moved, W, H, 1.0f));
+    mat4 zero = {{0}};
+    CHECK(!warp_camera_still(&vp, &zero, W, H, 0.0f));
+    CHECK(warp_camera_still(&zero, &zero, W, H, 0.0f)); /* bit-identical */
+    CHECK(warp_min_depth(s.depth, W, H) < plane && warp_min_depth(s.depth, W, H) > 0.0f);
+}
+
 int main(void)
 {
+    RUN(an_unchanged_frame_scores_exactly_0_under_a_still_camera);
+    RUN(still_means_within_a_thousandth_of_a_pixel);
     RUN(warp_is_exact_for_a_static_scene_under_camera_motion);
     RUN(a_still_camera_warps_to_the_previous_frame_itself);
     RUN(a_frozen_image_scores_worse_than_the_method_it_froze);
