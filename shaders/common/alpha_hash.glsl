@@ -185,6 +185,15 @@ uint alpha_hash_layer(uint instance, uint primitive)
     return alpha_hash_pcg1(alpha_hash_pcg1(instance) + primitive);
 }
 
+// C twin: alpha_hash_level_key. The key of noise level `level` (the isotropic exponent floor(l) or
+// ceil(l), in [-60, 60]), XORed into the layer key of each of Listing 1's two hashes: the levels hash
+// different lattices, so the two cells stay independent where they are the same cell (within a
+// pixel of the object origin; docs/hashed-alpha.md). Distinct and nonzero for every level.
+uint alpha_hash_level_key(int level)
+{
+    return uint(level + ALPHA_HASH_LEVEL_BIAS) * ALPHA_HASH_LEVEL_MUL;
+}
+
 // >>threshold
 
 // C twin: cdf_core (seed 000 Eq. 1, denominators >= FLT_MIN). Eq. 1 is symmetric,
@@ -242,8 +251,8 @@ float alpha_hash_coord(float o)
     return (floatBitsToUint(o) & 0x7f800000u) - (65u << 23) < (125u << 23) ? o : 0.0;
 }
 
-// C twin: alpha_hashed_threshold_layer (seed 000 Listing 1, both hashes on the lattice of `layer`,
-// alpha_hash_layer; layer 0 = alpha_hashed_threshold).
+// C twin: alpha_hashed_threshold_layer (seed 000 Listing 1, each hash on the lattice of `layer`
+// (alpha_hash_layer) and of its level (alpha_hash_level_key); layer 0 = alpha_hashed_threshold).
 float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic,
                                    uint layer)
 {
@@ -268,8 +277,10 @@ float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale,
     vec3 o = vec3(alpha_hash_coord(obj.x), alpha_hash_coord(obj.y), alpha_hash_coord(obj.z));
     vec3 c_lo = floor(vec3(alpha_hash_pow2(ilo + e.x), alpha_hash_pow2(ilo + e.y), alpha_hash_pow2(ilo + e.z)) * o);
     vec3 c_hi = floor(vec3(alpha_hash_pow2(ihi + e.x), alpha_hash_pow2(ihi + e.y), alpha_hash_pow2(ihi + e.z)) * o);
-    float h_lo = alpha_hash_kind_layer(c_lo, hash_kind, layer);
-    float h_hi = alpha_hash_kind_layer(c_hi, hash_kind, layer);
+    // Each level on its own lattice (a departure from Listing 1): keyed by the level itself, not by
+    // lo / hi, so a cell keeps its hash when l crosses an integer and it turns from hi into lo.
+    float h_lo = alpha_hash_kind_layer(c_lo, hash_kind, layer ^ alpha_hash_level_key(ilo));
+    float h_hi = alpha_hash_kind_layer(c_hi, hash_kind, layer ^ alpha_hash_level_key(ihi));
     precise float x = (1.0 - lerp_factor) * h_lo + lerp_factor * h_hi;
     // x and lerp_factor are in [0, 1] (hashes in [0, 1), l clamped and never NaN), so the CDF needs
     // no NaN guard here: the hard-case tests check the result for every input.

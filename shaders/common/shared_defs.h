@@ -78,6 +78,12 @@
 #define ALPHA_HASH_LOG2_CLAMP 60.0  /* log2(pixScale) and LODs are clamped to [-60, 60] */
 #define ALPHA_MAX_ANISO_LOG2 4      /* anisotropic hash: at most 2^4 = 16 x finer cells per axis */
 #define ALPHA_A2C_MAX_SAMPLES 16    /* hashed A2C: n is a power of two <= this */
+/* Each noise level hashes its own lattice (issue 27): the level key of level e, XORed into the
+ * layer key, is (e + ALPHA_HASH_LEVEL_BIAS) * ALPHA_HASH_LEVEL_MUL (mod 2^32). The multiplier is odd
+ * (2^32 / golden ratio), so the 121 levels of [-60, 60] get 121 distinct keys, none of them 0
+ * (docs/hashed-alpha.md, "Listing 1, and where we depart from it"). */
+#define ALPHA_HASH_LEVEL_BIAS 128
+#define ALPHA_HASH_LEVEL_MUL 0x9e3779b9u
 /* With TAA, hashed thresholds shift by frame * this (mod 1), a low-discrepancy sequence: each pixel
  * cycles through thresholds spread evenly over (0, 1], which TAA averages (docs/hashed-alpha.md). */
 #define ALPHA_FRAME_OFFSET_STEP 0.61803398875

@@ -183,6 +183,11 @@ uint32_t alpha_hash_layer(uint32_t instance, uint32_t primitive)
     return alpha_hash_pcg1(alpha_hash_pcg1(instance) + primitive);
 }
 
+uint32_t alpha_hash_level_key(int level)
+{
+    return (uint32_t)(level + ALPHA_HASH_LEVEL_BIAS) * ALPHA_HASH_LEVEL_MUL;
+}
+
 /* >>threshold */
 
 /* Eq. 1 without the guard, for x and lerp_factor in [0, 1] (result in [0, 1]); straight-line.
@@ -257,8 +262,10 @@ float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale,
     vec3 o = {hash_coord(obj.x), hash_coord(obj.y), hash_coord(obj.z)};
     vec3 c_lo = {floorf(pow2i(ilo + ex) * o.x), floorf(pow2i(ilo + ey) * o.y), floorf(pow2i(ilo + ez) * o.z)};
     vec3 c_hi = {floorf(pow2i(ihi + ex) * o.x), floorf(pow2i(ihi + ey) * o.y), floorf(pow2i(ihi + ez) * o.z)};
-    float h_lo = alpha_hash_kind_layer(c_lo, hash_kind, layer);
-    float h_hi = alpha_hash_kind_layer(c_hi, hash_kind, layer);
+    /* Each level on its own lattice, keyed by the level (not by lo / hi: a cell keeps its hash when
+     * l crosses an integer). GLSL twin: the same lines. */
+    float h_lo = alpha_hash_kind_layer(c_lo, hash_kind, layer ^ alpha_hash_level_key(ilo));
+    float h_hi = alpha_hash_kind_layer(c_hi, hash_kind, layer ^ alpha_hash_level_key(ihi));
     float x = (1.0f - lerp_factor) * h_lo + lerp_factor * h_hi;
     /* x and lerp_factor are in [0, 1], so no NaN guard (the hard-case tests check every input). */
     float t = cdf_core(x, lerp_factor);

@@ -78,6 +78,14 @@ uint32_t alpha_hash_pcg1(uint32_t v);
  * index within the instance's asset. GLSL twin: alpha_hash_layer. */
 uint32_t alpha_hash_layer(uint32_t instance, uint32_t primitive);
 
+/* The key of noise level `level` of Listing 1 (the isotropic exponent floor(l) or ceil(l)),
+ * (level + ALPHA_HASH_LEVEL_BIAS) * ALPHA_HASH_LEVEL_MUL mod 2^32: distinct and nonzero for every
+ * level in [-60, 60]. alpha_hashed_threshold_layer XORs it into the layer key of each of its two
+ * hashes, so the two levels hash different lattices and stay independent where their cells are the
+ * same cell, within a pixel of the object origin (docs/hashed-alpha.md; issue 27).
+ * GLSL twin: alpha_hash_level_key. */
+uint32_t alpha_hash_level_key(int level);
+
 /* Seed 000 Eq. 1: maps x = (1 - f) u1 + f u2 (u1, u2 independent uniform in [0, 1)) back to a
  * uniform value, a = min(f, 1 - f). Only the needed branch is evaluated and its denominator is
  * kept >= FLT_MIN, so f = 0 or 1 (a = 0) and a within 1e-7 of 0 are finite. Result in [0, 1].
@@ -95,12 +103,15 @@ float alpha_hash_log2_scale(vec3 dx, vec3 dy, float hash_scale);
  * the noise cell size in pixels (default 1), hash_kind ALPHA_HASH_*. `anisotropic` refines the
  * noise cells per object axis by a power of two (at most 2^ALPHA_MAX_ANISO_LOG2) where the footprint along
  * that axis is shorter than the longest one (docs/hashed-alpha.md). Non-finite obj components hash
- * as 0. GLSL twin: alpha_hashed_threshold. */
+ * as 0. Departing from the listing, each of the two levels hashes its own lattice
+ * (alpha_hash_level_key), so the threshold stays uniform within a pixel of the object origin, where
+ * the listing's two cells coincide. GLSL twin: alpha_hashed_threshold. */
 float alpha_hashed_threshold(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic);
 
 /* alpha_hashed_threshold with both hashes on the lattice of `layer` (alpha_hash_layer): surfaces
  * with different layer keys get independent thresholds even inside one noise cell; each layer's
  * thresholds are as uniform as the unlayered ones. Layer 0 is alpha_hashed_threshold, bit for bit.
+ * Each of the two hashes uses `layer ^ alpha_hash_level_key(its level)`, for layer 0 too.
  * GLSL twin: alpha_hashed_threshold_layer. */
 float alpha_hashed_threshold_layer(vec3 obj, vec3 dx, vec3 dy, float hash_scale, int hash_kind, bool anisotropic,
                                    uint32_t layer);

@@ -92,7 +92,16 @@ check "... the report's table names ring 1" grep -qE '^  traditional +1 +coverag
 check "... the scene is what differs from the baseline's run" grep -q "run (fovsim-run.txt): scene$" "$T/out.txt"
 check "... a diff image per failing frame" \
   bash -c "for f in 0 1 2; do head -c 4 '$T/base-next/diff.000'\$f.exr | od -An -tx1 | grep -q '76 2f 31 01' || exit 1; done"
-check "... JUnit: the failing cases are failures" junit "$T/fail.xml" 10 4
+# Traditional fails in all three frames. Hashed's coverage ratio on this 32 x 18 ring moves by about
+# the tolerance (0.05-0.10 with the level keys of issue 27; 0.01-0.05 before), so which of its frames
+# fail depends on the hash values: the JUnit count is checked against check.json's failing cases.
+NFAIL=$(python3 -c 'import json,sys; print(len({(f["frame"], f["image"]) for f in json.load(open(sys.argv[1]))["failures"]}))' \
+  "$T/base-next/check.json")
+check "... traditional fails in every frame" python3 -c "
+import json; f = json.load(open('$T/base-next/check.json'))['failures']
+assert {x['frame'] for x in f if x['image'] == 'traditional'} == {0, 1, 2}, f"
+check "... JUnit: the failing cases are failures ($NFAIL: traditional's 3 frames and hashed's that moved)" \
+  junit "$T/fail.xml" 10 "$NFAIL"
 check "... verdict regression in check.json" \
   python3 -c "import json; c = json.load(open('$T/base-next/check.json')); assert c['verdict'] == 'regression'"
 grep -E '^  traditional +1 +coverage_ratio' "$T/out.txt" | sed 's/^/  measured: /' >&2

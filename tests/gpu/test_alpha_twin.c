@@ -8,7 +8,7 @@
  *
  * Tolerances, and why:
  *   - integer paths (alpha_hash_pcg, alpha_hash_pcg3d, alpha_stochastic_threshold, the a2c
- *     thresholds and masks): bit-identical, every input. They are integer operations, float
+ *     thresholds and masks, the layer and level keys): bit-identical, every input. They are integer operations, float
  *     conversions of values below 2^24 and divisions by powers of two: all exact.
  *   - every GPU threshold of every group is finite and in [ALPHA_THRESHOLD_MIN, 1]: the contract.
  *   - alpha_hashed_threshold with the pcg hash: >= 99.9 % of inputs within 1e-5. GLSL's log2 and
@@ -177,6 +177,9 @@ static void run_cpu(const twin_in *a, twin_out *r)
     r->r3[2] = h.y;
     r->r3[3] = h.z;
     r->r4[0] = alpha_hashed_frame_offset(a->p4[0], a->u1[0]);
+    uint32_t level_key = alpha_hash_level_key((int)(a->u1[0] % 125u) - 62);
+    r->r4[1] = (float)(level_key >> 16u);
+    r->r4[2] = (float)(level_key & 0xffffu);
     r->r5[0] = alpha_hash_layer(a->u0[2], a->u0[3]);
     r->r5[1] = alpha_hash_pcg1(a->u1[0]);
     float cell = alpha_hash_pcg_layer(v3(coord_cell(obj.x), coord_cell(obj.y), coord_cell(obj.z)), a->u1[1]);
@@ -207,7 +210,8 @@ TEST(integer_paths_are_bit_identical)
         CHECK(have_gpu_results);
         return;
     }
-    long long bad_pcg = 0, bad_pcg3d = 0, bad_stoch = 0, bad_a2c_t = 0, bad_mask = 0, bad_layer = 0, bad_cell = 0;
+    long long bad_pcg = 0, bad_pcg3d = 0, bad_stoch = 0, bad_a2c_t = 0, bad_mask = 0, bad_layer = 0, bad_cell = 0,
+              bad_level = 0;
     for (int i = 0; i < COUNT; i++) {
         const twin_out *g = &gpu[i], *c = &cpu[i];
         bad_pcg += !twin_same_bits(g->r0[1], c->r0[1]);
@@ -217,13 +221,14 @@ TEST(integer_paths_are_bit_identical)
         bad_mask += g->r3[0] != c->r3[0];
         bad_layer += g->r5[0] != c->r5[0] || g->r5[1] != c->r5[1];
         bad_cell += g->r5[2] != c->r5[2];
+        bad_level += !twin_same_bits(g->r4[1], c->r4[1]) || !twin_same_bits(g->r4[2], c->r4[2]);
         if (!twin_same_bits(g->r0[1], c->r0[1]) && bad_pcg <= 3)
             fprintf(stderr, "  pcg mismatch at %d: obj (%g %g %g): gpu %.9g cpu %.9g\n", i, inputs[i].obj[0], inputs[i].obj[1],
                     inputs[i].obj[2], g->r0[1], c->r0[1]);
     }
     fprintf(stderr, "  %d inputs; mismatches: pcg %lld, pcg3d %lld, stochastic %lld, a2c threshold %lld, a2c mask %lld, "
-                    "layer key %lld, layered pcg cell %lld\n",
-            COUNT, bad_pcg, bad_pcg3d, bad_stoch, bad_a2c_t, bad_mask, bad_layer, bad_cell);
+                    "layer key %lld, layered pcg cell %lld, level key %lld\n",
+            COUNT, bad_pcg, bad_pcg3d, bad_stoch, bad_a2c_t, bad_mask, bad_layer, bad_cell, bad_level);
     CHECK(bad_pcg == 0);
     CHECK(bad_pcg3d == 0);
     CHECK(bad_stoch == 0);
@@ -231,6 +236,7 @@ TEST(integer_paths_are_bit_identical)
     CHECK(bad_mask == 0);
     CHECK(bad_layer == 0);
     CHECK(bad_cell == 0);
+    CHECK(bad_level == 0);
 }
 
 TEST(gpu_thresholds_are_always_in_range)
