@@ -127,14 +127,18 @@ check "demo compares traditional and hashed" bash -c "grep -q '^traditional' '$T
 
 # ---- TAA settings: CLI, scene file, and the CLI winning over the scene
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "camera": [{"time": 0, "position": [0,1,5], "target": [0,1,0]}, {"time": 1, "position": [0,1,9], "target": [0,1,0]}], "taa": {"blend": 0.25, "gamma": 1.5, "sparse": 0.4, "jitter_length": 8}}' >"$T/taa.json"
-check "scene file sets TAA controls" bash -c "'$BIN' plan '$T/taa.json' --alpha hashed | grep -q 'blend 0.25, gamma 1.50, sparse-coverage slack 0.40, Halton(2,3) jitter of 8 frames; reprojection through depth'"
+check "scene file sets TAA controls" bash -c "'$BIN' plan '$T/taa.json' --alpha hashed | grep -q 'blend 0.25, gamma 1.50, sparse coverage kept within 0.40 of each pixel.s sample, Halton(2,3) jitter of 8 frames; reprojection through depth'"
 check "CLI --taa-blend wins" bash -c "'$BIN' plan '$T/taa.json' --taa-blend 0.05 | grep -q 'blend 0.05'"
-check "CLI --taa-sparse off wins" bash -c "'$BIN' plan '$T/taa.json' --alpha hashed --taa-sparse off | grep -q 'no sparse-coverage slack (off)'"
-check "default sparse-coverage slack" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha stochastic | grep -q 'sparse-coverage slack 0.28'"
-check "no slack where samples are not noise in time" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'no sparse-coverage slack (no alpha test is noise in time)'"
+check "CLI --taa-sparse off wins" bash -c "'$BIN' plan '$T/taa.json' --alpha hashed --taa-sparse off | grep -q 'no sparse-coverage rule (off)'"
+check "default sparse-coverage rule" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha stochastic | grep -q 'sparse coverage kept within 0.95 of each pixel.s sample'"
+check "the sparse-coverage rule for traditional too" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'sparse coverage kept within 0.95'"
+check "disocclusion test where the camera moves" bash -c "'$BIN' plan --builtin fence --frames 4 | grep -q 'history whose nearest surface moved off the pixel dropped (depth)'"
+check "--taa-disocclusion off" bash -c "'$BIN' plan --builtin fence --frames 4 --taa-disocclusion off | grep -q 'no disocclusion test (off)'"
+check "no disocclusion test for a still camera" bash -c "! '$BIN' plan --builtin tree --frames 4 | grep -q 'disocclusion'"
+expect_exit "--taa-disocclusion maybe -> 2" 2 "$BIN" plan --builtin fence --taa-disocclusion maybe
 check "plan shows hashed's frame offset under TAA" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed | grep -q '^hash .*with TAA a golden-ratio offset per frame'"
 check "plan shows --no-hash-offset" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed --no-hash-offset | grep -q '^hash .*with TAA no per-frame offset'"
-check "slack for hashed without its frame offset" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed --no-hash-offset | grep -q 'sparse-coverage slack 0.28'"
+check "the rule for hashed without its frame offset" bash -c "'$BIN' plan --builtin fence --frames 4 --alpha hashed --no-hash-offset | grep -q 'sparse coverage kept within 0.95'"
 expect_exit "--taa-sparse 0 -> 2" 2 "$BIN" plan --builtin fence --taa-sparse 0
 check "--taa-sparse 0 says what it expects" grep -q "expected off or a number in (0, 1]" "$T/err.txt"
 # the resolve's variants (docs/taa.md, "A leaner resolve"): default, each control, and one-line errors
@@ -159,7 +163,7 @@ printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset"
 expect_exit "bad taa.sparse -> 3" 3 "$BIN" plan "$T/badsparse.json"
 check "bad taa.sparse names the JSON path" grep -q "badsparse.json: taa.sparse" "$T/err.txt"
 printf '{"assets": [{"name": "f", "generator": "fence"}], "instances": [{"asset": "f"}], "taa": {"sparse": false}}' >"$T/nosparse.json"
-check "scene file turns the sparse-coverage margin off" bash -c "'$BIN' plan '$T/nosparse.json' --frames 4 --alpha hashed | grep -q 'no sparse-coverage slack (off)'"
+check "scene file turns the sparse-coverage margin off" bash -c "'$BIN' plan '$T/nosparse.json' --frames 4 --alpha hashed | grep -q 'no sparse-coverage rule (off)'"
 
 # Wind sway: the plan shows the animation and the per-object motion path, and drops the motion path
 # without TAA or with --object-motion off; bad values name the option or the JSON path.

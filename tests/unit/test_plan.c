@@ -293,15 +293,15 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(p.taa_coarse_history);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_TRADITIONAL, .layout = l}, &p) == FS_OK);
     CHECK(!p.taa_coarse_history && !has_define(&p.taa_pass, "TAA_COARSE_HISTORY 1"));
-    /* The sparse-coverage slack only where samples are noise in time (issue 16): stochastic and
-     * hashed (with or without the per-frame offset); not traditional, a2c, castano or mipscale. */
+    /* The sparse-coverage rule wherever a surface is alpha-tested (issue 27: a jittered sub-pixel
+     * leaf is a binary draw under any test), with or without hashed's per-frame offset. */
     const struct {
         alpha_mode mode;
         bool no_offset, sparse;
     } sparse_cases[] = {{ALPHA_MODE_STOCHASTIC, false, true}, {ALPHA_MODE_HASHED, false, true},
                         {ALPHA_MODE_HASHED_A2C, false, true}, {ALPHA_MODE_HASHED, true, true},
-                        {ALPHA_MODE_TRADITIONAL, false, false}, {ALPHA_MODE_A2C, false, false},
-                        {ALPHA_MODE_CASTANO, false, false}, {ALPHA_MODE_MIPSCALE, false, false}};
+                        {ALPHA_MODE_TRADITIONAL, false, true}, {ALPHA_MODE_A2C, false, true},
+                        {ALPHA_MODE_CASTANO, false, true}, {ALPHA_MODE_MIPSCALE, false, true}};
     for (size_t i = 0; i < sizeof sparse_cases / sizeof sparse_cases[0]; i++) {
         plan_options po = {.taa = true, .frames = 48, .alpha_mode = sparse_cases[i].mode,
                            .alpha = {.no_frame_offset = sparse_cases[i].no_offset}};
