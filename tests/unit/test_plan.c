@@ -256,10 +256,12 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(!p.taa);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
     CHECK(p.taa && p.camera_motion);
-    /* the default resolve (docs/taa.md, "A leaner resolve"): cross, Catmull-Rom, NaN per tap */
-    CHECK(p.taa_pass.define_count == 4 && has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1") &&
+    /* the default resolve (docs/taa.md, "A leaner resolve"): cross, Catmull-Rom, NaN per tap; the
+     * forest is alpha-tested (the sparse-coverage rule) and its camera moves (disocclusion) */
+    CHECK(p.taa_pass.define_count == 6 && has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1") &&
           has_define(&p.taa_pass, "TAA_RING_COUNT 1") && has_define(&p.taa_pass, "TAA_NEIGHBOURS 5") &&
-          has_define(&p.taa_pass, "TAA_HISTORY_CATMULL_ROM 1"));
+          has_define(&p.taa_pass, "TAA_HISTORY_CATMULL_ROM 1") && has_define(&p.taa_pass, "TAA_SPARSE_COVERAGE 1") &&
+          has_define(&p.taa_pass, "TAA_DISOCCLUSION 1") && p.taa_sparse && p.taa_disocclusion);
     CHECK(!p.taa_coarse_history);
     CHECK(p.taa_controls.blend == 0.1f && p.taa_controls.gamma == 1.0f && p.taa_controls.jitter_length == 16);
     CHECK(p.taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS && p.taa_controls.history == TAA_HISTORY_CATMULL &&
@@ -267,8 +269,12 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     /* the other variants, each to its define */
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .taa_controls = {.neighbourhood = TAA_NEIGHBOURHOOD_3X3,
                                           .history = TAA_HISTORY_BILINEAR, .nan_check = TAA_NAN_SET}}, &p) == FS_OK);
-    CHECK(p.taa_pass.define_count == 4 && has_define(&p.taa_pass, "TAA_NEIGHBOURS 9") &&
+    CHECK(p.taa_pass.define_count == 6 && has_define(&p.taa_pass, "TAA_NEIGHBOURS 9") &&
           !has_define(&p.taa_pass, "TAA_HISTORY_CATMULL_ROM 1") && has_define(&p.taa_pass, "TAA_NAN_PER_SET 1"));
+    /* --taa-disocclusion off */
+    CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .taa_controls = {.no_disocclusion = true}}, &p) ==
+          FS_OK);
+    CHECK(!p.taa_disocclusion && !has_define(&p.taa_pass, "TAA_DISOCCLUSION 1"));
     /* out-of-range values fall back to the defaults */
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .taa_controls = {.neighbourhood = (taa_neighbourhood_kind)7,
                                           .history = (taa_history_kind)-1, .nan_check = (taa_nan_kind)9}}, &p) == FS_OK);
@@ -320,6 +326,7 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     sc.camera.count = 1;
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48}, &p) == FS_OK);
     CHECK(p.taa && !p.camera_motion && !has_define(&p.taa_pass, "TAA_CAMERA_MOTION 1"));
+    CHECK(!p.taa_disocclusion && !has_define(&p.taa_pass, "TAA_DISOCCLUSION 1")); /* nothing moves */
     scene_free(&sc);
 }
 
