@@ -302,11 +302,14 @@ TEST(history_surface_stays_or_leaves)
     /* ... unless it moved with the pixel's own surface: the leaf's own motion (+0.1 m) cancels it */
     CHECK(taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), 1.0f, 0.3f, v3(-0.1f, 0, 0), &inv, &moved, 0.0f, 0.0f,
                                    100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
-    /* a ghost: dense foliage (coverage 0.9) that no frame sees any more is gone after two frames,
-     * a sparse leaf (coverage 0.1) after 29 (0.9^29 < 0.05 <= 0.9^28) */
-    const float covs[2] = {0.9f, 0.1f};
-    const int frames[2] = {2, 29};
+    /* a ghost: dense foliage (coverage 0.8) that no frame sees any more is dropped on the frame
+     * where its run of misses becomes less likely than TAA_UNSEEN_ALPHA (0.2^3 < 0.01 <= 0.2^2: the
+     * third), a sparse leaf (coverage 0.1) on the 44th (0.9^44 < 0.01 <= 0.9^43) */
+    const float covs[2] = {0.8f, 0.1f};
     for (int c = 0; c < 2; c++) {
+        int expect = 1;
+        for (double run = 1.0 - covs[c]; run >= TAA_UNSEEN_ALPHA; run *= 1.0 - covs[c])
+            expect++;
         float u = 1.0f;
         int f = 0;
         while (taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), u, covs[c], v3(0, 0, 0), &inv, &still, 0.1f, 0.2f,
@@ -315,7 +318,8 @@ TEST(history_surface_stays_or_leaves)
             u = keep[1];
             f++;
         }
-        CHECK(f + 1 == frames[c]);
+        printf("  coverage %.1f unseen: dropped on frame %d (expected %d)\n", covs[c], f + 1, expect);
+        CHECK(f + 1 == expect);
     }
     /* hard inputs: finite keep and offset, and no history kept from a surface behind the camera */
     CHECK(!taa_history_surface_here(v3(NAN, 0, 0), 1.0f, 0.3f, v3(0, 0, 0), &inv, &still, 0, 0, 100, 100, NAN, 0.0f,
