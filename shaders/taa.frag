@@ -21,7 +21,7 @@ layout(binding = 4) uniform sampler2DArray u_hist_coverage;
 layout(binding = 5) uniform sampler2D u_motion;             // this ring's per-object motion (world)
 #endif
 #ifdef TAA_DISOCCLUSION
-layout(binding = 6) uniform sampler2DArray u_hist_depth;    // last frame's history: nearest depth, P(unseen)
+layout(binding = 6) uniform sampler2DArray u_hist_depth;    // last frame's history: its nearest surface's depth
 uniform mat4 u_prev_inv_view_proj; // this ring, last frame, unjittered: NDC -> world
 uniform mat4 u_view_proj;          // this ring, this frame, unjittered: world -> clip
 #endif
@@ -60,7 +60,7 @@ bool culled_history(vec2 at, int layer)
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
 #ifdef TAA_DISOCCLUSION
-layout(location = 2) out vec4 o_depth; // the history's nearest surface: window depth, P(frames unseen)
+layout(location = 2) out vec4 o_depth; // the window depth of the nearest surface this pixel's history holds
 #endif
 
 // Compile-time variants (`fovsim plan` shows which; docs/taa.md "A leaner resolve" has their
@@ -110,21 +110,15 @@ vec4 fetch_history(vec2 p, int layer, vec2 prev_size, out float cov)
 
 #ifdef TAA_DISOCCLUSION
 // The history's nearest surface around ring-pixel position p of layer `layer` (the nearest of the
-// four texels around it, with how likely its unseen frames are), at hist_ndc (xy) of this ring's
-// previous frame: does it land on this pixel (common/taa.glsl: taa_history_surface_here)?
-bool surface_here(vec2 p, int layer, vec2 hist_ndc, vec3 motion, vec2 here_ndc, float depth_cur, float cur_cov,
-                  out vec2 keep, out vec2 offset)
+// four texels around it), at hist_ndc (xy) of this ring's previous frame: does it land on this
+// pixel (common/taa.glsl: taa_history_surface_here)?
+bool surface_here(vec2 p, int layer, vec2 hist_ndc, vec3 motion, vec2 here_ndc, float depth_cur, out float keep,
+                  out vec2 offset)
 {
-    vec3 at = vec3(p / u_array_px, float(layer));
-    vec4 gz = textureGather(u_hist_depth, at, 0), gu = textureGather(u_hist_depth, at, 1);
-    vec2 h = vec2(gz.x, gu.x);
-    h = gz.y < h.x ? vec2(gz.y, gu.y) : h;
-    h = gz.z < h.x ? vec2(gz.z, gu.z) : h;
-    h = gz.w < h.x ? vec2(gz.w, gu.w) : h;
-    float cov = textureLod(u_hist_coverage, at, 0.0).r;
-    return taa_history_surface_here(vec3(hist_ndc, h.x * 2.0 - 1.0), h.y, cov, motion, u_prev_inv_view_proj,
-                                    u_view_proj, here_ndc, u_size, depth_cur, cur_cov, float(TAA_PARALLAX_PX),
-                                    float(TAA_UNSEEN_ALPHA), keep, offset);
+    vec4 g = textureGather(u_hist_depth, vec3(p / u_array_px, float(layer)), 0);
+    float z = min(min(g.x, g.y), min(g.z, g.w));
+    return taa_history_surface_here(vec3(hist_ndc, z * 2.0 - 1.0), motion, u_prev_inv_view_proj, u_view_proj, here_ndc,
+                                    u_size, depth_cur, float(TAA_PARALLAX_PX), keep, offset);
 }
 #endif
 
@@ -221,27 +215,26 @@ void main()
 #endif
     }
 #ifdef TAA_DISOCCLUSION
-    // Disocclusion: the history records, per pixel, the depth of the nearest surface it holds and
-    // how far that surface has drifted against the pixels since it was last seen. Carried into this
-    // frame, it must still lie on this pixel; where it has moved away (the pixel's surface now moves
-    // differently from what the history shows), the history is of something else: none
-    // (taa_history_surface_here; docs/taa.md, "Disocclusion").
+    // Disocclusion: the history records, per pixel, the depth of the nearest surface it holds.
+    // Carried into this frame, that surface must still lie on this pixel; where it has moved away
+    // (the pixel's surface now moves differently from what the history shows), the history is of
+    // something else (taa_history_surface_here; docs/taa.md, "Sparse coverage and disocclusion").
     float depth_cur = texelFetch(u_depth, pix, 0).r;
-    vec2 keep = vec2(depth_cur, 1.0);
+    float keep = depth_cur;
     if (valid) {
         vec2 offset;
-        valid = surface_here(prev, prev_layer, prev_ndc, motion, ndc, depth_cur, cur_cov, keep, offset);
+        valid = surface_here(prev, prev_layer, prev_ndc, motion, ndc, depth_cur, keep, offset);
         // Not here: the history whose nearest surface does land here lies `offset` back from where
         // this pixel's own surface came from (a missed leaf's history, where the sample saw what is
         // behind it). Look there once, in this ring's own history.
         vec2 back = prev - offset;
         if (!valid && prev_layer == u_layer && inside_footprint(back, u_prev_size) && dot(offset, offset) > 0.0) {
             vec2 back_ndc = back / u_prev_size * 2.0 - 1.0;
-            valid = surface_here(back, prev_layer, back_ndc, motion, ndc, depth_cur, cur_cov, keep, offset);
+            valid = surface_here(back, prev_layer, back_ndc, motion, ndc, depth_cur, keep, offset);
             prev = valid ? back : prev;
         }
     }
-    o_depth = vec4(keep, 0.0, 1.0);
+    o_depth = vec4(keep, 0.0, 0.0, 1.0);
 #endif
     vec4 hist = cur;
     float hist_cov = cur_cov;

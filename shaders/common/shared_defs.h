@@ -104,8 +104,6 @@
 #define TAA_PARALLAX_PX 0.5          /* history is of this pixel's surfaces while its nearest surface,
                                         carried to this frame, lands within this many ring pixels
                                         (taa_history_surface_here, docs/taa.md "Disocclusion") */
-#define TAA_UNSEEN_ALPHA 0.01        /* ... and while the frames that did not see it are not less
-                                        likely than this under the history's coverage */
 #define TAA_MAX_TAPS 9               /* neighbourhood taps at most (3x3; the cross uses the first 5) */
 
 /* The exact reference's per-pixel fragment lists (A-buffer; docs/reference.md). GLSL:

@@ -383,28 +383,20 @@ bool taa_reproject(vec3 ndc, mat4 inv_view_proj_jittered, mat4 prev_view_proj, o
 
 // C twin: taa_history_surface_here. Is the nearest surface of the history fetched for this pixel
 // still on it? hist_ndc is where the history was fetched, in the previous frame's NDC of this ring
-// (xy), with the window depth of the nearest surface the history holds there as NDC (z);
-// hist_unseen the probability, under the history's coverage, of the frames since that surface was
-// last seen at the pixels it was carried through (1 when seen last frame); hist_coverage the
-// history's coverage there. The surface is carried into this frame through prev_inv_view_proj and
-// view_proj (unjittered), moved by -motion (the pixel's own per-object motion, last frame - now),
-// and must land within max_px ring pixels (Chebyshev) of here_ndc, this pixel's centre (footprint:
-// size ring pixels). Where this frame's sample (window depth depth_cur, coverage
-// current_coverage) does not see it (lies behind it and passed no alpha test), the run of frames
-// that missed it grows by one of probability 1 - hist_coverage: a
-// run less likely than unseen_alpha says the surface is gone (a ghost), not missed. keep: what the
-// history records for this pixel now, (window depth, unseen probability): (depth_cur through
-// taa_sanitize, clamped to [0, 1], 1) where the
-// sample is at least as near or the result is false, else (the carried depth, the run's
-// probability). offset: where it landed minus here_ndc, in ring pixels ((0, 0) where it cannot be
-// carried), for the caller's look for the history whose surface does land here.
-bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
-                              mat4 prev_inv_view_proj, mat4 view_proj, vec2 here_ndc, vec2 size, float depth_cur,
-                              float current_coverage, float max_px, float unseen_alpha, out vec2 keep, out vec2 offset)
+// (xy), with the window depth of the nearest surface the history holds there as NDC (z). It is
+// carried into this frame through prev_inv_view_proj and view_proj (unjittered), moved by -motion
+// (the pixel's own per-object motion, last frame - now), and must land within max_px ring pixels
+// (Chebyshev) of here_ndc, this pixel's centre (footprint: size ring pixels). keep: the window depth
+// the history records for this pixel now: the nearer of this frame's sample (depth_cur, through
+// taa_sanitize, clamped to [0, 1]) and the carried surface, or the sample alone where the result is
+// false. offset: where the surface landed minus here_ndc, in ring pixels ((0, 0) where it cannot
+// be carried: behind either camera, not finite), for the caller's look for the history whose
+// surface does land here.
+bool taa_history_surface_here(vec3 hist_ndc, vec3 motion, mat4 prev_inv_view_proj, mat4 view_proj, vec2 here_ndc,
+                              vec2 size, float depth_cur, float max_px, out float keep, out vec2 offset)
 {
     vec3 now;
-    float dc = clamp(taa_sanitize(depth_cur), 0.0, 1.0);
-    keep = vec2(dc, 1.0);
+    keep = clamp(taa_sanitize(depth_cur), 0.0, 1.0);
     offset = vec2(0.0);
     if (!taa_reproject_moving(hist_ndc, -taa_sanitize3(motion), prev_inv_view_proj, view_proj, now))
         return false;
@@ -414,19 +406,7 @@ bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_cover
     if (!taa_is_finite(far) || far > max_px)
         return false;
     precise float z = now.z * 0.5 + 0.5;
-    float depth_now = clamp(z, 0.0, 1.0);
-    if (dc <= depth_now)
-        return true;
-    if (current_coverage > 0.0) {
-        keep = vec2(depth_now, 1.0);
-        return true;
-    }
-    float u = taa_is_nan(hist_unseen) ? 1.0 : clamp(hist_unseen, 0.0, 1.0);
-    float c = taa_is_nan(hist_coverage) ? 0.0 : clamp(hist_coverage, 0.0, 1.0);
-    precise float p = u * (1.0 - c);
-    if (!(p >= unseen_alpha))
-        return false;
-    keep = vec2(depth_now, p);
+    keep = min(keep, clamp(z, 0.0, 1.0));
     return true;
 }
 

@@ -50,7 +50,7 @@ struct twin_out {
     vec4 o18;  //   tap 4 (x, y), weights 0, 1
     vec4 o19;  //   weights 2, 3, 4, 0
     vec4 o20;  // taa_history_sum(nb[0..4], hw, w.z, w.y != 0)
-    vec4 o21;  // taa_history_surface_here(d.xyz, c.z, c.x, e.xyz, inv, prev, a.xy, h.zw, b.w, a.w, c.w, b.z): keep, offset
+    vec4 o21;  // taa_history_surface_here(d.xyz, e.xyz, inv, prev, a.xy, h.zw, b.w, c.w): keep, 0, offset
     vec4 o22;  //   its result ? 1 : 0, 0, 0, 0
 };
 
@@ -107,10 +107,10 @@ void main()
         hw[k] = p.hw[k / 4][k % 4];
     }
     r.o20 = taa_history_sum(ht, hw, int(p.w.z), p.w.y != 0u);
-    vec2 keep, offset;
-    bool here = taa_history_surface_here(p.d.xyz, p.c.z, p.c.x, p.e.xyz, p.inv, p.prev, p.a.xy, p.h.zw, p.b.w, p.a.w,
-                                         p.c.w, p.b.z, keep, offset);
-    r.o21 = vec4(keep, offset);
+    float keep;
+    vec2 offset;
+    bool here = taa_history_surface_here(p.d.xyz, p.e.xyz, p.inv, p.prev, p.a.xy, p.h.zw, p.b.w, p.c.w, keep, offset);
+    r.o21 = vec4(keep, 0.0, offset);
     r.o22 = vec4(here ? 1.0 : 0.0, 0.0, 0.0, 0.0);
     tout[i] = r;
 }

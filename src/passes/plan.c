@@ -471,7 +471,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
         fprintf(f, "taa        per ring after its passes: %s + %s; history RGBA16F + R16F%s x 2 per ring; "
                    "blend %.2f, gamma %.2f, %s, Halton(2,3) jitter of %d frames; %s%s; %s%s; "
                    "clip box from the %s, %s history, NaN checked per %s\n",
-                p->taa_pass.vs, p->taa_pass.fs, p->taa_disocclusion ? " + depth and drift RG32F" : "", p->taa_controls.blend,
+                p->taa_pass.vs, p->taa_pass.fs, p->taa_disocclusion ? " + depth R32F" : "", p->taa_controls.blend,
                 p->taa_controls.gamma, sparse, p->taa_controls.jitter_length,
                 p->velocity        ? (p->camera_motion ? "reprojection through depth and per-object motion (the camera moves, instances sway)"
                                                        : "reprojection through depth and per-object motion (instances sway)")

@@ -134,7 +134,7 @@ struct renderer {
      * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
     taa_program taa;
     GLuint taa_color[2], taa_coverage[2], taa_fbo[2][MAX_FOV_RINGS];
-    GLuint taa_depth[2];     /* plan.taa_disocclusion: each history pixel's nearest depth and its drift, RG32F */
+    GLuint taa_depth[2];     /* plan.taa_disocclusion: each history pixel's nearest depth, R32F */
     GLuint taa_sampler;
     int parity;                             /* the pair this frame writes */
     int out_parity;                         /* the pair the last frame wrote */

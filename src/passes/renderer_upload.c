@@ -339,9 +339,9 @@ fs_status renderer_create_targets(renderer *r)
             glTextureStorage3D(r->taa_color[k], 1, GL_RGBA16F, r->width, r->height, n);
             glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_coverage[k]);
             glTextureStorage3D(r->taa_coverage[k], 1, GL_R16F, r->width, r->height, n);
-            if (r->pl.taa_disocclusion) { /* each history pixel's nearest depth and its drift (taa.frag) */
+            if (r->pl.taa_disocclusion) { /* each history pixel's nearest depth (taa.frag) */
                 glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_depth[k]);
-                glTextureStorage3D(r->taa_depth[k], 1, GL_RG32F, r->width, r->height, n);
+                glTextureStorage3D(r->taa_depth[k], 1, GL_R32F, r->width, r->height, n);
                 glTextureParameteri(r->taa_depth[k], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
                 glTextureParameteri(r->taa_depth[k], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
                 glTextureParameteri(r->taa_depth[k], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -375,7 +375,7 @@ fs_status renderer_create_targets(renderer *r)
         glCreateTextures(GL_TEXTURE_2D, 1, &r->list_color);
         glTextureStorage2D(r->list_color, 1, GL_RGBA32F, r->width, r->height);
         glCreateTextures(GL_TEXTURE_2D, 1, &r->list_coverage);
-        glTextureStorage2D(r->list_coverage, 1, GL_RG32F, r->width, r->height);
+        glTextureStorage2D(r->list_coverage, 1, GL_R32F, r->width, r->height);
         glCreateFramebuffers(1, &r->list_fbo);
         glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT0, r->list_color, 0);
         glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT1, r->list_coverage, 0);

@@ -369,16 +369,13 @@ void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jitte
 
 /* >>disocclusion */
 
-bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
-                              const mat4 *prev_inv_view_proj, const mat4 *view_proj, float here_x, float here_y,
-                              float size_x, float size_y, float depth_cur, float current_coverage, float max_px,
-                              float unseen_alpha, float keep[2], float offset[2])
+bool taa_history_surface_here(vec3 hist_ndc, vec3 motion, const mat4 *prev_inv_view_proj, const mat4 *view_proj,
+                              float here_x, float here_y, float size_x, float size_y, float depth_cur, float max_px,
+                              float *keep, float offset[2])
 {
     vec3 now, m = sanitize3(motion);
     bool valid;
-    float dc = clampf(taa_sanitize(depth_cur), 0.0f, 1.0f);
-    keep[0] = dc;
-    keep[1] = 1.0f;
+    *keep = clampf(taa_sanitize(depth_cur), 0.0f, 1.0f);
     offset[0] = offset[1] = 0.0f;
     taa_reproject_moving(hist_ndc, v3(-m.x, -m.y, -m.z), prev_inv_view_proj, view_proj, &now, &valid);
     if (!valid)
@@ -390,19 +387,6 @@ bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_cover
     if (!is_finite_bits(far) || far > max_px)
         return false;
     float z = now.z * 0.5f + 0.5f;
-    float depth_now = clampf(z, 0.0f, 1.0f);
-    if (dc <= depth_now)
-        return true;
-    if (current_coverage > 0.0f) {
-        keep[0] = depth_now;
-        return true;
-    }
-    float u = is_nan_bits(hist_unseen) ? 1.0f : clampf(hist_unseen, 0.0f, 1.0f);
-    float c = is_nan_bits(hist_coverage) ? 0.0f : clampf(hist_coverage, 0.0f, 1.0f);
-    float p = u * (1.0f - c);
-    if (!(p >= unseen_alpha))
-        return false;
-    keep[0] = depth_now;
-    keep[1] = p;
+    *keep = fminf(*keep, clampf(z, 0.0f, 1.0f));
     return true;
 }

@@ -27,8 +27,8 @@
  *   taa_reproject(ndc, inv_vp_jittered, prev_vp, &prev, &valid);      // -> history uv
  *   vec3 c = taa_rgb_to_ycocg(taa_sanitize_color(current));
  *   vec3 h = taa_rgb_to_ycocg(taa_sanitize_color(history_catmull_rom));
- *   valid = valid && taa_history_surface_here(hist_ndc, unseen, hist_cov, motion, prev_inv_vp, vp, here, size,
- *                                             depth, cur_cov, TAA_PARALLAX_PX, TAA_UNSEEN_ALPHA, keep, offset);
+ *   valid = valid && taa_history_surface_here(hist_ndc, motion, prev_inv_vp, vp, here, size, depth,
+ *                                             TAA_PARALLAX_PX, &keep, offset); // keep -> history depth
  *   float m;
  *   history_coverage = taa_sparse_coverage(history_coverage, cur_cov, cov_min, cov_max, TAA_SPARSE_SLACK, &m);
  *   h = taa_clip_to_box(h, mean, sigma, TAA_GAMMA_DEFAULT, TAA_SPARSE_COLOR * m); // YCoCg
@@ -166,32 +166,23 @@ void taa_reproject(vec3 ndc, const mat4 *inv_view_proj_jittered, const mat4 *pre
 void taa_reproject_moving(vec3 ndc, vec3 motion, const mat4 *inv_view_proj_jittered, const mat4 *prev_view_proj,
                           vec3 *out, bool *valid);
 
-/* Disocclusion (docs/taa.md, "Disocclusion"): is the history fetched for a pixel still of the
- * surfaces that lie on it? The history records, per pixel, the window depth of the nearest surface
- * it holds and how likely the frames since that surface was last seen are: the product of 1 -
- * coverage over the frames whose sample lay behind it (1 when seen last frame). hist_ndc is that
- * surface in the previous frame's NDC of this ring (xy where the history was fetched, z its depth
- * as NDC), hist_unseen that probability (NaN -> 1, clamped to [0, 1]), hist_coverage the history's
- * coverage there (NaN -> 0, clamped to [0, 1]). The surface is carried into this frame through
+/* Disocclusion (docs/taa.md, "Sparse coverage and disocclusion"): is the history fetched for a pixel
+ * still of the surfaces that lie on it? The history records, per pixel, the window depth of the
+ * nearest surface it holds. hist_ndc is that surface in the previous frame's NDC of this ring (xy
+ * where the history was fetched, z its depth as NDC). It is carried into this frame through
  * prev_inv_view_proj and view_proj (unjittered), moved by -motion (the pixel's own per-object
- * motion, last frame - now), with taa_reproject_moving, and must land within max_px ring pixels
- * (Chebyshev, for a footprint of size_x x size_y ring pixels) of (here_x, here_y), the pixel's
- * centre in this frame's NDC. Where this frame's sample (window depth depth_cur) lies behind it and
- * passed no alpha test (current_coverage 0, which the history's coverage says happens with
- * probability 1 - hist_coverage), the run of frames that missed it grows: p = hist_unseen * (1 - hist_coverage) must stay >=
- * unseen_alpha (a run less likely than that under the history's own coverage says the surface is
- * gone, a ghost, rather than missed). Returns whether the history stays. keep[] = what the history
- * records for the pixel now: (depth_cur through taa_sanitize, clamped to [0, 1], 1) where the
- * sample is at least as near (seen) or the
- * result is false, else (the carried surface's window depth clamped to [0, 1], p). offset[] = where
- * it landed minus the pixel's centre, in ring pixels, through taa_sanitize ((0, 0) where it cannot
- * be carried: behind either camera, not finite): the resolve looks for the history whose surface
- * lands here at the fetch position minus it. A still camera and no motion land every surface on
- * its own pixel. GLSL twin: taa_history_surface_here. */
-bool taa_history_surface_here(vec3 hist_ndc, float hist_unseen, float hist_coverage, vec3 motion,
-                              const mat4 *prev_inv_view_proj, const mat4 *view_proj, float here_x, float here_y,
-                              float size_x, float size_y, float depth_cur, float current_coverage, float max_px,
-                              float unseen_alpha, float keep[2], float offset[2]);
+ * motion, last frame - now), with taa_reproject_moving. True when it lands within max_px ring pixels
+ * (Chebyshev distance, for a footprint of size_x x size_y ring pixels) of (here_x, here_y), the
+ * pixel's centre in this frame's NDC. *keep = what the history records for the pixel now: the
+ * nearer of the pixel's own sample (depth_cur through taa_sanitize, clamped to [0, 1]) and the
+ * carried surface (its window depth, clamped to [0, 1]); the sample alone where the result is
+ * false. offset[] = where the surface landed minus the pixel's centre, in ring pixels, through
+ * taa_sanitize ((0, 0) where it cannot be carried: behind either camera, not finite): the resolve
+ * looks for the history whose surface lands here at the fetch position minus it. A still camera
+ * and no motion land every surface on its own pixel. GLSL twin: taa_history_surface_here. */
+bool taa_history_surface_here(vec3 hist_ndc, vec3 motion, const mat4 *prev_inv_view_proj, const mat4 *view_proj,
+                              float here_x, float here_y, float size_x, float size_y, float depth_cur, float max_px,
+                              float *keep, float offset[2]);
 
 #ifdef __cplusplus
 }

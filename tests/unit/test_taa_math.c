@@ -275,58 +275,43 @@ TEST(history_surface_stays_or_leaves)
 {
     mat4 still = look_down_z(v3(0, 0, 0)), inv;
     m4_invert(still, &inv);
-    float keep[2], off[2], near = window_depth(&still, 2.0f), far = window_depth(&still, 50.0f);
+    float keep, off[2], near = window_depth(&still, 2.0f), far = window_depth(&still, 50.0f);
+    const float px = (float)TAA_PARALLAX_PX;
     /* a still camera: the history's nearest surface (a leaf at 2 m) stays on the pixel whose sample
-     * sees the background at 50 m; the unseen run is the history's chance of missing it once */
-    CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), 1.0f, 0.3f, v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100,
-                                   100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
-    CHECK_NEAR(keep[0], near, 1e-6);
-    CHECK_NEAR(keep[1], 0.7, 1e-6);
+     * sees the background at 50 m (a missed leaf), and stays the record */
+    CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100, 100, far, px,
+                                   &keep, off));
+    CHECK_NEAR(keep, near, 1e-6);
     CHECK(fabsf(off[0]) < 1e-3f && fabsf(off[1]) < 1e-3f);
-    /* seen this frame (the sample is as near): drift reset */
-    CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), 0.2f, 0.3f, v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100,
-                                   100, near, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
-    CHECK(keep[0] == near && keep[1] == 1.0f);
-    /* ... or the sample passed an alpha test behind it: the run of misses is broken, the record kept */
-    CHECK(taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), 0.2f, 0.3f, v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100,
-                                   100, far, 1.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
-    CHECK_NEAR(keep[0], near, 1e-6);
-    CHECK(keep[1] == 1.0f);
+    /* a nearer sample becomes the record */
+    CHECK(taa_history_surface_here(v3(0.1f, 0.2f, far * 2 - 1), v3(0, 0, 0), &inv, &still, 0.1f, 0.2f, 100, 100, near, px,
+                                   &keep, off));
+    CHECK(keep == near);
     /* the camera moves 0.1 m right: the leaf at 2 m moves 2.5 px left against the background, whose
-     * pixel no longer holds it; the offset says where it went */
+     * pixel no longer holds it; the offset says where it went, and the record is the sample */
     mat4 moved = look_down_z(v3(0.1f, 0, 0));
-    CHECK(!taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), 1.0f, 0.3f, v3(0, 0, 0), &inv, &moved, -0.002f, 0.0f,
-                                    100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+    CHECK(!taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), v3(0, 0, 0), &inv, &moved, -0.002f, 0.0f, 100, 100, far,
+                                    px, &keep, off));
     CHECK_NEAR(off[0], -2.4, 0.05);
-    CHECK(keep[0] == far && keep[1] == 1.0f);
-    /* ... unless it moved with the pixel's own surface: the leaf's own motion (+0.1 m) cancels it */
-    CHECK(taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), 1.0f, 0.3f, v3(-0.1f, 0, 0), &inv, &moved, 0.0f, 0.0f,
-                                   100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
-    /* a ghost: dense foliage (coverage 0.8) that no frame sees any more is dropped on the frame
-     * where its run of misses becomes less likely than TAA_UNSEEN_ALPHA (0.2^3 < 0.01 <= 0.2^2: the
-     * third), a sparse leaf (coverage 0.1) on the 44th (0.9^44 < 0.01 <= 0.9^43) */
-    const float covs[2] = {0.8f, 0.1f};
-    for (int c = 0; c < 2; c++) {
-        int expect = 1;
-        for (double run = 1.0 - covs[c]; run >= TAA_UNSEEN_ALPHA; run *= 1.0 - covs[c])
-            expect++;
-        float u = 1.0f;
-        int f = 0;
-        while (taa_history_surface_here(v3(0.1f, 0.2f, near * 2 - 1), u, covs[c], v3(0, 0, 0), &inv, &still, 0.1f, 0.2f,
-                                        100, 100, far, 0.0f, (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off) &&
-               f < 100) {
-            u = keep[1];
-            f++;
-        }
-        printf("  coverage %.1f unseen: dropped on frame %d (expected %d)\n", covs[c], f + 1, expect);
-        CHECK(f + 1 == expect);
-    }
-    /* hard inputs: finite keep and offset, and no history kept from a surface behind the camera */
-    CHECK(!taa_history_surface_here(v3(NAN, 0, 0), 1.0f, 0.3f, v3(0, 0, 0), &inv, &still, 0, 0, 100, 100, NAN, 0.0f,
-                                    (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
-    CHECK(keep[0] == 0.0f && keep[1] == 1.0f && off[0] == 0.0f && off[1] == 0.0f);
-    CHECK(!taa_history_surface_here(v3(0, 0, 0.5f), 1.0f, 0.3f, v3(1e30f, 0, 0), &inv, &still, 0, 0, 100, 100, far, 0.0f,
-                                    (float)TAA_PARALLAX_PX, (float)TAA_UNSEEN_ALPHA, keep, off));
+    CHECK(keep == far);
+    /* ... and the history 2.4 px back (where the leaf that lands here was) passes */
+    float back = 0.0f - off[0] * 2.0f / 100.0f;
+    CHECK(taa_history_surface_here(v3(back, 0.0f, near * 2 - 1), v3(0, 0, 0), &inv, &moved, -0.002f, 0.0f, 100, 100, far,
+                                   px, &keep, off));
+    CHECK(fabsf(off[0]) <= px);
+    /* ... or it moved with the pixel's own surface: the leaf's own motion (+0.1 m) cancels it */
+    CHECK(taa_history_surface_here(v3(0.0f, 0.0f, near * 2 - 1), v3(-0.1f, 0, 0), &inv, &moved, 0.0f, 0.0f, 100, 100, far,
+                                   px, &keep, off));
+    /* half a pixel is the bound: 0.4 px passes, 0.6 px does not */
+    CHECK(taa_history_surface_here(v3(0.008f, 0.0f, far * 2 - 1), v3(0, 0, 0), &inv, &still, 0.0f, 0.0f, 100, 100, far, px,
+                                   &keep, off));
+    CHECK(!taa_history_surface_here(v3(0.012f, 0.0f, far * 2 - 1), v3(0, 0, 0), &inv, &still, 0.0f, 0.0f, 100, 100, far,
+                                    px, &keep, off));
+    /* hard inputs: finite record and offset, and no history kept from a surface carried off-screen */
+    CHECK(!taa_history_surface_here(v3(NAN, 0, 0), v3(0, 0, 0), &inv, &still, 0, 0, 100, 100, NAN, px, &keep, off));
+    CHECK(keep == 0.0f && off[0] == 0.0f && off[1] == 0.0f);
+    CHECK(!taa_history_surface_here(v3(0, 0, 0.5f), v3(1e30f, 0, 0), &inv, &still, 0, 0, 100, 100, far, px, &keep, off));
+    CHECK(isfinite(off[0]) && isfinite(off[1]));
 }
 
 /* >>resolve */
@@ -759,10 +744,10 @@ TEST(hard_cases_stay_finite)
                 CHECK(v3_finite(clip));
                 float sm, sc = taa_sparse_coverage(x, y, y, z, z, &sm);
                 CHECK(isfinite(sc) && isfinite(sm) && sm >= 0.0f);
-                float keep[2], off[2];
+                float keep, off[2];
                 mat4 hm = m4_translate(va);
-                taa_history_surface_here(va, x, y, vb, &hm, &hm, x, y, z, z, x, y, z, y, keep, off);
-                CHECK(isfinite(keep[0]) && isfinite(keep[1]) && isfinite(off[0]) && isfinite(off[1]));
+                taa_history_surface_here(va, vb, &hm, &hm, x, y, z, z, x, y, &keep, off);
+                CHECK(isfinite(keep) && keep >= 0.0f && keep <= 1.0f && isfinite(off[0]) && isfinite(off[1]));
                 vec3 r = taa_resolve(va, vb, (a & 1) != 0, hard_values[(b + c) % HARD_COUNT]);
                 CHECK(v3_finite(r) && r.x >= 0 && r.y >= 0 && r.z >= 0);
                 CHECK(r.x <= 65504.0f && r.y <= 65504.0f && r.z <= 65504.0f);
