@@ -19,7 +19,7 @@
  *   - a clamp the lookups never reach (level 16, the ALPHA_LOD_CLAMP variant compiled) draws
  *     bit-identical pixels to no clamp, and a clamp at level 0 does not (the comparison can fail);
  *   - the reference ignores the clamp (plan_material_alpha_lod_max, checked in test_plan).
- * About 30 s on 2 cores with llvmpipe, most of it the S = 16 references. */
+ * 15-30 s on 2 shared cores with llvmpipe, most of it the S = 16 references. */
 #include <unistd.h>
 
 #include "gpu_util.h"
