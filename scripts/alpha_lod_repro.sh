@@ -3,9 +3,10 @@
 # (issue 27 part 5): walls of 60 randomly turned MegaKit plants at distance D (over 0.9 D x 0.44 D
 # of a 90 deg view, +-10 % in depth), 320x180, rings and TAA off, one frame, still camera,
 # traditional/stochastic/hashed against the exact reference. SEEDS walls per case (scatter seeds
-# 1..SEEDS), their coverage summed, because 60 small plants cover only 40-700 pixels each.
+# 1..SEEDS), their coverage summed, because a wall of 60 small plants covers only 10-1400 pixels.
 #   scripts/alpha_lod_repro.sh OUT [--seeds N] [--assets A,B] [--distances D,D] [-- compare options]
 # e.g. scripts/alpha_lod_repro.sh out/alod -- --supersample 1 --alpha-lod-max 6
+# Default: 8 seeds, Clover_1 and Flower_3_Group, 32/64/128 m. FOVSIM_SHARED: the shared assets.
 # Prints per asset, distance and mode: coverage / reference coverage (summed over the walls), the
 # reference's covered pixels, and the mean RMSE and FLIP of the walls.
 set -eu
@@ -22,7 +23,7 @@ while [ $# -gt 0 ]; do
   *) echo "alpha_lod_repro.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
-SHARED=$(cd "$(dirname "$0")/../../shared/assets/quaternius_megakit_set_a" && pwd)
+SHARED=$(cd "${FOVSIM_SHARED:-$(dirname "$0")/../../shared}/assets/quaternius_megakit_set_a" && pwd)
 mkdir -p "$OUT"
 wall() { # ASSET D SEED FILE
   python3 - "$SHARED" "$1" "$2" "$3" "$4" <<'PY'

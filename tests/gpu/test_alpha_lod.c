@@ -1,7 +1,7 @@
 /* The alpha LOD clamp (issue 27 part 5, docs/hashed-alpha.md "Alpha LOD clamp"): with
  * --alpha-lod-max N the alpha test reads alpha at most at mip level N.
  *
- * Scene: walls of 60 randomly turned Quaternius MegaKit Clover_1 (../shared/assets, CC0; Leaves.png,
+ * Scene: walls of 60 randomly turned Quaternius MegaKit Clover_1 (the shared test assets, CC0; Leaves.png,
  * a 2048^2 atlas, cutoff 0.2) at 64 m, over 0.9 D x 0.44 D of a 90-degree view, +-10 % in depth,
  * 320x180, one frame, rings and TAA off; scatter seeds 1..4, coverage summed over the four walls
  * (one wall covers only ~40 reference pixels). No test of this project was tuned on Clover_1.
