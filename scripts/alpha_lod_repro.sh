@@ -4,8 +4,10 @@
 # of a 90 deg view, +-10 % in depth), 320x180, rings and TAA off, one frame, still camera,
 # traditional/stochastic/hashed against the exact reference. SEEDS walls per case (scatter seeds
 # 1..SEEDS), their coverage summed, because a wall of 60 small plants covers only 10-1400 pixels.
-#   scripts/alpha_lod_repro.sh OUT [--seeds N] [--assets A,B] [--distances D,D] [-- compare options]
+#   scripts/alpha_lod_repro.sh OUT [--seeds N] [--assets A,B] [--distances D,D] [--frames F]
+#                              [-- compare options]
 # e.g. scripts/alpha_lod_repro.sh out/alod -- --supersample 1 --alpha-lod-max 6
+# --frames F (> 1): F frames with TAA on (still camera), the last frame measured.
 # Default: 8 seeds, Clover_1 and Flower_3_Group, 32/64/128 m. FOVSIM_SHARED: the shared assets.
 # Prints per asset, distance and mode: coverage / reference coverage (summed over the walls), the
 # reference's covered pixels, and the mean RMSE and FLIP of the walls.
@@ -13,12 +15,13 @@ set -eu
 BIN=${FOVSIM_BIN:-build/fovsim}
 OUT=${1:?usage: alpha_lod_repro.sh OUT [--seeds N] [--assets A,B] [--distances D,D] [-- compare options]}
 shift
-SEEDS=8 ASSETS=Clover_1,Flower_3_Group DISTANCES=32,64,128
+SEEDS=8 ASSETS=Clover_1,Flower_3_Group DISTANCES=32,64,128 FRAMES=1
 while [ $# -gt 0 ]; do
   case $1 in
   --seeds) SEEDS=$2; shift 2 ;;
   --assets) ASSETS=$2; shift 2 ;;
   --distances) DISTANCES=$2; shift 2 ;;
+  --frames) FRAMES=$2; shift 2 ;;
   --) shift; break ;;
   *) echo "alpha_lod_repro.sh: unknown option $1" >&2; exit 2 ;;
   esac
@@ -41,9 +44,10 @@ for asset in ${ASSETS//,/ }; do
     : >"$OUT/${asset}_$D.csv"
     for seed in $(seq 1 "$SEEDS"); do
       wall "$asset" "$D" "$seed" "$OUT/${asset}_${D}_$seed.json"
-      "$BIN" compare --scene "$OUT/${asset}_${D}_$seed.json" --rings off --taa off --frames 1 \
+      TAA=off; [ "$FRAMES" -gt 1 ] && TAA=on
+      "$BIN" compare --scene "$OUT/${asset}_${D}_$seed.json" --rings off --taa $TAA --frames "$FRAMES" \
         --modes traditional,stochastic,hashed --out "$OUT/cmp" --replace --quiet "$@" >/dev/null
-      awk -F, 'NR>1 && $4==-1' "$OUT/cmp/metrics.csv" >>"$OUT/${asset}_$D.csv"
+      awk -F, -v last=$((FRAMES - 1)) 'NR>1 && $4==-1 && $1==last' "$OUT/cmp/metrics.csv" >>"$OUT/${asset}_$D.csv"
     done
     echo -n "$asset $D m: "
     awk -F, '{c[$3]+=$6*$5; r[$3]+=$7*$5; e[$3]+=$9; f[$3]+=$11; n[$3]++; if (!($3 in o)) o[$3]=++k}
