@@ -51,6 +51,11 @@ uniform bool u_double_sided;
 uniform float u_mip_bias;    // log2 units, added to every lookup
 uniform float u_mip_scale;   // exp2(u_mip_bias)
 uniform vec3 u_eye;
+#ifdef ALPHA_LOD_CLAMP
+// The material's alpha LOD clamp (docs/hashed-alpha.md "Alpha LOD clamp"): the alpha test reads
+// alpha at most at this mip level; ALPHA_LOD_OFF (< 0) for the pass's materials without one.
+uniform float u_alpha_lod_max;
+#endif
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage; // .r stored; .a drives blending of the coverage target
@@ -79,6 +84,24 @@ void main()
 #else
         lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
 #endif
+    }
+#endif
+#ifdef ALPHA_LOD_CLAMP
+    // Where the lookup reads a level coarser than the clamp, alpha comes from the clamp's level
+    // instead (colour keeps the whole chain): a card smaller than a coarse level's texel then keeps
+    // its own alpha rather than the atlas's average around it. Mip scaling then scales by the
+    // clamped level (the one alpha was read at); the hashed fade-in keeps the pixel footprint's
+    // level: a pixel still spans 2^lod texels, of which the finer read is one point sample, and
+    // only the full noise keeps its expectation the footprint's mean alpha. C twin: alpha_lod_clamp.
+    if (u_has_base_tex) {
+        float level = alpha_texture_fade_level(dFdx(v_uv), dFdy(v_uv), vec2(textureSize(u_base_tex, 0)), u_mip_scale);
+        float read = alpha_lod_clamp(level, u_alpha_lod_max);
+        if (read < level) {
+            alpha = textureLod(u_base_tex, v_uv, read).a * u_base_color.a * v_color.a;
+#if ALPHA_MODE != ALPHA_MODE_ID_HASHED
+            lod = min(lod, read);
+#endif
+        }
     }
 #endif
 #ifdef A2C_SHARPEN

@@ -122,6 +122,10 @@ void cli_print_help(command cmd)
            "  --no-hash-offset    hashed with TAA: thresholds stay put instead of moving by a\n"
            "                      golden-ratio offset each frame (docs/hashed-alpha.md)\n"
            "  --a2c-sharpen       a2c: mip-level alpha scaling and fwidth sharpening (Golus)\n"
+           "  --alpha-lod-max N|off  alpha-tested materials read alpha at most at mip level N (0-16;\n"
+           "                      colour keeps the whole chain), unless a material sets its own\n"
+           "                      \"alpha_lod_max\"; off: no clamp, the scene's neither (atlases seen\n"
+           "                      from afar, docs/hashed-alpha.md \"Alpha LOD clamp\"; default none)\n"
            "  --taa on|off        temporal antialiasing per ring (default on for more than one frame)\n"
            "  --taa-blend W       weight of the current frame in the history (default 0.1)\n"
            "  --taa-gamma G       history clipping box, in standard deviations (default 1)\n"
@@ -347,7 +351,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--name", "--width", "--height", "--alpha", "--gpu",
                                                  "--warmup", "--first-frame", "--markdown", "--compression", "--rings", "--ring-lod",
                                                  "--gaze", "--gaze-format", "--eye", "--format", "--hash-scale",
-                                                 "--hash", "--fade-n", "--modes", "--taa", "--taa-blend",
+                                                 "--hash", "--fade-n", "--alpha-lod-max", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-disocclusion", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
                                                  "--asset-root", "--max-image-mpixels", "--max-scene-mpixels"};
@@ -534,6 +538,20 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             }
         } else if (!strcmp(opt, "--fade-n"))
             ok = parse_float(opt, val, 0.0f, 16.0f, &d->fade_n);
+        else if (!strcmp(opt, "--alpha-lod-max")) {
+            char *end;
+            errno = 0;
+            double x = strtod(val, &end);
+            if (!strcmp(val, "off")) {
+                d->alpha_lod = -1;
+            } else if (errno || end == val || *end || !isfinite(x) || x < 0.0 || x > ALPHA_LOD_MAX_LIMIT) {
+                log_error("--alpha-lod-max: expected a mip level in [0, %g] or off, got '%s'", ALPHA_LOD_MAX_LIMIT, val);
+                ok = false;
+            } else {
+                d->alpha_lod = 1;
+                d->alpha_lod_max = (float)x;
+            }
+        }
         else if (!strcmp(opt, "--hash")) {
             d->hash_kind = !strcmp(val, "pcg") ? ALPHA_HASH_PCG : !strcmp(val, "sine") ? ALPHA_HASH_SINE : -1;
             ok = d->hash_kind >= 0;

@@ -67,6 +67,8 @@ typedef struct run_desc {
     int taa_history;         /* --taa-history catmull|bilinear: TAA_HISTORY_* (plan.h), 0 = default */
     int taa_nan;             /* --taa-nan tap|set: TAA_NAN_* (plan.h), 0 = default */
     float fade_n;            /* --fade-n, 0 = default 6 */
+    int alpha_lod;           /* --alpha-lod-max: 0 not given, 1 a level (alpha_lod_max), -1 off */
+    float alpha_lod_max;     /* --alpha-lod-max N: mip level in [0, ALPHA_LOD_MAX_LIMIT] */
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;
     int supersample;         /* reference: --supersample S (S x S per pixel), 0 = default 4 */

@@ -349,6 +349,13 @@ float alpha_texture_fade_level(vec2 duv_dx, vec2 duv_dy, vec2 tex_size, float mi
     return level;
 }
 
+// C twin: alpha_lod_clamp. The level the alpha test reads under a clamp lod_max: min(level,
+// lod_max); lod_max < 0 or NaN: no clamp (level).
+float alpha_lod_clamp(float level, float lod_max)
+{
+    return (lod_max >= 0.0 && level > lod_max) ? lod_max : level;
+}
+
 // >>stochastic
 
 // C twin: alpha_stochastic_threshold (seed 000 §4), uniform in (0, 1].

@@ -67,6 +67,12 @@
 /* Seed 002 (Golus): alpha is scaled by 1 + lod * ALPHA_MIPSCALE_PER_LOD in the mipscale mode. */
 #define ALPHA_MIPSCALE_PER_LOD 0.25
 
+/* Alpha LOD clamp (docs/hashed-alpha.md "Alpha LOD clamp"): the alpha test of a MASK material reads
+ * alpha at most at mip level N (scene "alpha_lod_max", --alpha-lod-max), colour keeps the whole
+ * chain. Values in [0, ALPHA_LOD_MAX_LIMIT]; ALPHA_LOD_OFF (or any negative value) = no clamp. */
+#define ALPHA_LOD_MAX_LIMIT 16.0
+#define ALPHA_LOD_OFF (-1.0)
+
 /* Hashed / stochastic alpha thresholds (seed 000 §4-6). GLSL: common/alpha_hash.glsl, C twin:
  * src/passes/alpha_hash.c; docs/hashed-alpha.md explains each choice. */
 #define ALPHA_HASH_PCG 0            /* pcg3d integer hash (Jarzynski & Olano 2020) */

@@ -9,7 +9,7 @@ struct twin_in {
     vec4 obj;  // xyz object position, w hash_scale
     vec4 dx;   // xyz dFdx(obj)
     vec4 dy;   // xyz dFdy(obj)
-    vec4 p0;   // fade: cutoff, lod, (unused), fade_n
+    vec4 p0;   // fade: cutoff, lod, alpha LOD clamp, fade_n
     vec4 p1;   // lod: duv_dx.xy, duv_dy.xy
     vec4 p2;   // lod: tex_size.xy; a2c: xi1, xi2
     vec4 p3;   // a2c: alpha, chi; cdf: x, lerp_factor
@@ -26,7 +26,8 @@ struct twin_out {
     vec4 r2;   // alpha_hash_log2_scale, alpha_hashed_a2c_threshold, alpha_hash_sine2(obj.xy), sin(obj.x)
     uvec4 r3;  // alpha_hashed_a2c_mask, alpha_hash_pcg3d(u0.zw, u1.x)
     vec4 r4;   // alpha_hashed_frame_offset(p4.x, u1.x), the high and low 16 bits of
-               // alpha_hash_level_key(u1.x % 125 - 62) (exact as floats), (unused)
+               // alpha_hash_level_key(u1.x % 125 - 62) (exact as floats),
+               // alpha_lod_clamp(texture fade level, p0.z)
     uvec4 r5;  // alpha_hash_layer(u0.z, u0.w), alpha_hash_pcg1(u1.x), the bits of
                // alpha_hash_pcg_cell(floor(obj), u1.y) and of alpha_hashed_threshold (no layer)
 };
@@ -58,7 +59,8 @@ void main()
     r.r3 = uvec4(alpha_hashed_a2c_mask(a.p3.x, int(a.u1.z), a.p2.z, a.p2.w, a.p3.y),
                  alpha_hash_pcg3d(uvec3(a.u0.z, a.u0.w, a.u1.x)));
     uint level_key = alpha_hash_level_key(int(a.u1.x % 125u) - 62);
-    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), float(level_key >> 16u), float(level_key & 0xffffu), 0.0);
+    r.r4 = vec4(alpha_hashed_frame_offset(a.p4.x, a.u1.x), float(level_key >> 16u), float(level_key & 0xffffu),
+                alpha_lod_clamp(r.r1.z, a.p0.z));
     vec3 cell = floor(vec3(alpha_hash_coord(a.obj.x), alpha_hash_coord(a.obj.y), alpha_hash_coord(a.obj.z)));
     r.r5 = uvec4(alpha_hash_layer(a.u0.z, a.u0.w), alpha_hash_pcg1(a.u1.x),
                  floatBitsToUint(alpha_hash_pcg_cell(cell, a.u1.y)),

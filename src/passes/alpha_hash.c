@@ -323,6 +323,11 @@ float alpha_texture_fade_level(const float duv_dx[2], const float duv_dy[2], con
     return 0.5f * log2f(minf(v, big));
 }
 
+float alpha_lod_clamp(float level, float lod_max)
+{
+    return lod_max >= 0.0f && level > lod_max ? lod_max : level;
+}
+
 /* >>stochastic */
 
 float alpha_stochastic_threshold(uint32_t pixel_x, uint32_t pixel_y, uint32_t frame, uint32_t salt)

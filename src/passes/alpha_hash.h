@@ -12,6 +12,7 @@
  *                                         CDF-corrected threshold in (0, 1]
  *   alpha_hashed_fade                     seed 000 §5.5.1 fade-in around the material cutoff
  *   alpha_texture_lod                     the LOD of a texture footprint (trilinear)
+ *   alpha_lod_clamp                       the level the alpha test reads under --alpha-lod-max
  *   alpha_stochastic_threshold            seed 000 §4: uniform in (0, 1], new per pixel and frame
  *   alpha_hashed_a2c_threshold / _mask    seed 000 §6: per-sample thresholds of hashed A2C
  *
@@ -145,6 +146,13 @@ float alpha_texture_lod(const float duv_dx[2], const float duv_dy[2], const floa
  * result is in [0, 60] (zero derivatives give 0).
  * GLSL twin: alpha_texture_fade_level. */
 float alpha_texture_fade_level(const float duv_dx[2], const float duv_dy[2], const float tex_size[2], float mip_scale);
+
+/* The alpha LOD clamp (docs/hashed-alpha.md "Alpha LOD clamp"): the level the alpha test of a
+ * clamped material reads, min(level, lod_max), where level is alpha_texture_fade_level's. lod_max
+ * < 0 (ALPHA_LOD_OFF) or NaN: no clamp, level itself. The forward shader re-reads alpha at lod_max
+ * only where the result is below level (textureLod), and the hashed fade and mip scaling take the
+ * clamped level. GLSL twin: alpha_lod_clamp. */
+float alpha_lod_clamp(float level, float lod_max);
 
 /* Seed 000 §4: ((pcg3d(x, y, frame ^ salt) reduced to 24 bits) + 1) * 2^-24, uniform in (0, 1]
  * (0 impossible, 1 possible). GLSL twin: alpha_stochastic_threshold. */

@@ -44,6 +44,32 @@ alpha_mode plan_material_mode(const plan *p, const material *m)
     return m->alpha_mode != ALPHA_MODE_DEFAULT && !p->reference ? m->alpha_mode : p->global_mode;
 }
 
+float plan_material_alpha_lod_max(const plan *p, const material *m)
+{
+    if (p->reference || m->alpha_kind != ALPHA_KIND_MASK || p->alpha.lod_clamp < 0)
+        return (float)ALPHA_LOD_OFF;
+    if (m->has_alpha_lod_max)
+        return m->alpha_lod_max;
+    return p->alpha.lod_clamp > 0 ? p->alpha.lod_max : (float)ALPHA_LOD_OFF;
+}
+
+void plan_alpha_lod_format(const plan *p, const scene *sc, char *buf, size_t size)
+{
+    size_t o = 0;
+    buf[0] = '\0';
+    for (int a = 0; a < sc->asset_count; a++)
+        for (int k = 0; k < sc->assets[a].material_count; k++) {
+            const material *m = &sc->assets[a].materials[k];
+            float l = plan_material_alpha_lod_max(p, m);
+            if (l < 0.0f || strstr(buf, m->name)) /* a name shared by several assets is listed once */
+                continue;
+            int n = snprintf(buf + o, size - o, "%s%s %g", o ? ", " : "", m->name, (double)l);
+            if (n < 0 || (size_t)n >= size - o)
+                return;
+            o += (size_t)n;
+        }
+}
+
 const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode)
 {
     for (int i = 0; i < p->pass_count; i++)
@@ -63,6 +89,14 @@ static void add_define(plan_pass *ps, const char *name, int value)
     }
     snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "%s %d", name, value);
     qsort(ps->defines, (size_t)ps->define_count, sizeof ps->defines[0], cmp_str);
+}
+
+static bool plan_has_define(const plan_pass *ps, const char *define)
+{
+    for (int d = 0; d < ps->define_count; d++)
+        if (!strcmp(ps->defines[d], define))
+            return true;
+    return false;
 }
 
 static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
@@ -210,6 +244,12 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                     out->msaa = true;
                 if (mode == ALPHA_MODE_CASTANO)
                     out->castano = true;
+                /* The alpha LOD clamp: compiled only into the passes of materials that have one. */
+                if (kind == PLAN_PASS_FORWARD_MASK && plan_material_alpha_lod_max(out, m) >= 0.0f) {
+                    out->alpha_lod_prims++;
+                    if (!plan_has_define(ps, "ALPHA_LOD_CLAMP 1"))
+                        add_define(ps, "ALPHA_LOD_CLAMP", 1);
+                }
             }
         }
     }
@@ -451,6 +491,12 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
         fprintf(f, "ring LOD   keep fraction u per ring = %s of the cards of %d MASK primitives (%llu cards in the "
                    "scene), kept cards scaled by sqrt(1/u) about their centres (RING_LOD)%s\n",
                 u, p->ring_lod_prims, (unsigned long long)p->ring_lod_cards, card);
+    }
+    if (p->alpha_lod_prims > 0) {
+        char lods[256];
+        plan_alpha_lod_format(p, sc, lods, sizeof lods);
+        fprintf(f, "alpha LOD  the alpha test of %d MASK primitives reads alpha at most at mip level: %s; colour keeps "
+                   "the whole chain (ALPHA_LOD_CLAMP)\n", p->alpha_lod_prims, lods);
     }
     if (p->sway)
         fprintf(f, "animation  %d of %d instances sway in the wind (vertex displacement in every forward pass)\n",

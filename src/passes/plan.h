@@ -52,6 +52,9 @@ typedef struct alpha_params {
     bool no_frame_offset; /* with TAA: no per-frame golden-ratio offset of hashed thresholds */
     float fade_n;       /* mip levels over which the noise fades in, default 6 */
     bool a2c_sharpen;   /* a2c: Golus's mip-level alpha scaling and fwidth sharpening (seed 002) */
+    int lod_clamp;      /* --alpha-lod-max: 0 = only materials with their own "alpha_lod_max";
+                         * 1 = lod_max for every MASK material without one; -1 (off) = no clamp */
+    float lod_max;      /* with lod_clamp 1: mip level in [0, ALPHA_LOD_MAX_LIMIT] */
 } alpha_params;
 
 /* Fills zero fields with defaults. */
@@ -150,6 +153,8 @@ typedef struct plan {
     int ring_lod_prims;         /* MASK primitives that are simplified (scene_cards_count) */
     uint64_t ring_lod_cards;    /* their cards, instances included */
     char ring_lod_why[64];      /* asked for but not compiled: why (for `fovsim plan`), else "" */
+    int alpha_lod_prims;        /* MASK primitives whose alpha lookup is clamped (plan_material_alpha_lod_max
+                                 * >= 0): their passes compile ALPHA_LOD_CLAMP; 0 = no pass does */
     bool list_resolve;          /* the exact reference's list pass runs: its lists are sorted and
                                  * composited by list_resolve_pass (shaders/list_resolve.frag) */
     plan_pass list_resolve_pass;
@@ -161,6 +166,13 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out);
 const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode);
 /* The effective alpha mode of a material under this plan. */
 alpha_mode plan_material_mode(const plan *p, const material *m);
+/* The mip level at most at which a MASK material's alpha test reads alpha under this plan (its
+ * own "alpha_lod_max", else --alpha-lod-max), or ALPHA_LOD_OFF: no clamp, also for the reference
+ * (the ground truth of the material as it is) and for materials that are not MASK. */
+float plan_material_alpha_lod_max(const plan *p, const material *m);
+/* The clamps in use, for `fovsim plan` and the EXR header: "Leaves 6, Flowers 6" (material and
+ * level, each name once); "" when none. */
+void plan_alpha_lod_format(const plan *p, const scene *sc, char *buf, size_t size);
 /* Human-readable description (for `fovsim plan`). */
 void plan_print(const plan *p, const scene *sc, FILE *f);
 

@@ -75,6 +75,7 @@ static fs_status program_create(const plan_pass *ps, gpu_program *out)
     out->u_ring_lod = glGetUniformLocation(p, "u_ring_lod");
     out->u_ring_lod_instance = glGetUniformLocation(p, "u_ring_lod_instance");
     out->u_ring_lod_px = glGetUniformLocation(p, "u_ring_lod_px");
+    out->u_alpha_lod_max = glGetUniformLocation(p, "u_alpha_lod_max");
     return FS_OK;
 }
 

@@ -85,7 +85,7 @@ static void set_frame_uniforms(const renderer *r, const gpu_program *pg, const f
     }
 }
 
-static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi)
+static void set_material(const renderer *r, const gpu_program *pg, const gpu_asset *ga, const asset *as, int mi)
 {
     const material *m = &as->materials[mi];
     bool tex = m->base_color_image >= 0;
@@ -94,6 +94,8 @@ static void set_material(const gpu_program *pg, const gpu_asset *ga, const asset
     glProgramUniform1f(pg->id, pg->u_alpha_cutoff, m->alpha_cutoff);
     glProgramUniform1i(pg->id, pg->u_double_sided, m->double_sided);
     glProgramUniform1f(pg->id, pg->u_fade_n, ga->fade_n[mi]);
+    if (pg->u_alpha_lod_max >= 0) /* ALPHA_LOD_CLAMP passes: this material's clamp, or none */
+        glProgramUniform1f(pg->id, pg->u_alpha_lod_max, plan_material_alpha_lod_max(&r->pl, m));
     GLuint t = !tex ? 0 : ga->castano[mi] ? ga->castano[mi] : ga->textures[m->base_color_image];
     glBindTextureUnit(TEX_UNIT_BASE_COLOR, t);
     glBindSampler(TEX_UNIT_BASE_COLOR, ga->samplers[mi]);
@@ -127,7 +129,7 @@ static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, 
         const material *m = &as->materials[as->prims[p].material];
         if (!prim_in_pass(r, m, ps))
             continue;
-        set_material(pg, ga, as, as->prims[p].material);
+        set_material(r, pg, ga, as, as->prims[p].material);
         if (pg->u_draw_order >= 0) { /* each draw's instances take the next orders (draw_order.glsl) */
             glProgramUniform1ui(pg->id, pg->u_draw_order, r->list_draw_order);
             r->list_draw_order += (uint32_t)count;

@@ -40,7 +40,7 @@ typedef struct gpu_program {
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
         u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive, u_ring_lod,
-        u_ring_lod_instance, u_ring_lod_px;
+        u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max;
 } gpu_program;
 
 typedef struct composite_program {

@@ -79,6 +79,9 @@ typedef struct material {
     float alpha_cutoff;      /* glTF alphaCutoff, default 0.5 */
     bool double_sided;       /* glTF doubleSided, default false */
     alpha_mode alpha_mode;   /* per-material override from the scene file, DEFAULT = none */
+    bool has_alpha_lod_max;  /* scene file "alpha_lod_max" given (docs/scene-format.md) */
+    float alpha_lod_max;     /* with has_alpha_lod_max: the alpha test reads alpha at most at this
+                              * mip level, in [0, ALPHA_LOD_MAX_LIMIT] (docs/hashed-alpha.md) */
 } material;
 
 /* >>geometry */

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/shared_defs.h"
 #include "core/log.h"
 #include "fov/fov_ring.h"
 #include "fov/ring_lod.h"
@@ -155,7 +156,7 @@ static void material_names(const scene *sc, char *list, size_t n)
  * reports a name that matches no material). */
 static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
 {
-    static const char *const keys[] = {"alpha_mode", "alpha_cutoff", "double_sided", "comment", NULL};
+    static const char *const keys[] = {"alpha_mode", "alpha_cutoff", "double_sided", "alpha_lod_max", "comment", NULL};
     char got[64], mp[256], kp[300];
     scene *sc = c->sc;
     if (!cJSON_IsObject(obj))
@@ -172,9 +173,10 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
         const cJSON *jmode_ = cJSON_GetObjectItemCaseSensitive(ov, "alpha_mode");
         const cJSON *jcut = cJSON_GetObjectItemCaseSensitive(ov, "alpha_cutoff");
         const cJSON *jds = cJSON_GetObjectItemCaseSensitive(ov, "double_sided");
+        const cJSON *jlod = cJSON_GetObjectItemCaseSensitive(ov, "alpha_lod_max");
         const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(ov, "comment");
         alpha_mode mode = ALPHA_MODE_DEFAULT;
-        float cutoff = 0;
+        float cutoff = 0, lod_max = 0;
         bool ds = false;
         const char *str;
         if (jmode_ && (s = jmode(c, jmode_, jkey_path(kp, sizeof kp, mp, "alpha_mode"), &mode)) != FS_OK)
@@ -182,6 +184,10 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
         if (jcut && (s = jfloat(c, jcut, jkey_path(kp, sizeof kp, mp, "alpha_cutoff"), R_UNIT, &cutoff)) != FS_OK)
             return s;
         if (jds && (s = jbool(c, jds, jkey_path(kp, sizeof kp, mp, "double_sided"), &ds)) != FS_OK)
+            return s;
+        /* A mip level (docs/hashed-alpha.md "Alpha LOD clamp"). */
+        if (jlod && (s = jfloat(c, jlod, jkey_path(kp, sizeof kp, mp, "alpha_lod_max"),
+                                (nrange){0, ALPHA_LOD_MAX_LIMIT, false, false, false, false}, &lod_max)) != FS_OK)
             return s;
         if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, mp, "comment"), &str)) != FS_OK)
             return s;
@@ -200,6 +206,10 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
                     mat->alpha_cutoff = cutoff;
                 if (jds)
                     mat->double_sided = ds;
+                if (jlod) {
+                    mat->has_alpha_lod_max = true;
+                    mat->alpha_lod_max = lod_max;
+                }
             }
         if (!matched) {
             char list[512];

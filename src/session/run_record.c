@@ -25,7 +25,7 @@
  * here until it is sorted into one of the two (LP64 only: the size is the ABI's; a bool that fits
  * into padding slips through, so read the list when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 304, "run_desc changed: add the new field to run_record_describe (or to its list "
+_Static_assert(sizeof(run_desc) == 312, "run_desc changed: add the new field to run_record_describe (or to its list "
                                         "of fields that change nothing written), then update this size");
 #endif
 
@@ -36,7 +36,8 @@ _Static_assert(sizeof(run_desc) == 304, "run_desc changed: add the new field to 
 
 /* What scene_content_hash (the geometry, materials and images, which the reference cache keys)
  * leaves out but a frame depends on: the camera path, the light and sky, the display, and the
- * scene's own defaults for the options ("alpha", "taa", "rings", "ring_lod"). */
+ * scene's own defaults for the options ("alpha", "taa", "rings", "ring_lod") and the materials'
+ * alpha LOD clamps. */
 static uint64_t scene_settings_hash(const scene *sc)
 {
     uint64_t h = hash_u64(HASH_FNV_INIT, (uint64_t)sc->camera.count);
@@ -56,6 +57,11 @@ static uint64_t scene_settings_hash(const scene *sc)
     float tv[3] = {sc->taa.blend, sc->taa.gamma, sc->taa.sparse};
     h = hash_floats(hash_u64(hash_u64(h, sc->taa.given), sc->taa.off), tv, 3);
     h = hash_u64(h, (uint64_t)sc->taa.jitter_length);
+    /* Materials' "alpha_lod_max" (only those that have one: other scenes hash as before). */
+    for (int a = 0; a < sc->asset_count; a++)
+        for (int m = 0; m < sc->assets[a].material_count; m++)
+            if (sc->assets[a].materials[m].has_alpha_lod_max)
+                h = hash_floats(hash_u64(h, ((uint64_t)a << 32) | (uint64_t)m), &sc->assets[a].materials[m].alpha_lod_max, 1);
     return hash_str(hash_str(h, sc->rings), sc->ring_lod);
 }
 
@@ -138,6 +144,13 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
             d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");
         sb_printf(&t, "a2c sharpen: %d\n", d->a2c_sharpen);
+        if (d->alpha_lod != 0) /* absent when not given: folders written before the option stay valid */
+        {
+            if (d->alpha_lod < 0)
+                sb_printf(&t, "alpha lod max: off\n");
+            else
+                sb_printf(&t, "alpha lod max: %.9g\n", d->alpha_lod_max);
+        }
         sb_printf(&t, "taa: %d, blend %.9g, gamma %.9g, sparse %.9g, jitter %d, neighbourhood %d, history %d, nan %d\n",
             d->taa, d->taa_blend, d->taa_gamma, d->taa_sparse, d->jitter_length, d->taa_neighbourhood, d->taa_history,
             d->taa_nan);

@@ -59,7 +59,8 @@ int session_frame_count(const run_desc *d, const scene *sc)
 static alpha_params run_alpha_params(const run_desc *d)
 {
     alpha_params a = {.hash_scale = d->hash_scale, .anisotropic = d->hash_aniso, .no_fade = d->no_fade,
-                      .no_frame_offset = d->no_hash_offset, .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen};
+                      .no_frame_offset = d->no_hash_offset, .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen,
+                      .lod_clamp = d->alpha_lod, .lod_max = d->alpha_lod_max};
     a.hash_kind = d->hash_kind >= 0 ? d->hash_kind : ALPHA_HASH_DEFAULT;
     return alpha_params_defaults(&a);
 }
@@ -198,6 +199,11 @@ void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_t
         char lod[160];
         ring_lod_format_u(&pl->ring_lod_spec, &pl->layout, lod, sizeof lod);
         exr_image_set_string(img, "fovsim:ring_lod_u", lod);
+    }
+    if (pl->alpha_lod_prims > 0) { /* only when it changes pixels, as ring LOD */
+        char lods[256];
+        plan_alpha_lod_format(pl, sc, lods, sizeof lods);
+        exr_image_set_string(img, "fovsim:alpha_lod_max", lods);
     }
     char rings[256];
     fov_layout_format(&pl->layout, rings, sizeof rings);

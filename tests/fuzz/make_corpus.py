@@ -227,7 +227,7 @@ SCENE_TRI = """{
     {"time": 1.5, "position": [3, 1, 5], "target": [0, 0.5, 0], "cut": true},
     {"time": 2, "position": [3, 2, 5], "target": [0, 0.5, 0]}
   ],
-  "materials": {"leaf": {"alpha_mode": "castano", "alpha_cutoff": 0.3, "double_sided": false},
+  "materials": {"leaf": {"alpha_mode": "castano", "alpha_cutoff": 0.3, "double_sided": false, "alpha_lod_max": 5},
                 "fronds": {"alpha_mode": "mipscale"}},
   "rings": "10:1:0,25:1/2:0,*:1/4:0.5",
   "taa": {"enabled": true, "blend": 0.1, "gamma": 1, "sparse": 0.28, "jitter_length": 16}

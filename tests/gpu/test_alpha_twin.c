@@ -16,7 +16,8 @@
  *     exponent bits, coordinates sanitised so that every product is exact; floor),
  *     so a difference beyond float noise needs floor(log2(pixScale)) or a per-axis level on the
  *     other side of an integer: rare, and reported.
- *   - cdf, fade (and its halves, fade level and fade at a level), lod, log2 scale: >= 99.9 % within
+ *   - cdf, fade (and its halves, fade level and fade at a level), lod, the alpha LOD clamp of the
+ *     fade level, log2 scale: >= 99.9 % within
  *     1e-5 (relative for the log2 scale and the fade level), same reason.
  *   - the sine hash: 1e4 sin(...) turns sin's last-bit error into ~1e-3, and the nested hash
  *     multiplies the inner hash's difference by another ~2e5 (17 * 1e4 * 1.1), so the 3D hash only
@@ -120,6 +121,9 @@ static void make_input(int i, twin_in *in)
     in->p0[1] = h ? hard() : rngf(-2, 10);
     const float fade_ns[] = {6.0f, 0.0f, 3.0f, 6.0f};
     in->p0[3] = h ? hard() : fade_ns[rng_u64() % 4];
+    /* alpha LOD clamp: a level in [-1, 12] (negative: no clamp), hard values in the hard group;
+     * from the index, so the other inputs stay as they were */
+    in->p0[2] = h ? hard_values[i % HARD_COUNT] : (float)((i * 7) % 53) / 4.0f - 1.0f;
     in->p4[0] = h ? hard() : 1.0f - rngf(0, 1);
     const float mip_scales[] = {1.0f, 0.0f, 0.5f, 2.0f, 1e-30f, 1e19f};
     /* 2^mip bias, from the index (no extra draws: the other inputs stay as they were) */
@@ -180,6 +184,7 @@ static void run_cpu(const twin_in *a, twin_out *r)
     uint32_t level_key = alpha_hash_level_key((int)(a->u1[0] % 125u) - 62);
     r->r4[1] = (float)(level_key >> 16u);
     r->r4[2] = (float)(level_key & 0xffffu);
+    r->r4[3] = alpha_lod_clamp(alpha_texture_fade_level(&a->p1[0], &a->p1[2], &a->p2[0], a->p4[1]), a->p0[2]);
     r->r5[0] = alpha_hash_layer(a->u0[2], a->u0[3]);
     r->r5[1] = alpha_hash_pcg1(a->u1[0]);
     float cell = alpha_hash_pcg_layer(v3(coord_cell(obj.x), coord_cell(obj.y), coord_cell(obj.z)), a->u1[1]);
@@ -272,6 +277,7 @@ static float f_threshold_unlayered(const twin_out *o)
 }
 static float f_sine(const twin_out *o) { return o->r0[2]; }
 static float f_frame_offset(const twin_out *o) { return o->r4[0]; }
+static float f_lod_clamp(const twin_out *o) { return o->r4[3]; }
 static float f_fade(const twin_out *o) { return o->r1[0]; }
 static float f_tex_fade_level(const twin_out *o) { return o->r1[2]; }
 static float f_lod(const twin_out *o) { return o->r1[1]; }
@@ -331,7 +337,8 @@ TEST(cdf_fade_lod_agree)
         bool rel;
     } fields[] = {{"cdf", f_cdf, 1e-5, false},   {"fade", f_fade, 1e-5, false},
                   {"tex level", f_tex_fade_level, 1e-5, true}, {"lod", f_lod, 1e-5, true},
-                  {"log2 scale", f_log2, 1e-5, true}, {"frame offset", f_frame_offset, 1e-6, false}};
+                  {"log2 scale", f_log2, 1e-5, true}, {"frame offset", f_frame_offset, 1e-6, false},
+                  {"lod clamp", f_lod_clamp, 1e-5, true}};
     for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++)
         for (int g = 0; g < GROUPS; g++) {
             double worst;

@@ -800,6 +800,28 @@ TEST(texture_lod_follows_the_long_axis)
     CHECK(isfinite(alpha_texture_lod((float[2]){1e-40f, 0}, (float[2]){0, 1e-40f}, size)));
 }
 
+/* The alpha LOD clamp (docs/hashed-alpha.md "Alpha LOD clamp"): the level the alpha test reads is
+ * min(level, lod_max); a negative or NaN lod_max is no clamp. */
+TEST(alpha_lod_clamp_is_min_of_level_and_clamp)
+{
+    CHECK(alpha_lod_clamp(8.2f, 4.0f) == 4.0f);
+    CHECK(alpha_lod_clamp(3.5f, 4.0f) == 3.5f);
+    CHECK(alpha_lod_clamp(4.0f, 4.0f) == 4.0f);
+    CHECK(alpha_lod_clamp(0.7f, 0.0f) == 0.0f);
+    CHECK(alpha_lod_clamp(0.0f, 0.0f) == 0.0f);
+    CHECK(alpha_lod_clamp(8.2f, (float)ALPHA_LOD_OFF) == 8.2f);
+    CHECK(alpha_lod_clamp(8.2f, -1e30f) == 8.2f);
+    CHECK(alpha_lod_clamp(8.2f, NAN) == 8.2f);
+    CHECK(alpha_lod_clamp(60.0f, (float)ALPHA_LOD_MAX_LIMIT) == (float)ALPHA_LOD_MAX_LIMIT);
+    /* Composed with the fade level, as the forward shader does: a 256 x 128 texture seen at 64 x 64
+     * texels per pixel reads level 6, clamped to 4. */
+    const float size[2] = {256, 128};
+    float level = alpha_texture_fade_level((float[2]){64.0f / 256, 0}, (float[2]){0, 64.0f / 128}, size, 1.0f);
+    CHECK_NEAR(level, 6.0, 1e-6);
+    CHECK(alpha_lod_clamp(level, 4.0f) == 4.0f);
+    CHECK(alpha_lod_clamp(level, 7.0f) == level);
+}
+
 /* The forward shader's hashed test takes the fade level from the uv derivatives in one log2
  * (alpha_texture_fade_level): the level the trilinear lookup reads, alpha_texture_lod's lod biased
  * and clamped at 0 as the sampler does, and nothing more for anisotropy (issue 16: the level
@@ -1142,5 +1164,6 @@ int main(void)
     RUN(layers_in_one_noise_cell_cover_as_independent_layers);
     RUN(layered_thresholds_are_uniform);
     RUN(hashed_thresholds_are_uniform_within_a_pixel_of_the_origin);
+    RUN(alpha_lod_clamp_is_min_of_level_and_clamp);
     return test_summary();
 }

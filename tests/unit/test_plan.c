@@ -129,6 +129,98 @@ TEST(unplaced_assets_cost_nothing)
     scene_free(&sc);
 }
 
+static bool pass_has_define(const plan_pass *ps, const char *define)
+{
+    for (int d = 0; d < ps->define_count; d++)
+        if (!strcmp(ps->defines[d], define))
+            return true;
+    return false;
+}
+
+/* How many passes compile the alpha LOD clamp. */
+static int clamp_passes(const plan *p)
+{
+    int n = 0;
+    for (int i = 0; i < p->pass_count; i++)
+        n += pass_has_define(&p->passes[i], "ALPHA_LOD_CLAMP 1");
+    return n;
+}
+
+/* The alpha LOD clamp (docs/hashed-alpha.md "Alpha LOD clamp"): ALPHA_LOD_CLAMP only in the MASK
+ * passes of materials that have a clamp (their own "alpha_lod_max", else --alpha-lod-max), none
+ * for --alpha-lod-max off, none for the reference. */
+TEST(alpha_lod_clamp_only_where_a_material_has_one)
+{
+    scene sc;
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_MASK, 2);
+    add(&sc, ALPHA_KIND_MASK, 3);
+    add(&sc, ALPHA_KIND_OPAQUE, 1);
+    add(&sc, ALPHA_KIND_BLEND, 1);
+    snprintf(sc.assets[0].materials[0].name, sizeof sc.assets[0].materials[0].name, "leaves");
+    snprintf(sc.assets[1].materials[0].name, sizeof sc.assets[1].materials[0].name, "flowers");
+    sc.assets[1].materials[0].alpha_mode = ALPHA_MODE_HASHED; /* a pass of its own */
+    material *leaves = &sc.assets[0].materials[0], *flowers = &sc.assets[1].materials[0];
+    char buf[128];
+    plan p;
+
+    /* Nothing asked: no variant, bit-identical passes to before the option existed. */
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(p.pass_count == 4 && clamp_passes(&p) == 0 && p.alpha_lod_prims == 0);
+    CHECK(plan_material_alpha_lod_max(&p, leaves) < 0.0f);
+    plan_alpha_lod_format(&p, &sc, buf, sizeof buf);
+    CHECK(buf[0] == '\0');
+
+    /* --alpha-lod-max 5: both MASK passes, not the opaque or blend ones. */
+    plan_options o = {.alpha = {.lod_clamp = 1, .lod_max = 5.0f}};
+    CHECK(plan_build(&sc, &o, &p) == FS_OK);
+    CHECK(clamp_passes(&p) == 2 && p.alpha_lod_prims == 2);
+    CHECK(pass_has_define(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_TRADITIONAL), "ALPHA_LOD_CLAMP 1"));
+    CHECK(pass_has_define(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED), "ALPHA_LOD_CLAMP 1"));
+    CHECK(plan_material_alpha_lod_max(&p, leaves) == 5.0f);
+    CHECK(plan_material_alpha_lod_max(&p, &sc.assets[3].materials[0]) < 0.0f); /* BLEND */
+    plan_alpha_lod_format(&p, &sc, buf, sizeof buf);
+    CHECK(strcmp(buf, "leaves 5, flowers 5") == 0);
+
+    /* A material's own clamp: only its pass; with --alpha-lod-max it wins over the option. */
+    flowers->has_alpha_lod_max = true;
+    flowers->alpha_lod_max = 3.0f;
+    CHECK(plan_build(&sc, NULL, &p) == FS_OK);
+    CHECK(clamp_passes(&p) == 1 && p.alpha_lod_prims == 1);
+    CHECK(pass_has_define(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_HASHED), "ALPHA_LOD_CLAMP 1"));
+    CHECK(!pass_has_define(plan_find(&p, PLAN_PASS_FORWARD_MASK, ALPHA_MODE_TRADITIONAL), "ALPHA_LOD_CLAMP 1"));
+    CHECK(plan_build(&sc, &o, &p) == FS_OK);
+    CHECK(plan_material_alpha_lod_max(&p, flowers) == 3.0f && plan_material_alpha_lod_max(&p, leaves) == 5.0f);
+    plan_alpha_lod_format(&p, &sc, buf, sizeof buf);
+    CHECK(strcmp(buf, "leaves 5, flowers 3") == 0);
+
+    /* --alpha-lod-max off: none, the scene's neither. */
+    o.alpha.lod_clamp = -1;
+    CHECK(plan_build(&sc, &o, &p) == FS_OK);
+    CHECK(clamp_passes(&p) == 0 && p.alpha_lod_prims == 0 && plan_material_alpha_lod_max(&p, flowers) < 0.0f);
+
+    /* The reference draws the materials as they are (both kinds), whatever is asked. */
+    o.alpha.lod_clamp = 1;
+    for (int lists = 0; lists < 2; lists++) {
+        plan_options r = o;
+        r.reference = true;
+        r.reference_lists = lists;
+        CHECK(plan_build(&sc, &r, &p) == FS_OK);
+        CHECK(clamp_passes(&p) == 0 && p.alpha_lod_prims == 0);
+        CHECK(plan_material_alpha_lod_max(&p, flowers) < 0.0f && plan_material_alpha_lod_max(&p, leaves) < 0.0f);
+    }
+    scene_free(&sc);
+
+    /* No MASK material, no variant, whatever is asked. */
+    scene_init_defaults(&sc);
+    add(&sc, ALPHA_KIND_OPAQUE, 1);
+    add(&sc, ALPHA_KIND_BLEND, 1);
+    o.alpha.lod_clamp = 1;
+    CHECK(plan_build(&sc, &o, &p) == FS_OK);
+    CHECK(clamp_passes(&p) == 0 && p.alpha_lod_prims == 0);
+    scene_free(&sc);
+}
+
 TEST(modes_choose_variants_and_targets)
 {
     scene sc;
@@ -372,6 +464,7 @@ int main(void)
     RUN(exact_reference_passes_follow_the_content);
     RUN(unplaced_assets_cost_nothing);
     RUN(modes_choose_variants_and_targets);
+    RUN(alpha_lod_clamp_only_where_a_material_has_one);
     RUN(shipped_scenes);
     RUN(rings_and_composite_only_when_asked);
     RUN(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera);

@@ -318,7 +318,7 @@ TEST(json_scene_with_generator_and_gltf)
              "    {\"time\": 1.5, \"position\": [0, 1.6, 9], \"target\": [0, 1, 0]},\n"
              "    {\"time\": 2.5, \"position\": [5, 1.6, 9], \"target\": [5, 1, 0], \"cut\": true}\n"
              "  ],\n"
-             "  \"materials\": {\"Leaves\": {\"alpha_mode\": \"hashed\", \"alpha_cutoff\": 0.3}}\n"
+             "  \"materials\": {\"Leaves\": {\"alpha_mode\": \"hashed\", \"alpha_cutoff\": 0.3, \"alpha_lod_max\": 4.5}}\n"
              "}\n",
              abs_fern, rel);
     const char *path = write_scene("good.json", text);
@@ -360,8 +360,10 @@ TEST(json_scene_with_generator_and_gltf)
                 leaves++;
                 CHECK(mat->alpha_mode == ALPHA_MODE_HASHED);
                 CHECK_NEAR(mat->alpha_cutoff, 0.3, 1e-6);
+                CHECK(mat->has_alpha_lod_max && mat->alpha_lod_max == 4.5f);
             } else {
                 CHECK(mat->alpha_mode == ALPHA_MODE_DEFAULT);
+                CHECK(!mat->has_alpha_lod_max);
             }
         }
     CHECK(leaves == 2);
@@ -505,6 +507,8 @@ static const struct bad_case {
     {"duplicate key", "{" A "," I "," I "}", FS_ERR_SCENE},
     {"material override matching nothing", "{" A "," I ", \"materials\": {\"bark\": {\"alpha_mode\": \"hashed\"}}}", FS_ERR_SCENE},
     {"material override cutoff 1.5", "{" A "," I ", \"materials\": {\"fronds\": {\"alpha_cutoff\": 1.5}}}", FS_ERR_SCENE},
+    {"material override alpha_lod_max 16.5", "{" A "," I ", \"materials\": {\"fronds\": {\"alpha_lod_max\": 16.5}}}", FS_ERR_SCENE},
+    {"material override alpha_lod_max -1", "{" A "," I ", \"materials\": {\"fronds\": {\"alpha_lod_max\": -1}}}", FS_ERR_SCENE},
     {"material override bad key", "{" A "," I ", \"materials\": {\"fronds\": {\"cutoff\": 0.5}}}", FS_ERR_SCENE},
     {"display width 0", "{" A "," I ", \"display\": {\"width\": 0}}", FS_ERR_SCENE},
     {"display width too large", "{" A "," I ", \"display\": {\"width\": 100000}}", FS_ERR_SCENE},
