@@ -3,13 +3,15 @@
 // jitter. Each pixel reprojects through its depth (and, with TAA_OBJECT_MOTION, its swaying
 // instance's own motion) into the PREVIOUS frame's ring (the ring frustum moves with the gaze),
 // fetches that history (Catmull-Rom or bilinear), clips it to the variance box of the current
-// neighbourhood (3x3 or cross) in YCoCg (widened where sparse stochastic coverage
-// makes that neighbourhood miss what the history holds), and blends. History that falls outside the
+// neighbourhood (3x3 or cross) in YCoCg (widened by the coverage the history keeps beyond the
+// neighbourhood's), and blends. History that falls outside the
 // previous ring's footprint (a saccade) comes, with TAA_COARSE_HISTORY (stochastic alpha tests),
 // from the innermost coarser ring whose previous footprint holds it; where none does, without it,
-// or where the point was behind the previous camera, the pixel takes the current sample. NaN and
-// Inf never enter history. The math is in common/taa.glsl (C twin:
-// src/passes/taa_math.c).
+// or where the point was behind the previous camera, the pixel takes the current sample. With
+// TAA_DISOCCLUSION the history also records its nearest surface's depth, and history whose nearest
+// surface has moved off the pixel is dropped; the history's coverage is kept unless the pixel's own
+// sample refutes it (TAA_SPARSE_COVERAGE). NaN and Inf never enter history. The math is in
+// common/taa.glsl (C twin: src/passes/taa_math.c).
 #include "common/taa.glsl"
 
 layout(binding = 0) uniform sampler2DArray u_cur_color;     // this frame's rings (jittered)
@@ -19,6 +21,9 @@ layout(binding = 3) uniform sampler2DArray u_hist_color;    // last frame's reso
 layout(binding = 4) uniform sampler2DArray u_hist_coverage;
 #ifdef TAA_OBJECT_MOTION
 layout(binding = 5) uniform sampler2D u_motion;             // this ring's per-object motion (world)
+#endif
+#if defined(TAA_DISOCCLUSION) && !(defined(TAA_CAMERA_MOTION) || defined(TAA_OBJECT_MOTION))
+#error "TAA_DISOCCLUSION needs the reprojection through depth (TAA_CAMERA_MOTION or TAA_OBJECT_MOTION)"
 #endif
 #ifdef TAA_DISOCCLUSION
 layout(binding = 6) uniform sampler2DArray u_hist_depth;    // last frame's history: its nearest surface's depth

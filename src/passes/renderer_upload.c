@@ -375,7 +375,7 @@ fs_status renderer_create_targets(renderer *r)
         glCreateTextures(GL_TEXTURE_2D, 1, &r->list_color);
         glTextureStorage2D(r->list_color, 1, GL_RGBA32F, r->width, r->height);
         glCreateTextures(GL_TEXTURE_2D, 1, &r->list_coverage);
-        glTextureStorage2D(r->list_coverage, 1, GL_R32F, r->width, r->height);
+        glTextureStorage2D(r->list_coverage, 1, GL_RG32F, r->width, r->height);
         glCreateFramebuffers(1, &r->list_fbo);
         glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT0, r->list_color, 0);
         glNamedFramebufferTexture(r->list_fbo, GL_COLOR_ATTACHMENT1, r->list_coverage, 0);
