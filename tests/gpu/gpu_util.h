@@ -3,10 +3,14 @@
 #ifndef FOVSIM_GPU_UTIL_H
 #define FOVSIM_GPU_UTIL_H
 
+#include <stdio.h>
+#include <unistd.h>
+
 #include "gl/gl_device.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "scene/frame.h"
+#include "scene/scene.h"
 #include "test.h"
 
 static inline void gpu_begin(void)
@@ -114,6 +118,35 @@ static inline asset quad_asset(const char *name, const float pos[12], const floa
         p->colors[i] = 1.0f;
     asset_compute_bounds(&a);
     return a;
+}
+
+/* A wall of `count` MegaKit plants (../shared's quaternius_megakit_set_a/<plant>.gltf, scatter seed
+ * `seed`) D metres ahead, 0.9-1.1 D deep and as wide and high as a 90 degree view sees there, with
+ * a still camera, 320 x 180: written to the test output directory as <tag>.json and loaded. */
+static inline bool gpu_load_plant_wall(const char *tag, const char *plant, int count, int seed, float D, scene *sc)
+{
+    char path[1200], asset[2048], cwd[1024];
+    snprintf(path, sizeof path, "%s/%s.json", test_out_dir(), tag);
+    /* absolute: the scene file lives in the test output directory */
+    const char *dir = test_shared_path("assets/quaternius_megakit_set_a");
+    if (dir[0] == '/')
+        snprintf(asset, sizeof asset, "%s", dir);
+    else if (getcwd(cwd, sizeof cwd))
+        snprintf(asset, sizeof asset, "%s/%s", cwd, dir);
+    else
+        return false;
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return false;
+    fprintf(f,
+            "{\"display\": {\"width\": 320, \"height\": 180, \"hfov\": 90},\n"
+            " \"assets\": [{\"name\": \"p\", \"gltf\": \"%s/%s.gltf\"}],\n"
+            " \"instances\": [{\"asset\": \"p\", \"scatter\": {\"count\": %d, \"seed\": %d, \"random_yaw\": true,\n"
+            "   \"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
+            " \"camera\": [{\"time\": 0, \"position\": [0, 1.5, 0], \"target\": [0, 1.5, %g]}]}\n",
+            asset, plant, count, seed, -0.45 * D, 1.5 - 0.22 * D, -1.1 * D, 0.45 * D, 1.5 + 0.22 * D, -0.9 * D, -D);
+    fclose(f);
+    return scene_load_file(path, sc) == FS_OK;
 }
 
 static inline double plane_mean(const exr_image *img, const char *ch)

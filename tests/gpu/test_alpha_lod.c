@@ -29,31 +29,12 @@
 enum { SEEDS = 4 };
 static const float DISTANCE = 64.0f;
 
-/* Writes the wall of scatter seed `seed` and loads it. */
+/* The Clover_1 wall of scatter seed `seed` at DISTANCE. */
 static bool load_wall(int seed, scene *sc)
 {
-    char path[1200], asset[2048], cwd[1024];
-    snprintf(path, sizeof path, "%s/alpha_lod_clover_%d.json", test_out_dir(), seed);
-    const char *dir = test_shared_path("assets/quaternius_megakit_set_a");
-    if (dir[0] == '/')
-        snprintf(asset, sizeof asset, "%s", dir);
-    else if (getcwd(cwd, sizeof cwd))
-        snprintf(asset, sizeof asset, "%s/%s", cwd, dir);
-    else
-        return false;
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return false;
-    float D = DISTANCE;
-    fprintf(f,
-            "{\"display\": {\"width\": 320, \"height\": 180, \"hfov\": 90},\n"
-            " \"assets\": [{\"name\": \"p\", \"gltf\": \"%s/Clover_1.gltf\"}],\n"
-            " \"instances\": [{\"asset\": \"p\", \"scatter\": {\"count\": 60, \"seed\": %d, \"random_yaw\": true,\n"
-            "   \"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
-            " \"camera\": [{\"time\": 0, \"position\": [0, 1.5, 0], \"target\": [0, 1.5, %g]}]}\n",
-            asset, seed, -0.45 * D, 1.5 - 0.22 * D, -1.1 * D, 0.45 * D, 1.5 + 0.22 * D, -0.9 * D, -D);
-    fclose(f);
-    return scene_load_file(path, sc) == FS_OK;
+    char tag[64];
+    snprintf(tag, sizeof tag, "alpha_lod_clover_%d", seed);
+    return gpu_load_plant_wall(tag, "Clover_1", 60, seed, DISTANCE, sc);
 }
 
 /* Covered pixels (sum of the coverage channel) of one render; lod_clamp/lod_max as alpha_params. */

@@ -43,32 +43,12 @@ enum { WIDTH_SWEEP_DISTANCE = 2 }; /* 64 m */
 
 static int failures_10, failures_5;
 
-/* Writes the wall scene of `p` at distance index d and loads it. */
+/* The wall scene of `p` at distance index d. */
 static bool load_wall(const plant *p, int d, scene *sc)
 {
-    char path[1200], asset[2048], cwd[1024];
-    snprintf(path, sizeof path, "%s/hashed_distance_%s_%g.json", test_out_dir(), p->name, distances[d]);
-    /* absolute: the scene file lives in the test output directory */
-    const char *dir = test_shared_path("assets/quaternius_megakit_set_a");
-    if (dir[0] == '/')
-        snprintf(asset, sizeof asset, "%s", dir);
-    else if (getcwd(cwd, sizeof cwd))
-        snprintf(asset, sizeof asset, "%s/%s", cwd, dir);
-    else
-        return false;
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return false;
-    float D = distances[d];
-    fprintf(f,
-            "{\"display\": {\"width\": 320, \"height\": 180, \"hfov\": 90},\n"
-            " \"assets\": [{\"name\": \"p\", \"gltf\": \"%s/%s.gltf\"}],\n"
-            " \"instances\": [{\"asset\": \"p\", \"scatter\": {\"count\": %d, \"seed\": 1, \"random_yaw\": true,\n"
-            "   \"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}],\n"
-            " \"camera\": [{\"time\": 0, \"position\": [0, 1.5, 0], \"target\": [0, 1.5, %g]}]}\n",
-            asset, p->name, counts[d], -0.45 * D, 1.5 - 0.22 * D, -1.1 * D, 0.45 * D, 1.5 + 0.22 * D, -0.9 * D, -D);
-    fclose(f);
-    return scene_load_file(path, sc) == FS_OK;
+    char tag[200];
+    snprintf(tag, sizeof tag, "hashed_distance_%s_%g", p->name, distances[d]);
+    return gpu_load_plant_wall(tag, p->name, counts[d], 1, distances[d], sc);
 }
 
 static double mode_coverage(const scene *sc, alpha_mode mode, int w, int h)
