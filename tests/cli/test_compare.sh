@@ -75,10 +75,12 @@ r=$(display_ratio "$T/fence")
 check "fence, no TAA: hashed display coverage ratio $r within 10 %" within "$r" 0.9 1.1
 compare fence on "$T/fence_taa"
 r=$(display_ratio "$T/fence_taa")
-check "fence, TAA: hashed keeps $r of the display's coverage (measured 0.771)" within "$r" 0.7 1.1
+# the sparse-coverage rule (docs/taa.md "Sparse coverage and disocclusion"): within 10 % with TAA
+# too (measured 1.024; 0.771 with issue 16's slack)
+check "fence, TAA: hashed keeps $r of the display's coverage within 10 %" within "$r" 0.9 1.1
 compare fence on "$T/fence_taa_nosparse" --taa-sparse off
 r=$(display_ratio "$T/fence_taa_nosparse")
-check "fence, TAA without the sparse-coverage margin: hashed keeps only $r (measured 0.361)" within "$r" 0.3 0.6
+check "fence, TAA without the sparse-coverage rule: hashed keeps only $r (measured 0.402)" within "$r" 0.3 0.6
 
 # ---- outputs
 F=$T/forest/compare.0000.exr
