@@ -13,8 +13,10 @@
 #include "core/file_read.h"
 #include "core/log.h"
 #include "core/proc_stats.h"
+#include "core/strbuf.h"
 #include "gl/gl_device.h"
 #include "metrics/metrics.h"
+#include "output/gnuplot.h"
 #include "output/out_path.h"
 #include "commands/measure.h"
 #include "session/session.h"
@@ -85,62 +87,94 @@ static const char *const k_error_labels[4] = {"FLIP vs reference (mean)",
                                               "temporal error, motion-compensated (linear RGB)"};
 
 /* Plots the error (CSV column y_col) against x_expr (a gnuplot column expression) into
- * DIR/STEM.png through DIR/STEM.gp. Colour = alpha mode, shape = ring layout (those with
+ * OUT/STEM.png through OUT/STEM.gp. Colour = alpha mode, shape = ring layout (those with
  * layouts[l] set; default+lod a diamond), filled = TAA on, hollow = off; a legend names each
  * (dummy series: one entry per mode, layout and TAA state, not one per point); the Pareto front
- * (rows with front_col == 1, sorted by sort_col) is a line. buf: scratch of 1 << 16 bytes. */
+ * (the configurations with front[c], in the order of key[c]) is a line, drawn from their rows of
+ * accuracy.csv (csv + row_at[c]) copied into the script. gnuplot runs in OUT (gnuplot.h): no path
+ * is in the script, and every string in it is quoted by gnuplot_str. */
 static fs_status plot_accuracy(const char *out, const char *stem, const char *title, const char *xlabel,
-                               const char *x_expr, int y_col, const char *ylabel, int sort_col, int front_col,
-                               const alpha_mode *modes, int mode_count, const bool *layouts, char *buf)
+                               const char *x_expr, int y_col, const char *ylabel, const double *key, const bool *front,
+                               const char *csv, const int *row_at, int nc, const alpha_mode *modes, int mode_count,
+                               const bool *layouts)
 {
     /* circle, square, diamond, triangle */
     static const int shape_filled[ACC_LAYOUTS] = {7, 5, 13, 9}, shape_hollow[ACC_LAYOUTS] = {6, 4, 12, 8};
     static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"};
     char gp[1200], png[1200], pngtmp[1300];
-    snprintf(gp, sizeof gp, "%s/%s.gp", out, stem);
+    snprintf(gp, sizeof gp, "%s.gp", stem);
     snprintf(png, sizeof png, "%s/%s.png", out, stem);
     if (!out_path_temp_name(png, pngtmp, sizeof pngtmp)) {
         log_error("%s: cannot write: the path is too long", png);
         return FS_ERR_IO;
     }
-    size_t cap = 1 << 16;
-    int o = 0;
-    o += snprintf(buf + o, cap - (size_t)o,
-                  "set terminal pngcairo size 1100,750 noenhanced\nset output '%s'\nset datafile separator ','\n"
-                  "set title '%s'\nset xlabel '%s'\nset ylabel '%s'\nset grid\nset key outside right top\nplot ",
-                  pngtmp, title, xlabel, ylabel);
+    const char *tmp_name = strrchr(pngtmp, '/') ? strrchr(pngtmp, '/') + 1 : pngtmp;
+    sbuf b = {0};
+    sb_puts(&b, "set terminal pngcairo size 1100,750 noenhanced\nset output ");
+    gnuplot_str(&b, tmp_name);
+    sb_puts(&b, "\nset datafile separator ','\nset title ");
+    gnuplot_str(&b, title);
+    sb_puts(&b, "\nset xlabel ");
+    gnuplot_str(&b, xlabel);
+    sb_puts(&b, "\nset ylabel ");
+    gnuplot_str(&b, ylabel);
+    /* The front's rows, sorted by key. */
+    sb_puts(&b, "\n$front << EOD\n");
+    for (double last = -INFINITY;;) {
+        int next = -1;
+        for (int c = 0; c < nc; c++)
+            if (front[c] && key[c] > last && (next < 0 || key[c] < key[next]))
+                next = c;
+        if (next < 0)
+            break;
+        for (int c = 0; c < nc; c++) /* equal keys: each row once */
+            if (front[c] && key[c] == key[next])
+                sb_append(&b, csv + row_at[c], (size_t)(row_at[c + 1] - row_at[c]));
+        last = key[next];
+    }
+    sb_puts(&b, "EOD\nset grid\nset key outside right top\nplot ");
     for (int m = 0; m < mode_count; m++) {
         const char *name = alpha_mode_name(modes[m]), *col = colours[m % 7];
         for (int l = 0; l < ACC_LAYOUTS; l++)
-            for (int t = 0; t < 2 && layouts[l]; t++)
-                o += snprintf(buf + o, cap - (size_t)o,
-                              "'< awk -F, \"\\$1==\\\"%s\\\" && \\$2==\\\"%s\\\" && \\$3==\\\"%s\\\"\" %s/accuracy.csv' "
-                              "u %s:%d w p pt %d ps 1.4 lc rgb '%s' notitle, \\\n     ",
-                              name, k_layout_names[l], t ? "on" : "off", out, x_expr, y_col,
-                              t ? shape_filled[l] : shape_hollow[l], col);
-        o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt 7 ps 1.4 lc rgb '%s' t '%s', \\\n     ", col, name);
+            for (int t = 0; t < 2 && layouts[l]; t++) {
+                sb_puts(&b, "'accuracy.csv' u ");
+                sb_puts(&b, x_expr);
+                sb_puts(&b, ":(strcol(1) eq ");
+                gnuplot_str(&b, name);
+                sb_puts(&b, " && strcol(2) eq ");
+                gnuplot_str(&b, k_layout_names[l]);
+                sb_puts(&b, " && strcol(3) eq ");
+                gnuplot_str(&b, t ? "on" : "off");
+                sb_printf(&b, " ? column(%d) : NaN) w p pt %d ps 1.4 lc rgb ", y_col,
+                          t ? shape_filled[l] : shape_hollow[l]);
+                gnuplot_str(&b, col);
+                sb_puts(&b, " notitle, \\\n     ");
+            }
+        sb_puts(&b, "NaN w p pt 7 ps 1.4 lc rgb ");
+        gnuplot_str(&b, col);
+        sb_puts(&b, " t ");
+        gnuplot_str(&b, name);
+        sb_puts(&b, ", \\\n     ");
     }
     for (int l = 0; l < ACC_LAYOUTS; l++)
-        if (layouts[l])
-            o += snprintf(buf + o, cap - (size_t)o, "NaN w p pt %d ps 1.4 lc rgb 'black' t 'rings %s', \\\n     ",
-                          shape_hollow[l], k_layout_names[l]);
-    o += snprintf(buf + o, cap - (size_t)o,
-                  "NaN w p pt 7 ps 1.4 lc rgb 'gray40' t 'TAA on (filled)', NaN w p pt 6 ps 1.4 lc rgb 'gray40' "
-                  "t 'TAA off (hollow)', \\\n     '< sort -t, -g -k%d,%d %s/accuracy.csv | awk -F, \"\\$%d==1\"' "
-                  "u %s:%d w l lw 2 lc rgb 'black' t 'Pareto front'\n",
-                  sort_col, sort_col, out, front_col, x_expr, y_col);
-    fs_status st = o < (int)cap - 1 ? out_write_atomic(gp, buf) : FS_ERR_INTERNAL;
-    char cmd[2600];
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, out);
-    if (st == FS_OK && (system(cmd) != 0 || rename(pngtmp, png) != 0)) {
-        log_error("%s: gnuplot failed (see %s/gnuplot.log)", gp, out);
-        unlink(pngtmp);
+        if (layouts[l]) {
+            char t[64];
+            snprintf(t, sizeof t, "rings %s", k_layout_names[l]);
+            sb_printf(&b, "NaN w p pt %d ps 1.4 lc rgb 'black' t ", shape_hollow[l]);
+            gnuplot_str(&b, t);
+            sb_puts(&b, ", \\\n     ");
+        }
+    sb_printf(&b, "NaN w p pt 7 ps 1.4 lc rgb 'gray40' t 'TAA on (filled)', NaN w p pt 6 ps 1.4 lc rgb 'gray40' "
+                  "t 'TAA off (hollow)', \\\n     $front u %s:%d w l lw 2 lc rgb 'black' t 'Pareto front'\n",
+              x_expr, y_col);
+    fs_status st = gnuplot_run(out, gp, &b);
+    free(b.p);
+    if (st == FS_OK && rename(pngtmp, png) != 0) {
+        log_error("%s: cannot rename to %s: %s", pngtmp, png, strerror(errno));
         st = FS_ERR_IO;
     }
-    if (st == FS_OK) {
-        snprintf(cmd, sizeof cmd, "%s/gnuplot.log", out);
-        unlink(cmd); /* kept only when gnuplot failed */
-    }
+    if (st != FS_OK)
+        unlink(pngtmp);
     return st;
 }
 
@@ -174,7 +208,7 @@ static fs_status acc_ring_lod(const run_desc *d, const session *s, const fov_lay
 
 fs_status cmd_bench_accuracy(const run_desc *d)
 {
-    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    if (!gnuplot_available()) {
         log_error("gnuplot: not found; bench --accuracy plots with it (Debian package gnuplot-nox)");
         return FS_ERR_IO;
     }
@@ -359,7 +393,9 @@ fs_status cmd_bench_accuracy(const run_desc *d)
     char *csv = NULL, *md = NULL;
     double *tx = NULL, *ey = NULL, *fx = NULL;
     bool *front = NULL, *front_fs = NULL;
+    int *row_at = NULL; /* where configuration c's row starts in csv (nc + 1 entries) */
     if (st == FS_OK) {
+        row_at = calloc((size_t)nc + 1, sizeof *row_at);
         csv = malloc(1 << 16);
         md = malloc(1 << 16);
         tx = calloc((size_t)nc, sizeof *tx);
@@ -367,7 +403,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         fx = calloc((size_t)nc, sizeof *fx);
         front = calloc((size_t)nc, sizeof *front);
         front_fs = calloc((size_t)nc, sizeof *front_fs);
-        if (!csv || !md || !tx || !ey || !fx || !front || !front_fs)
+        if (!csv || !md || !tx || !ey || !fx || !front || !front_fs || !row_at)
             st = FS_ERR_NOMEM;
     }
     if (st == FS_OK) {
@@ -455,6 +491,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             double rmse = measure_mean_or(mr->rmse_sum[all], mr->err_n[all], 0.0), psnr = measure_mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
                    fl = measure_mean_or(mr->te_sum[all], mr->te_n[all], -1.0), sp = cfg[base].med / cfg[c].med;
             const double *cm = cfg[c].count_med;
+            row_at[c] = oc;
             CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.6f,%d", alpha_mode_name(mr->mode),
                 k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med, cfg[c].p10, cfg[c].p90, sp,
                 rmse, psnr, fl, front[c]);
@@ -485,11 +522,17 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             CSV("\n");
             MD("\n");
         }
+        row_at[nc] = oc;
+        if (oc >= 1 << 16) {
+            log_error("%s/accuracy.csv: longer than the %d bytes it may take (too many modes?)", out, 1 << 16);
+            st = FS_ERR_INTERNAL;
+        }
 #undef CSV
 #undef MD
         char path[1200];
         snprintf(path, sizeof path, "%s/accuracy.csv", out);
-        st = out_write_atomic(path, csv);
+        if (st == FS_OK)
+            st = out_write_atomic(path, csv);
         snprintf(path, sizeof path, "%s/accuracy.md", out);
         if (st == FS_OK)
             st = out_write_atomic(path, md);
@@ -512,7 +555,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
                      gl_device_renderer());
             st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->acc_error],
-                               4, 11, modes, nmodes, use_layout, csv);
+                               tx, front, csv, row_at, nc, modes, nmodes, use_layout);
         }
         /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
         snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
@@ -521,7 +564,8 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s.pl.width * s.pl.height);
             st = plot_accuracy(out, "accuracy-fragments", title,
                                "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
-                               k_error_labels[d->acc_error], 16, 17, modes, nmodes, use_layout, csv);
+                               k_error_labels[d->acc_error], fx, front_fs, csv, row_at, nc, modes, nmodes,
+                               use_layout);
         } else if (st == FS_OK) {
             unlink(path); /* not one from an earlier run beside this run's CSV */
             log_warn("no GL_ARB_pipeline_statistics_query: fragment counts unknown, %s not drawn", path);
@@ -539,6 +583,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
     free(fx);
     free(front);
     free(front_fs);
+    free(row_at);
     exr_image_free(&ref);
     exr_image_free(&prev_ref);
     free(band_buf);

@@ -4,6 +4,7 @@
 #include "commands/commands.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include "core/log.h"
+#include "core/spawn.h"
 #include "core/proc_stats.h"
 #include "gl/gl_device.h"
 #include "metrics/metrics.h"
@@ -512,12 +514,21 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     }
     double jod[ALPHA_MODE_COUNT + 1];
     bool have_jod = false;
+    fs_status fvvdp_st = FS_OK; /* a failed FovVideoVDP run: the run's own results are still written */
     if (st == FS_OK && d->run_fvvdp) {
-        if (!fvvdp_available())
-            printf("FovVideoVDP: the fvvdp command is not installed (pip install pyfvvdp); its inputs are in %s/fvvdp/, "
-                   "run python3 %s/fvvdp/run_fvvdp.py once it is\n", out, out);
-        else
-            have_jod = fvvdp_run(out, seq_names, nm + 1, jod) == FS_OK;
+        if (!fvvdp_available()) {
+            sbuf cmd = {0};
+            sb_puts(&cmd, "python3 ");
+            char script[PATH_MAX + 32];
+            snprintf(script, sizeof script, "%s/fvvdp/run_fvvdp.py", out);
+            shell_quote(&cmd, script);
+            printf("FovVideoVDP: pyfvvdp is not installed for the python3 on PATH (pip install pyfvvdp); its inputs "
+                   "are in %s/fvvdp/, run %s once it is\n", out, cmd.p ? cmd.p : "");
+            free(cmd.p);
+        } else {
+            fvvdp_st = fvvdp_run(out, seq_names, nm + 1, jod);
+            have_jod = fvvdp_st == FS_OK;
+        }
     }
     if (st == FS_OK)
         st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames - first,
@@ -526,6 +537,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
                                    .json_path = json_path, .seconds = el, .jod = have_jod ? jod : NULL});
     if (st == FS_OK)
         st = run_folder_complete(&fo);
+    if (st == FS_OK)
+        st = fvvdp_st;
     if (st == FS_OK && fo.kept_count)
         printf("resumed: kept %d complete frame%s of the earlier run; every frame was drawn again for the metrics "
                "and the TAA history, and only the missing ones written\n", fo.kept_count,
@@ -577,10 +590,22 @@ fs_status cmd_demo(const run_desc *d)
     if (st != FS_OK)
         return st;
     const char *out = d->out_dir ? d->out_dir : "out/demo";
+    /* The paths in these commands are shell-quoted: they are for copying into a shell. */
+    char p0[PATH_MAX + 64], seq[PATH_MAX + 64], mp4[PATH_MAX + 16];
+    snprintf(p0, sizeof p0, "%s/%s.0000.exr", out, d->name);
+    snprintf(seq, sizeof seq, "%s/%s.%%04d.exr", out, d->name);
+    snprintf(mp4, sizeof mp4, "%s/demo.mp4", out);
+    sbuf a = {0}, b = {0}, c = {0};
+    shell_quote(&a, p0);
+    shell_quote(&b, seq);
+    shell_quote(&c, mp4);
     printf("\nlook at it (part 0 of each frame is the side-by-side grid; part 'layers' has every image):\n"
-           "  oiiotool --info -v %s/%s.0000.exr                 # parts, layers, header attributes\n"
-           "  ffmpeg -framerate %g -apply_trc iec61966_2_1 -i %s/%s.%%04d.exr -pix_fmt yuv420p %s/demo.mp4\n"
-           "  oiiotool %s/%s.0000.exr --subimage layers --ch hashed.coverage -o coverage.png\n",
-           out, d->name, d->fps, out, d->name, out, out, d->name);
+           "  oiiotool --info -v %s                 # parts, layers, header attributes\n"
+           "  ffmpeg -framerate %g -apply_trc iec61966_2_1 -i %s -pix_fmt yuv420p %s\n"
+           "  oiiotool %s --subimage layers --ch hashed.coverage -o coverage.png\n",
+           a.p ? a.p : "", d->fps, b.p ? b.p : "", c.p ? c.p : "", a.p ? a.p : "");
+    free(a.p);
+    free(b.p);
+    free(c.p);
     return FS_OK;
 }

@@ -11,9 +11,11 @@
 
 #include "core/file_read.h"
 #include "core/log.h"
+#include "output/gnuplot.h"
 #include "output/out_path.h"
 #include "core/strbuf.h"
 #include "metrics/metrics.h"
+#include "scene/scene.h"
 #include "session/session.h"
 #include "commands/commands.h"
 #include "commands/sweep_manifest.h"
@@ -65,17 +67,55 @@ static int column(const char *header, const char *name)
     return -1;
 }
 
-/* Field `i` of a CSV row (no quoting in fovsim's metrics) into out. */
-static void field(const char *row, int i, char *out, size_t n)
+/* Field `i` of a CSV row (no quoting in fovsim's metrics) into out; false when the row has no
+ * field i or it does not fit in out. */
+static bool field(const char *row, int i, char *out, size_t n)
 {
-    const char *c = row;
+    const char *c = i >= 0 ? row : NULL;
     for (int k = 0; k < i && c; k++)
         c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL;
-    if (!c) {
-        out[0] = '\0';
-        return;
+    out[0] = '\0';
+    if (!c)
+        return false;
+    int len = (int)strcspn(c, ",\n");
+    snprintf(out, n, "%.*s", len, c);
+    return (size_t)len < n;
+}
+
+/* Whether s is a whole number as fovsim's %.9g / %d / %lld writes it (nan and inf included). */
+static bool number(const char *s, bool integer)
+{
+    char *end;
+    errno = 0;
+    if (integer)
+        (void)strtoll(s, &end, 10);
+    else
+        (void)strtod(s, &end);
+    return s[0] && !*end && end != s && (!integer || errno == 0);
+}
+
+/* The values merge reads back from a task's row are what fovsim writes: an alpha mode's name, an
+ * integer ring >= -1, numbers. Anything else (a hand-edited or hostile file) is refused naming
+ * path:line and the column, before it reaches a CSV, a summary or a gnuplot script. */
+static fs_status check_row(const char *path, int line, const char *row, int c_mode, int c_ring,
+                           const int *num_cols, const char *const *num_names, int nnum)
+{
+    char v[64];
+    if (!field(row, c_mode, v, sizeof v) || alpha_mode_parse(v) == ALPHA_MODE_DEFAULT) {
+        log_error("%s:%d: column 'mode': '%.40s' is not an alpha mode (expected one of: %s)", path, line, v,
+                  alpha_mode_list());
+        return FS_ERR_IO;
     }
-    snprintf(out, n, "%.*s", (int)strcspn(c, ",\n"), c);
+    if (!field(row, c_ring, v, sizeof v) || !number(v, true) || strtoll(v, NULL, 10) < -1) {
+        log_error("%s:%d: column 'ring': '%.40s' is not a ring number (an integer >= -1)", path, line, v);
+        return FS_ERR_IO;
+    }
+    for (int i = 0; i < nnum; i++)
+        if (!field(row, num_cols[i], v, sizeof v) || !number(v, !strcmp(num_names[i], "pixels"))) {
+            log_error("%s:%d: column '%s': '%.40s' is not a number", path, line, num_names[i], v);
+            return FS_ERR_IO;
+        }
+    return FS_OK;
 }
 
 /* Appends task k's metrics rows (prefixed) to csv, and its ring -1 rows to the points. */
@@ -107,9 +147,19 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     int c_mode = column(header, "mode"), c_ring = column(header, "ring"), c_ms = column(header, "frame_ms"),
         c_flip = column(header, "flip"), c_ratio = column(header, "coverage_ratio"), c_px = column(header, "pixels"),
         c_cov = column(header, "coverage"), c_ref = column(header, "ref_coverage");
+    static const char *const num_names[] = {"frame_ms", "flip", "coverage_ratio", "pixels", "coverage", "ref_coverage"};
+    const int num_cols[] = {c_ms, c_flip, c_ratio, c_px, c_cov, c_ref};
+    int line = 1;
     for (char *row = nl + 1; *row && st == FS_OK;) {
         char *end = strchr(row, '\n');
         size_t len = end ? (size_t)(end - row) : strlen(row);
+        if (end)
+            *end = '\0'; /* the row alone, for its checks */
+        st = check_row(path, ++line, row, c_mode, c_ring, num_cols, num_names, 6);
+        if (end)
+            *end = '\n';
+        if (st != FS_OK)
+            break;
         sb_append(csv, prefix, strlen(prefix));
         sb_append(csv, row, len);
         sb_append(csv, "\n", 1);
@@ -175,45 +225,43 @@ static void short_of(const char *s, char *out, size_t n)
 
 static fs_status plot(const char *dir, const points *ps)
 {
-    if (system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    if (!gnuplot_available()) {
         printf("(gnuplot is not installed: no accuracy.png; the points are in %s/accuracy.csv)\n", dir);
         return FS_OK;
     }
-    char gp[PATH_MAX + 32], script[4 * PATH_MAX];
-    snprintf(gp, sizeof gp, "%s/accuracy.gp", dir);
-    int o = snprintf(script, sizeof script,
-                     "set terminal pngcairo size 1100,750 noenhanced\nset output '%s/.accuracy.png.tmp'\n"
-                     "set datafile separator ','\nset title 'fovsim sweep: error vs frame time, one point per "
-                     "configuration and mode'\nset xlabel 'frame time, median (ms)'\n"
-                     "set ylabel 'FLIP vs reference (mean over frames)'\nset grid\nset key outside right top\nplot ",
-                     dir);
+    /* gnuplot runs in DIR: the script names its files relative to it, and each mode (checked
+     * against fovsim's mode names when read) is a quoted gnuplot string. */
+    sbuf gp = {0};
+    sb_puts(&gp, "set terminal pngcairo size 1100,750 noenhanced\nset output '.accuracy.png.tmp'\n"
+                 "set datafile separator ','\nset title 'fovsim sweep: error vs frame time, one point per "
+                 "configuration and mode'\nset xlabel 'frame time, median (ms)'\n"
+                 "set ylabel 'FLIP vs reference (mean over frames)'\nset grid\nset key outside right top\nplot ");
     /* One series per mode, in the order they first appear. */
-    for (int i = 0, first = 1; i < ps->n && o < (int)sizeof script; i++) {
+    for (int i = 0, first = 1; i < ps->n; i++) {
         bool seen = false;
         for (int j = 0; j < i; j++)
             seen = seen || !strcmp(ps->v[j].mode, ps->v[i].mode);
         if (seen)
             continue;
-        o += snprintf(script + o, sizeof script - (size_t)o,
-                      "%s'%s/accuracy.csv' u 6:(strcol(5) eq \"%s\" ? $7 : NaN) w p pt 7 ps 1.3 t '%s'",
-                      first ? "" : ", \\\n     ", dir, ps->v[i].mode, ps->v[i].mode);
+        sb_puts(&gp, first ? "" : ", \\\n     ");
+        sb_puts(&gp, "'accuracy.csv' u 6:(strcol(5) eq ");
+        gnuplot_str(&gp, ps->v[i].mode);
+        sb_puts(&gp, " ? $7 : NaN) w p pt 7 ps 1.3 t ");
+        gnuplot_str(&gp, ps->v[i].mode);
         first = 0;
     }
-    if (o + 2 >= (int)sizeof script)
-        return FS_ERR_INTERNAL;
-    memcpy(script + o, "\n", 2);
-    fs_status st = out_write_atomic(gp, script);
-    char cmd[2 * PATH_MAX + 64], tmp[PATH_MAX + 32], png[PATH_MAX + 32];
-    snprintf(cmd, sizeof cmd, "gnuplot '%s' 2>'%s/gnuplot.log'", gp, dir);
+    sb_puts(&gp, "\n");
+    fs_status st = gnuplot_run(dir, "accuracy.gp", &gp);
+    free(gp.p);
+    char tmp[PATH_MAX + 32], png[PATH_MAX + 32];
     snprintf(tmp, sizeof tmp, "%s/.accuracy.png.tmp", dir);
     snprintf(png, sizeof png, "%s/accuracy.png", dir);
-    if (st == FS_OK && (system(cmd) != 0 || rename(tmp, png) != 0)) {
-        log_error("%s: gnuplot failed (see %s/gnuplot.log)", gp, dir);
-        unlink(tmp);
-        return FS_ERR_IO;
+    if (st == FS_OK && rename(tmp, png) != 0) {
+        log_error("%s: cannot rename to %s: %s", tmp, png, strerror(errno));
+        st = FS_ERR_IO;
     }
-    snprintf(cmd, sizeof cmd, "%s/gnuplot.log", dir);
-    unlink(cmd);
+    if (st != FS_OK)
+        unlink(tmp);
     return st;
 }
 

@@ -39,6 +39,7 @@
 #include "core/file_read.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "core/spawn.h"
 #include "output/out_path.h"
 #include "fov/fov_ring.h"
 #include "session/run_record.h"
@@ -389,30 +390,13 @@ static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *sc
     return st;
 }
 
-/* Runs argv (a program on PATH) and waits; its exit status, or -1 when it could not run. */
-static int spawn_wait(char *const argv[])
-{
-    pid_t pid = fork();
-    if (pid < 0)
-        return -1;
-    if (pid == 0) {
-        execvp(argv[0], argv);
-        _exit(127);
-    }
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0)
-        if (errno != EINTR)
-            return -1;
-    return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-}
-
 static fs_status submit(const char *script, bool wait)
 {
     char *argv[] = {"sbatch", wait ? "--wait" : NULL, NULL, NULL};
     argv[wait ? 2 : 1] = (char *)script;
     fflush(stdout);
-    int rc = spawn_wait(argv);
-    if (rc == 127 || rc < 0) {
+    int rc = spawn_run(argv, NULL);
+    if (rc < 0) {
         log_error("sbatch: cannot run it (is Slurm's client installed and on PATH?); the script is %s", script);
         return FS_ERR_IO;
     }

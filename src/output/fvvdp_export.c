@@ -2,6 +2,7 @@
 #include "output/fvvdp_export.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -11,6 +12,7 @@
 
 #include "core/file_read.h"
 #include "core/log.h"
+#include "core/spawn.h"
 #include "output/png_write.h"
 
 struct fvvdp_export {
@@ -153,19 +155,37 @@ fs_status fvvdp_export_end(fvvdp_export *e)
     return st;
 }
 
+/* The interpreter both the check and the run use: python3 as found on PATH, once. */
+static bool python(char *exe, size_t n)
+{
+    return spawn_find("python3", exe, n);
+}
+
 bool fvvdp_available(void)
 {
-    return system("command -v fvvdp >/dev/null 2>&1") == 0;
+    char exe[PATH_MAX];
+    char *argv[] = {exe, "-c", "import pyfvvdp", NULL};
+    return python(exe, sizeof exe) && spawn_run(argv, &(spawn_opts){.quiet = true}) == 0;
 }
 
 fs_status fvvdp_run(const char *out_dir, const char *const names[], int count, double jod[])
 {
     for (int i = 0; i + 1 < count; i++)
         jod[i] = NAN;
-    char cmd[1400], path[1300];
-    snprintf(cmd, sizeof cmd, "python3 '%s/fvvdp/run_fvvdp.py'", out_dir);
-    if (system(cmd) != 0) {
-        log_error("%s/fvvdp/run_fvvdp.py failed (see its output above)", out_dir);
+    char exe[PATH_MAX], dir[PATH_MAX + 16], path[PATH_MAX + 64];
+    snprintf(dir, sizeof dir, "%s/fvvdp", out_dir);
+    /* Run in DIR/fvvdp (the script finds its inputs next to itself), its output in fvvdp.log. */
+    char *argv[] = {exe, "./run_fvvdp.py", NULL};
+    int rc = python(exe, sizeof exe) ? spawn_run(argv, &(spawn_opts){.dir = dir, .output = "fvvdp.log"})
+                                     : SPAWN_NOT_FOUND;
+    if (rc != 0) {
+        if (rc == SPAWN_NOT_FOUND)
+            log_error("FovVideoVDP: python3 is not on PATH; the inputs are in %s", dir);
+        else if (rc == SPAWN_FAILED)
+            log_error("FovVideoVDP: cannot run %s in %s: %s", exe, dir, strerror(errno));
+        else
+            log_error("FovVideoVDP: %s run_fvvdp.py failed with status %d (its output is in %s/fvvdp.log)", exe, rc,
+                      dir);
         return FS_ERR_IO;
     }
     snprintf(path, sizeof path, "%s/fvvdp/results.json", out_dir);

@@ -1,0 +1,115 @@
+/* spawn.c: see spawn.h. */
+#include "core/spawn.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static bool executable(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISREG(sb.st_mode) && access(path, X_OK) == 0;
+}
+
+bool spawn_find(const char *prog, char *out, size_t n)
+{
+    if (!prog[0])
+        return false;
+    if (strchr(prog, '/')) {
+        int l = snprintf(out, n, "%s", prog);
+        return l >= 0 && (size_t)l < n && executable(out);
+    }
+    const char *path = getenv("PATH");
+    if (!path)
+        path = "/usr/local/bin:/usr/bin:/bin";
+    for (const char *p = path;; p++) {
+        size_t len = strcspn(p, ":");
+        /* An empty PATH entry is the current folder. */
+        int l = len ? snprintf(out, n, "%.*s/%s", (int)len, p, prog) : snprintf(out, n, "./%s", prog);
+        if (l >= 0 && (size_t)l < n && executable(out))
+            return true;
+        p += len;
+        if (!*p)
+            return false;
+    }
+}
+
+/* In the child: only async-signal-safe calls (the parent may have threads). A failure writes errno
+ * into `report` (close-on-exec, so a successful exec closes it empty). */
+static void child(const char *exe, char *const argv[], const spawn_opts *o, int report)
+{
+    int fd = -1;
+    if (o && o->dir && chdir(o->dir) != 0)
+        goto fail;
+    if (o && (o->output || o->quiet)) {
+        fd = o->output ? open(o->output, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)
+                       : open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (fd < 0 || dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0)
+            goto fail;
+    }
+    execv(exe, argv);
+fail:;
+    int e = errno;
+    ssize_t w = write(report, &e, sizeof e);
+    (void)w;
+    _exit(127);
+}
+
+int spawn_run(char *const argv[], const spawn_opts *o)
+{
+    char exe[4096];
+    if (!spawn_find(argv[0], exe, sizeof exe))
+        return SPAWN_NOT_FOUND;
+    int pfd[2];
+    if (pipe(pfd) != 0)
+        return SPAWN_FAILED;
+    fcntl(pfd[0], F_SETFD, FD_CLOEXEC);
+    fcntl(pfd[1], F_SETFD, FD_CLOEXEC);
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0)
+        child(exe, argv, o, pfd[1]);
+    close(pfd[1]);
+    if (pid < 0) {
+        int e = errno;
+        close(pfd[0]);
+        errno = e;
+        return SPAWN_FAILED;
+    }
+    int child_errno = 0;
+    ssize_t got;
+    while ((got = read(pfd[0], &child_errno, sizeof child_errno)) < 0 && errno == EINTR)
+        ;
+    close(pfd[0]);
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0)
+        if (errno != EINTR)
+            return SPAWN_FAILED;
+    if (got == (ssize_t)sizeof child_errno) {
+        errno = child_errno;
+        return SPAWN_FAILED;
+    }
+    return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
+}
+
+bool spawn_path_arg(const char *path, char *out, size_t n)
+{
+    int l = snprintf(out, n, "%s%s", path[0] == '-' ? "./" : "", path);
+    return l >= 0 && (size_t)l < n;
+}
+
+void shell_quote(sbuf *b, const char *s)
+{
+    sb_append(b, "'", 1);
+    for (const char *q; (q = strchr(s, '\'')); s = q + 1) {
+        sb_append(b, s, (size_t)(q - s));
+        sb_append(b, "'\\''", 4);
+    }
+    sb_puts(b, s);
+    sb_append(b, "'", 1);
+}
