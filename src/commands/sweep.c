@@ -284,6 +284,34 @@ static void shq(char *buf, size_t n, const char *s)
     buf[l] = '\0';
 }
 
+/* Whether `s`, bound for a line of a jobs file or a Slurm script (`what` names it), holds no control
+ * character: quoting keeps everything else one word, but a line break would end the line (GNU
+ * parallel runs each line as its own command; a #SBATCH directive would end there). */
+static bool script_safe(const char *what, const char *s)
+{
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++)
+        if (*p < 0x20 || *p == 0x7f) {
+            log_error("%s '%s': a control character (a line break?) cannot go into a jobs file or Slurm script; "
+                      "use another name", what, s);
+            return false;
+        }
+    return true;
+}
+
+/* Every path and manifest value written into the jobs file or the Slurm script is script_safe. */
+static fs_status scripts_safe(const sweep_manifest *m, const char *exe, bool slurm)
+{
+    bool ok = script_safe("the sweep's folder", m->out) && script_safe("the sweep's manifest", m->frozen) &&
+              script_safe("fovsim's path", exe);
+    if (slurm) {
+        ok = ok && script_safe("slurm.mem", m->slurm.mem) && script_safe("slurm.time", m->slurm.time) &&
+             script_safe("slurm.partition", m->slurm.partition);
+        for (int i = 0; i < m->slurm.nextra && ok; i++)
+            ok = script_safe("slurm.extra", m->slurm.extra[i]);
+    }
+    return ok ? FS_OK : FS_ERR_USAGE;
+}
+
 /* The command that runs task I, as a shell line (also how --list shows it). */
 static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, char *out, size_t n)
 {
@@ -328,6 +356,8 @@ static fs_status list_tasks(const sweep_manifest *m)
 
 static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char *path)
 {
+    if (scripts_safe(m, exe, false) != FS_OK)
+        return FS_ERR_USAGE;
     size_t cap = (size_t)m->ntasks * (2 * (strlen(exe) + strlen(m->frozen) + strlen(m->out)) + 128) + 1;
     char *text = malloc(cap), line[3 * PATH_MAX + 400];
     if (!text)
@@ -355,6 +385,8 @@ static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char
 
 static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *script, size_t n)
 {
+    if (scripts_safe(m, exe, true) != FS_OK)
+        return FS_ERR_USAGE;
     snprintf(script, n, "%s/sweep.sbatch", m->out);
     char text[16384], cmd[3 * PATH_MAX];
     int o = snprintf(text, sizeof text,
@@ -626,6 +658,8 @@ fs_status cmd_sweep(int argc, char **argv)
     fs_status st = sweep_manifest_load(manifest, &ov, &m);
     if (st == FS_OK)
         st = sweep_build_tasks(&m);
+    if (st == FS_OK && (act == ACT_JOBS || act == ACT_SLURM)) /* before anything is written */
+        st = scripts_safe(&m, exe, act == ACT_SLURM);
     if (st == FS_OK && act != ACT_TASK)
         st = sweep_manifest_write(&m);
     if (st == FS_OK && act != ACT_TASK)

@@ -3,7 +3,7 @@
 # another program (merge -> gnuplot, bench --accuracy -> gnuplot, compare --fvvdp -> python3) is run
 # with hostile paths (a space, quotes, $(...), backquotes, ;...;, a newline, a leading dash) and with
 # hostile values read back from files (a task's metrics.csv, a scene file's name that lands in a
-# plot's title). Each command either works (a path with a space must) or refuses in one line, and
+# plot's title); and the scripts sweep writes for the user's shell (--jobs-file, --slurm). Each command either works (a path with a space must) or refuses in one line, and
 # no marker file appears anywhere: every hostile string runs `touch PWNED_<where>` if anything
 # hands it to a shell or to gnuplot's system(). Tiny sizes: about 10 s.
 #
@@ -160,5 +160,22 @@ sys.exit(not (set(r) == {'traditional', 'hashed'} and all(abs(got[k] - v) < 1e-5
 else
   echo "FAIL /usr/bin/python3 with numpy is missing (scripts/setup.sh installs python3-numpy)" >&2; failed=$((failed+1))
 fi
+
+# ---- sweep --jobs-file / --slurm: scripts fovsim writes for the user's shell. Paths are quoted; a
+# line break cannot be (each jobs-file line is its own command), so it is refused before anything is
+# written.
+mkdir -p "$T/j"
+"$BIN" sweep "$T/m.json" --jobs-file "$T/j/jobs.txt" --out "$T/j/${NAMES[1]}" >"$T/out.txt" 2>"$T/err.txt"; rc=$?
+check "sweep --jobs-file --out (quotes) writes the jobs file" bash -c "[ $rc -eq 0 ] && [ -s '$T/j/jobs.txt' ]"
+(cd "$T/j" && bash jobs.txt) >/dev/null 2>&1
+check "... which runs the task there" test -s "$T/j/${NAMES[1]}/tasks/$(ls "$T/base/tasks" | head -1)/metrics.csv"
+no_marks "sweep --jobs-file (quotes), run by bash"
+for act in --jobs-file --slurm; do
+  args=("$act"); [ "$act" = --jobs-file ] && args+=("$T/j/jobs2.txt")
+  "$BIN" sweep "$T/m.json" "${args[@]}" --out "$T/j/${NAMES[7]}" >"$T/out.txt" 2>"$T/err.txt"; rc=$?
+  check "sweep $act --out (a line break): exit 2, one line, nothing written" bash -c \
+    "[ $rc -eq 2 ] && [ \$(wc -l <'$T/err.txt') -eq 1 ] && [ ! -e '$T/j/jobs2.txt' ] && [ ! -e '$T/j/${NAMES[7]}' ]"
+  no_marks "sweep $act (a line break)"
+done
 
 summary
