@@ -210,8 +210,9 @@ void cli_print_help(command cmd)
                "  --export-fvvdp      also write FovVideoVDP's inputs to DIR/fvvdp/: 16-bit sRGB PNG\n"
                "                      sequences of every mode and the reference, the fixation per frame,\n"
                "                      the display and run_fvvdp.py (see docs/metrics.md)\n"
-               "  --fvvdp             --export-fvvdp, then run it when the fvvdp command (pyfvvdp) is\n"
-               "                      installed and put each mode's JOD into summary.json\n");
+               "  --fvvdp             --export-fvvdp, then run it with the python3 on PATH when that\n"
+               "                      imports pyfvvdp, and put each mode's JOD into summary.json\n"
+               "                      (a failed run: exit 6, its output in DIR/fvvdp/fvvdp.log)\n");
     if (cmd == CMD_BENCH)
         printf("  --warmup W          frames drawn before timing (default 5)\n"
                "  --markdown FILE     append the result as a Markdown section to FILE\n"
