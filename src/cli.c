@@ -167,6 +167,9 @@ void cli_print_help(command cmd)
            "  --resume            keep the complete frames an interrupted run of the same configuration\n"
            "                      left in DIR and draw the rest (DIR/fovsim-run.txt records it)\n"
            "  --replace           write into a DIR another configuration wrote, removing its frames\n"
+           "  --wait-lock S       another run writing DIR (its lock, DIR/fovsim-run.lock): wait up to S\n"
+           "                      seconds (1 to 86400) for it to end, then go on; without it, or when\n"
+           "                      the time is up, exit 12 naming that run\n"
            "  --gpu N             EGL device index (default: first hardware device, else llvmpipe)\n"
            "  --gl-debug          GL debug output on stderr (always on in debug builds)\n"
            "  --quiet             no progress line\n"
@@ -220,7 +223,7 @@ void cli_print_help(command cmd)
                "                      relative to traditional, A2C modes also traditional+MSAA\n");
     printf("\nexit status: 0 ok, 1 fovsim check: a regression, 2 bad arguments, 3 bad scene, 4 bad asset, 5 bad\n"
            "             gaze trace, 6 I/O error, 7 no OpenGL 4.5 context, 8 shader error, 9 out of memory,\n"
-           "             11 a sweep has missing or failed tasks, 130 interrupted\n");
+           "             11 a sweep has missing or failed tasks, 12 another run is writing DIR, 130 interrupted\n");
 }
 
 /* An option with two values: *which = 0 for `a`, 1 for `b`; anything else is a one-line error. */
@@ -372,7 +375,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--hash", "--fade-n", "--alpha-lod-max", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-disocclusion", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
-                                                 "--asset-root", "--max-image-mpixels", "--max-scene-mpixels"};
+                                                 "--asset-root", "--max-image-mpixels", "--max-scene-mpixels", "--wait-lock"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -401,7 +404,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = *val != '\0';
             if (!ok)
                 log_error("--asset-root: expected a folder, got ''");
-        } else if (!strcmp(opt, "--max-image-mpixels"))
+        } else if (!strcmp(opt, "--wait-lock"))
+            ok = cli_parse_int(opt, val, 1, WAIT_LOCK_MAX_S, &d->wait_lock);
+        else if (!strcmp(opt, "--max-image-mpixels"))
             ok = cli_parse_int(opt, val, 1, 4096, &d->max_image_mpixels);
         else if (!strcmp(opt, "--max-scene-mpixels"))
             ok = cli_parse_int(opt, val, 1, 65536, &d->max_scene_mpixels);
@@ -689,9 +694,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         log_error("--split and --alpha: give one of them, not both (--split A,B sets the left-hand mode)");
         return FS_ERR_USAGE;
     }
-    if ((d->resume || d->replace) && d->cmd != CMD_RENDER && d->cmd != CMD_REFERENCE && d->cmd != CMD_COMPARE &&
-        d->cmd != CMD_DEMO) {
-        log_error("--resume and --replace are options of fovsim render, reference, compare and demo");
+    if ((d->resume || d->replace || d->wait_lock) && d->cmd != CMD_RENDER && d->cmd != CMD_REFERENCE &&
+        d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO) {
+        log_error("--resume, --replace and --wait-lock are options of fovsim render, reference, compare and demo");
         return FS_ERR_USAGE;
     }
     if (d->first_frame && d->cmd != CMD_COMPARE) {

@@ -192,7 +192,8 @@ static void check_help(void)
            "                      all=VALUE (the whole display), comma-separated; VALUE a number or off.\n"
            "                      Given with --record they are stored in the baseline; with --baseline they\n"
            "                      override it for this run.\n"
-           "  --gpu N, --cache DIR, --no-cache, --quiet, --verbose, --gl-debug   as for compare, with either;\n"
+           "  --gpu N, --cache DIR, --no-cache, --wait-lock S, --quiet, --verbose, --gl-debug   as for\n"
+           "                      compare, with either;\n"
            "                      not stored in the baseline (--verbose also prints compare's table)\n"
            "  --replace           --record: write into a DIR another configuration wrote (a baseline there\n"
            "                      is replaced without it)\n\n"
@@ -273,7 +274,7 @@ static fs_status parse_options(int argc, char **argv, check_opts *o, bool *help)
                    !strcmp(opt, "--no-cache")) {
             o->verbose |= !strcmp(opt, "--verbose");
             o->env[o->nenv++] = a;
-        } else if (!strcmp(opt, "--gpu") || !strcmp(opt, "--cache")) {
+        } else if (!strcmp(opt, "--gpu") || !strcmp(opt, "--cache") || !strcmp(opt, "--wait-lock")) {
             o->env[o->nenv++] = a;
             if (!eq && !(o->env[o->nenv++] = value_of(argc, argv, &i, eq)))
                 return FS_ERR_USAGE;
@@ -397,7 +398,7 @@ static void check_role(const char *dir, char *out, size_t n)
  * is one ("--cache" for "--cache=DIR" too), else NULL. */
 static const char *never_stored(const char *arg)
 {
-    static const char *const k_never[] = {"--cache", "--no-cache", "--gpu", "--quiet", "--verbose", "--gl-debug",
+    static const char *const k_never[] = {"--cache", "--no-cache", "--gpu", "--wait-lock", "--quiet", "--verbose", "--gl-debug",
                                           "--out", "--replace", "--resume", "--name", "--help", "--record",
                                           "--baseline", "--junit"};
     for (size_t k = 0; k < sizeof k_never / sizeof k_never[0]; k++) {
@@ -413,7 +414,8 @@ static const char *never_stored(const char *arg)
 
 static const char *never_stored_why(const char *opt)
 {
-    if (!strcmp(opt, "--cache") || !strcmp(opt, "--no-cache") || !strcmp(opt, "--gpu") || !strcmp(opt, "--quiet") ||
+    if (!strcmp(opt, "--cache") || !strcmp(opt, "--no-cache") || !strcmp(opt, "--gpu") || !strcmp(opt, "--wait-lock") ||
+        !strcmp(opt, "--quiet") ||
         !strcmp(opt, "--verbose") || !strcmp(opt, "--gl-debug"))
         return "an option of the machine that runs the check";
     if (!strncmp(opt, "--tol-", 6))

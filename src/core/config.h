@@ -84,6 +84,9 @@
 #define FPS_MIN 0.001f
 #define FPS_MAX 1000.0f
 
+/* --wait-lock's longest wait, in seconds (a day): a run never waits without bound for another. */
+#define WAIT_LOCK_MAX_S 86400
+
 /* Frames the EXR writer may hold queued (besides one in flight per worker thread) before
  * rendering waits for it. */
 #ifndef EXR_QUEUE_DEPTH
