@@ -398,9 +398,9 @@ static void check_role(const char *dir, char *out, size_t n)
  * is one ("--cache" for "--cache=DIR" too), else NULL. */
 static const char *never_stored(const char *arg)
 {
-    static const char *const k_never[] = {"--cache", "--no-cache", "--gpu", "--wait-lock", "--quiet", "--verbose", "--gl-debug",
-                                          "--out", "--replace", "--resume", "--name", "--help", "--record",
-                                          "--baseline", "--junit"};
+    static const char *const k_never[] = {"--cache", "--no-cache", "--gpu",    "--wait-lock", "--quiet",
+                                          "--verbose", "--gl-debug", "--out",   "--replace",   "--resume",
+                                          "--name",    "--help",     "--record", "--baseline", "--junit"};
     for (size_t k = 0; k < sizeof k_never / sizeof k_never[0]; k++) {
         size_t l = strlen(k_never[k]);
         if (!strncmp(arg, k_never[k], l) && (arg[l] == '\0' || arg[l] == '='))

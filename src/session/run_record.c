@@ -171,7 +171,8 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->first_frame, d->warmup_set ? d->warmup : -1);
     /* Not recorded, because they change nothing a run writes: frames (the record's second part),
      * out_dir (the folder itself), builtin/scene_path and asset_root (the scene's content is),
-     * gpu (the renderer is), wait_lock (when a run starts, not what it writes), warmup unless with first_frame (bench's), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
+     * gpu (the renderer is), wait_lock (when a run starts, not what it writes),
+     * warmup unless with first_frame (bench's), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
      * cache (a cached reference frame equals a drawn one), resume/replace, run_fvvdp (runs after
      * the frames), and the options of other commands: markdown, json, accuracy, acc_error,
      * script, record, split, help_for. */
