@@ -23,6 +23,7 @@ timeout 600 "$BIN" render "${SMALL[@]}" --frames 100000 --alpha traditional --ou
 A_JOB=$!
 check "the first run takes DIR's lock and names itself in it" wait_for 120 grep -qs '^pid [0-9]* on host .*, fovsim render, since ' "$D/fovsim-run.lock"
 A=$(awk '{print $2; exit}' "$D/fovsim-run.lock" 2>/dev/null)
+check "  and writes its first frame" wait_for 120 test -f "$D/frame.0000.exr"
 if [ -n "$A" ]; then kill -STOP "$A"; else kill "$A_JOB"; fi  # no lock: end the first run now (it fails below)
 
 # B: another configuration with --replace, and the same one with --resume: refused, one line each
