@@ -414,9 +414,15 @@ static fs_status lock_folder(run_folder *f, const run_desc *d, int wait_s)
             log_error("%s: cannot open the folder's lock: %s", path, strerror(errno));
             return FS_ERR_IO;
         }
+        struct stat a, b;
+        if (fstat(fd, &a) != 0 || !S_ISREG(a.st_mode)) {
+            log_error("%s: expected fovsim's lock of this folder (a regular file); move it away or choose another "
+                      "--out", path);
+            close(fd);
+            return FS_ERR_IO;
+        }
         if (flock(fd, LOCK_EX | LOCK_NB) == 0) {
-            struct stat a, b;
-            if (fstat(fd, &a) != 0 || stat(path, &b) != 0 || a.st_dev != b.st_dev || a.st_ino != b.st_ino) {
+            if (stat(path, &b) != 0 || a.st_dev != b.st_dev || a.st_ino != b.st_ino) {
                 close(fd); /* removed by the run that held it: take the new one */
                 continue;
             }
