@@ -108,7 +108,7 @@ void cli_print_help(command cmd)
            "  --scene FILE        scene JSON, or a .gltf/.glb asset to view on its own\n"
            "  --builtin NAME      built-in scene: %s (default forest)\n"
            "  --frames N          frames to draw (default: the camera path at --fps)\n"
-           "  --fps F             frames per second of the sequence (default 24)\n"
+           "  --fps F             frames per second of the sequence, 0.001 to 1000 (default 24)\n"
            "  --width W, --height H   output size in pixels (default: the scene's display, 1280x720)\n"
            "  --alpha MODE        alpha test for MASK materials: %s\n"
            "  --hash-scale S      hashed modes: noise scale in pixels (default 1; the paper suggests\n"
@@ -167,6 +167,9 @@ void cli_print_help(command cmd)
            "  --resume            keep the complete frames an interrupted run of the same configuration\n"
            "                      left in DIR and draw the rest (DIR/fovsim-run.txt records it)\n"
            "  --replace           write into a DIR another configuration wrote, removing its frames\n"
+           "  --wait-lock S       another run writing DIR (its lock, DIR/fovsim-run.lock): wait up to S\n"
+           "                      seconds (1 to 86400) for it to end, then go on; without it, or when\n"
+           "                      the time is up, exit 12 naming that run\n"
            "  --gpu N             EGL device index (default: first hardware device, else llvmpipe)\n"
            "  --gl-debug          GL debug output on stderr (always on in debug builds)\n"
            "  --quiet             no progress line\n"
@@ -221,7 +224,7 @@ void cli_print_help(command cmd)
                "                      relative to traditional, A2C modes also traditional+MSAA\n");
     printf("\nexit status: 0 ok, 1 fovsim check: a regression, 2 bad arguments, 3 bad scene, 4 bad asset, 5 bad\n"
            "             gaze trace, 6 I/O error, 7 no OpenGL 4.5 context, 8 shader error, 9 out of memory,\n"
-           "             11 a sweep has missing or failed tasks, 130 interrupted\n");
+           "             11 a sweep has missing or failed tasks, 12 another run is writing DIR, 130 interrupted\n");
 }
 
 /* An option with two values: *which = 0 for `a`, 1 for `b`; anything else is a one-line error. */
@@ -247,17 +250,35 @@ bool cli_parse_int(const char *opt, const char *v, int lo, int hi, int *out)
     return true;
 }
 
-static bool parse_float(const char *opt, const char *v, float lo, float hi, float *out)
+/* A number for an option used as a 32-bit float, range-checked as that float (issue 28 part 5): a
+ * value that is in range as a double but rounds to 0 or to a denormal (1e-300, 1e-40) would reach
+ * the renderer as 0, which every consumer reads as "use the default", or be flushed to 0 on a GPU.
+ * (lo, hi], or [lo, hi] with lo_closed. */
+static bool parse_float_in(const char *opt, const char *v, float lo, bool lo_closed, float hi, float *out,
+                           const char *expected)
 {
     char *end;
     errno = 0;
     double x = strtod(v, &end);
-    if (errno || end == v || *end || !isfinite(x) || x <= lo || x > hi) {
-        log_error("%s: expected a number in (%g, %g], got '%s'", opt, lo, hi, v);
+    float f = (float)x;
+    bool ok = !errno && end != v && !*end && isfinite(x) && isfinite(f) && (lo_closed ? f >= lo : f > lo) && f <= hi &&
+              (x == 0.0 || isnormal(f));
+    if (!ok) {
+        bool tiny = !errno && end != v && !*end && (lo_closed ? x >= lo : x > lo) && x <= hi &&
+                    x != 0.0 && !isnormal(f); /* in range as a double, not as the float */
+        char range[96];
+        snprintf(range, sizeof range, "a number in %c%g, %g]", lo_closed ? '[' : '(', lo, hi);
+        log_error("%s: expected %s, got '%s'%s", opt, expected ? expected : range, v,
+                  tiny ? " (too small for the 32-bit float it is used as)" : "");
         return false;
     }
-    *out = (float)x;
+    *out = f;
     return true;
+}
+
+static bool parse_float(const char *opt, const char *v, float lo, float hi, float *out)
+{
+    return parse_float_in(opt, v, lo, false, hi, out, NULL);
 }
 
 fs_status cli_parse(int argc, char **argv, run_desc *d)
@@ -355,7 +376,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                                                  "--hash", "--fade-n", "--alpha-lod-max", "--modes", "--taa", "--taa-blend",
                                                  "--taa-gamma", "--taa-sparse", "--taa-disocclusion", "--taa-neighbourhood", "--taa-history", "--taa-nan", "--jitter-length", "--object-motion", "--composite", "--ring-cull", "--supersample", "--samples",
                                                  "--reference", "--ref-memory", "--error", "--cache", "--script", "--record", "--split",
-                                                 "--asset-root", "--max-image-mpixels", "--max-scene-mpixels"};
+                                                 "--asset-root", "--max-image-mpixels", "--max-scene-mpixels", "--wait-lock"};
         bool known = false;
         for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
             known |= !strcmp(opt, with_value[k]);
@@ -384,7 +405,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
             ok = *val != '\0';
             if (!ok)
                 log_error("--asset-root: expected a folder, got ''");
-        } else if (!strcmp(opt, "--max-image-mpixels"))
+        } else if (!strcmp(opt, "--wait-lock"))
+            ok = cli_parse_int(opt, val, 1, WAIT_LOCK_MAX_S, &d->wait_lock);
+        else if (!strcmp(opt, "--max-image-mpixels"))
             ok = cli_parse_int(opt, val, 1, 4096, &d->max_image_mpixels);
         else if (!strcmp(opt, "--max-scene-mpixels"))
             ok = cli_parse_int(opt, val, 1, 65536, &d->max_scene_mpixels);
@@ -458,12 +481,10 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         else if (!strcmp(opt, "--taa-gamma"))
             ok = parse_float(opt, val, 0.0f, 16.0f, &d->taa_gamma);
         else if (!strcmp(opt, "--taa-sparse")) {
-            char *end;
-            double x = strtod(val, &end);
-            ok = !strcmp(val, "off") || (end != val && !*end && x > 0.0 && x <= 1.0);
-            d->taa_sparse = !strcmp(val, "off") ? -1.0f : (float)x;
-            if (!ok)
-                log_error("--taa-sparse: expected off or a number in (0, 1], got '%s'", val);
+            if (!strcmp(val, "off"))
+                d->taa_sparse = -1.0f;
+            else
+                ok = parse_float_in(opt, val, 0.0f, false, 1.0f, &d->taa_sparse, "off or a number in (0, 1]");
         }
         else if (!strcmp(opt, "--taa-neighbourhood")) {
             int k = 0;
@@ -582,7 +603,7 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         else if (!strcmp(opt, "--gpu"))
             ok = cli_parse_int(opt, val, 0, 15, &d->gpu);
         else if (!strcmp(opt, "--fps"))
-            ok = parse_float(opt, val, 0.0f, 1000.0f, &d->fps);
+            ok = parse_float_in(opt, val, FPS_MIN, true, FPS_MAX, &d->fps, NULL);
         else if (!strcmp(opt, "--alpha")) {
             d->alpha = alpha_mode_parse(val);
             ok = d->alpha != ALPHA_MODE_DEFAULT;
@@ -674,9 +695,9 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
         log_error("--split and --alpha: give one of them, not both (--split A,B sets the left-hand mode)");
         return FS_ERR_USAGE;
     }
-    if ((d->resume || d->replace) && d->cmd != CMD_RENDER && d->cmd != CMD_REFERENCE && d->cmd != CMD_COMPARE &&
-        d->cmd != CMD_DEMO) {
-        log_error("--resume and --replace are options of fovsim render, reference, compare and demo");
+    if ((d->resume || d->replace || d->wait_lock) && d->cmd != CMD_RENDER && d->cmd != CMD_REFERENCE &&
+        d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO) {
+        log_error("--resume, --replace and --wait-lock are options of fovsim render, reference, compare and demo");
         return FS_ERR_USAGE;
     }
     if (d->first_frame && d->cmd != CMD_COMPARE) {

@@ -94,6 +94,7 @@ typedef struct run_desc {
     bool warmup_set;         /* --warmup was given (compare --first-frame: frames of history; default all) */
     bool resume;             /* render/reference/compare/demo: --resume, keep the complete frames (run_record.h) */
     bool replace;            /* --replace: write into a folder another configuration wrote */
+    int wait_lock;           /* --wait-lock S: wait up to S seconds for another run writing --out (0: refuse at once) */
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */

@@ -192,7 +192,8 @@ static void check_help(void)
            "                      all=VALUE (the whole display), comma-separated; VALUE a number or off.\n"
            "                      Given with --record they are stored in the baseline; with --baseline they\n"
            "                      override it for this run.\n"
-           "  --gpu N, --cache DIR, --no-cache, --quiet, --verbose, --gl-debug   as for compare, with either;\n"
+           "  --gpu N, --cache DIR, --no-cache, --wait-lock S, --quiet, --verbose, --gl-debug   as for\n"
+           "                      compare, with either;\n"
            "                      not stored in the baseline (--verbose also prints compare's table)\n"
            "  --replace           --record: write into a DIR another configuration wrote (a baseline there\n"
            "                      is replaced without it)\n\n"
@@ -273,7 +274,7 @@ static fs_status parse_options(int argc, char **argv, check_opts *o, bool *help)
                    !strcmp(opt, "--no-cache")) {
             o->verbose |= !strcmp(opt, "--verbose");
             o->env[o->nenv++] = a;
-        } else if (!strcmp(opt, "--gpu") || !strcmp(opt, "--cache")) {
+        } else if (!strcmp(opt, "--gpu") || !strcmp(opt, "--cache") || !strcmp(opt, "--wait-lock")) {
             o->env[o->nenv++] = a;
             if (!eq && !(o->env[o->nenv++] = value_of(argc, argv, &i, eq)))
                 return FS_ERR_USAGE;
@@ -392,6 +393,36 @@ static void check_role(const char *dir, char *out, size_t n)
     cJSON_Delete(root);
 }
 
+/* The options `fovsim check --record` never writes into compare_argv: the machine's (passed to
+ * compare, not stored), check's own, and those a baseline refuses. The option's name when `arg`
+ * is one ("--cache" for "--cache=DIR" too), else NULL. */
+static const char *never_stored(const char *arg)
+{
+    static const char *const k_never[] = {"--cache", "--no-cache", "--gpu",    "--wait-lock", "--quiet",
+                                          "--verbose", "--gl-debug", "--out",   "--replace",   "--resume",
+                                          "--name",    "--help",     "--record", "--baseline", "--junit"};
+    for (size_t k = 0; k < sizeof k_never / sizeof k_never[0]; k++) {
+        size_t l = strlen(k_never[k]);
+        if (!strncmp(arg, k_never[k], l) && (arg[l] == '\0' || arg[l] == '='))
+            return k_never[k];
+    }
+    char opt[64];
+    snprintf(opt, sizeof opt, "%.*s", (int)strcspn(arg, "="), arg);
+    check_metric m = check_metric_of_option(opt);
+    return m < CHECK_METRIC_COUNT ? check_metric_option(m) : NULL;
+}
+
+static const char *never_stored_why(const char *opt)
+{
+    if (!strcmp(opt, "--cache") || !strcmp(opt, "--no-cache") || !strcmp(opt, "--gpu") || !strcmp(opt, "--wait-lock") ||
+        !strcmp(opt, "--quiet") ||
+        !strcmp(opt, "--verbose") || !strcmp(opt, "--gl-debug"))
+        return "an option of the machine that runs the check";
+    if (!strncmp(opt, "--tol-", 6))
+        return "tolerances are stored under \"tolerances\"";
+    return "an option of fovsim check itself, or one a baseline refuses";
+}
+
 /* The baseline's compare options into argv (borrowed from root) and tolerances into *t. */
 static fs_status parse_baseline(const char *dir, const cJSON *root, const char **argv, int *argc, check_tols *t,
                                 const char **version)
@@ -430,6 +461,16 @@ static fs_status parse_baseline(const char *dir, const cJSON *root, const char *
         snprintf(jp, sizeof jp, "compare_argv[%d]", *argc);
         if (!cJSON_IsString(e) || (*argc == 0 && strcmp(e->valuestring, "compare") != 0))
             return bad_json(path, jp, *argc ? "expected a string" : "expected \"compare\"");
+        /* A baseline holds compare's options that shape the run; --record keeps the machine's
+         * (--cache, --gpu, ...) and check's own out of it, so one here was not written by fovsim
+         * and is refused rather than obeyed (issue 28 part 6; docs/check.md). */
+        const char *never = never_stored(e->valuestring);
+        if (*argc > 0 && never) {
+            char why[200];
+            snprintf(why, sizeof why, "'%s' is never stored in a baseline (%s); give it to fovsim check, or record "
+                     "the baseline again", never, never_stored_why(never));
+            return bad_json(path, jp, why);
+        }
         argv[(*argc)++] = e->valuestring;
     }
     check_tols_default(t);

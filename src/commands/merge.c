@@ -67,8 +67,8 @@ static int column(const char *header, const char *name)
     return -1;
 }
 
-/* Field `i` of a CSV row (no quoting in fovsim's metrics) into out; false when the row has no
- * field i or it does not fit in out. */
+/* Field `i` of a CSV row (no quoting in fovsim's metrics) into out ("" for a column not
+ * there); false when the row has no field i or it does not fit in out. */
 static bool field(const char *row, int i, char *out, size_t n)
 {
     const char *c = i >= 0 ? row : NULL;
@@ -118,6 +118,62 @@ static fs_status check_row(const char *path, int line, const char *row, int c_mo
     return FS_OK;
 }
 
+/* The structure of a task's metrics.csv (issue 28 part 4), before a value is read: the header
+ * names every column merge reads; every row has as many fields as the header, none empty, and
+ * ends with a line break (a file cut mid-row lacks it). One line with file:line and FS_ERR_IO
+ * otherwise. `text` is the whole file. */
+static fs_status check_task_csv(const char *path, const char *text, size_t size)
+{
+    if (strlen(text) != size) {
+        log_error("%s: holds a NUL byte (not a text file: a damaged or foreign metrics.csv)", path);
+        return FS_ERR_IO;
+    }
+    static const char *const k_read[] = {"mode", "ring", "frame_ms", "flip", "coverage_ratio", "pixels", "coverage",
+                                         "ref_coverage"};
+    size_t hl = strcspn(text, "\n");
+    char header[2048];
+    snprintf(header, sizeof header, "%.*s", (int)(hl < sizeof header ? hl : sizeof header - 1), text);
+    for (size_t k = 0; k < sizeof k_read / sizeof k_read[0]; k++)
+        if (column(header, k_read[k]) < 0) {
+            log_error("%s:1: the header has no column '%s' (expected the header of fovsim compare's metrics.csv)",
+                      path, k_read[k]);
+            return FS_ERR_IO;
+        }
+    int want = 1;
+    for (const char *c = header; *c; c++)
+        want += *c == ',';
+    int line = 1;
+    for (const char *row = text; *row; line++) {
+        size_t len = strcspn(row, "\n");
+        if (row[len] != '\n') {
+            log_error("%s:%d: the row is cut short (no line break after it): the task's metrics were not written "
+                      "whole; run the task again", path, line);
+            return FS_ERR_IO;
+        }
+        int fields = 1, empty = -1;
+        for (size_t i = 0, start = 0; i <= len; i++)
+            if (i == len || row[i] == ',') {
+                if (i == start && empty < 0)
+                    empty = fields;
+                fields += i < len;
+                start = i + 1;
+            }
+        if (fields != want) {
+            log_error("%s:%d: %d fields, the header has %d (a damaged or foreign metrics.csv)", path, line, fields,
+                      want);
+            return FS_ERR_IO;
+        }
+        if (empty > 0 && line > 1) {
+            char name[64];
+            field(header, empty - 1, name, sizeof name);
+            log_error("%s:%d: field %d (%s) is empty", path, line, empty, name);
+            return FS_ERR_IO;
+        }
+        row += len + 1;
+    }
+    return FS_OK;
+}
+
 /* Appends task k's metrics rows (prefixed) to csv, and its ring -1 rows to the points. */
 static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char *prefix, int config, char *header,
                         size_t header_cap, sbuf *csv, points *ps)
@@ -130,6 +186,10 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     fs_status st = file_read_all(path, (size_t)1 << 31, "a task's metrics", FS_ERR_IO, &text, &size);
     if (st != FS_OK)
         return st;
+    if ((st = check_task_csv(path, text, size)) != FS_OK) {
+        free(text);
+        return st;
+    }
     char *nl = strchr(text, '\n');
     if (!nl) {
         log_error("%s: expected a header line and rows", path);
@@ -202,19 +262,38 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     return csv->oom ? FS_ERR_NOMEM : st;
 }
 
-/* The task's summary.json as a JSON value (NULL when unreadable). */
-static cJSON *task_summary(const sweep_manifest *m, const sweep_task *k)
+/* The task's summary.json as a JSON object into *out. A file that cannot be read, is not JSON or
+ * not an object is refused with one line (file:line:column for a syntax error), never merged as
+ * null (issue 28 part 4). */
+static fs_status task_summary(const sweep_manifest *m, const sweep_task *k, cJSON **out)
 {
     char dir[PATH_MAX + 300], path[PATH_MAX + 320];
     sweep_task_dir(m, k, dir, sizeof dir);
     snprintf(path, sizeof path, "%s/summary.json", dir);
     char *text = NULL;
     size_t size = 0;
-    if (file_read_all(path, 1 << 24, "a task's summary", FS_ERR_IO, &text, &size) != FS_OK)
-        return NULL;
-    cJSON *j = cJSON_ParseWithLength(text, size);
+    *out = NULL;
+    fs_status st = file_read_all(path, 1 << 24, "a task's summary", FS_ERR_IO, &text, &size);
+    if (st != FS_OK)
+        return st;
+    const char *end = NULL;
+    cJSON *j = cJSON_ParseWithLengthOpts(text, size + 1, &end, true);
+    if (!j || !cJSON_IsObject(j)) {
+        size_t off = !j && end && end >= text ? (size_t)(end - text) : 0;
+        int line = 1, col = 1;
+        for (size_t i = 0; i < off && i < size; i++)
+            text[i] == '\n' ? (line++, col = 1) : col++;
+        if (j)
+            log_error("%s: expected a JSON object (fovsim compare's summary)", path);
+        else
+            log_error("%s:%d:%d: not valid JSON (a damaged summary: run the task again)", path, line, col);
+        cJSON_Delete(j);
+        free(text);
+        return FS_ERR_IO;
+    }
     free(text);
-    return j;
+    *out = j;
+    return FS_OK;
 }
 
 static void short_of(const char *s, char *out, size_t n)
@@ -326,7 +405,9 @@ fs_status cmd_merge(int argc, char **argv)
         cJSON_AddNumberToObject(r, "first_frame", k->first);
         if (k->end)
             cJSON_AddNumberToObject(r, "end_frame", k->end);
-        cJSON *ts = task_summary(&m, k);
+        cJSON *ts = NULL;
+        if (st == FS_OK)
+            st = task_summary(&m, k, &ts);
         cJSON_AddItemToObject(r, "summary", ts ? ts : cJSON_CreateNull());
         cJSON_AddItemToArray(results, r);
         done++;

@@ -247,8 +247,8 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
         st = integer(m, root, "frames", "frames", 1, MAX_FRAMES, &m->frames);
     const cJSON *fps = cJSON_GetObjectItemCaseSensitive(root, "fps");
     if (st == FS_OK && fps) {
-        if (!cJSON_IsNumber(fps) || !(fps->valuedouble > 0.0 && fps->valuedouble <= 1000.0))
-            st = bad(m, "fps", "expected a number in (0, 1000]");
+        if (!cJSON_IsNumber(fps) || !(fps->valuedouble >= FPS_MIN && fps->valuedouble <= FPS_MAX))
+            st = bad(m, "fps", "expected a number in [0.001, 1000]");
         else
             m->fps = fps->valuedouble;
     }

@@ -79,6 +79,14 @@
 #define MAX_FRAMES 100000
 #endif
 
+/* --fps range (issue 28 part 5): one frame per 1000 s at the slowest, so that every frame's time
+ * (MAX_FRAMES / FPS_MIN at most) is a finite 32-bit float with room to spare. */
+#define FPS_MIN 0.001f
+#define FPS_MAX 1000.0f
+
+/* --wait-lock's longest wait, in seconds (a day): a run never waits without bound for another. */
+#define WAIT_LOCK_MAX_S 86400
+
 /* Frames the EXR writer may hold queued (besides one in flight per worker thread) before
  * rendering waits for it. */
 #ifndef EXR_QUEUE_DEPTH

@@ -25,6 +25,7 @@ extern "C" {
     X(FS_ERR_NOMEM,     9, "out of memory")                                 \
     X(FS_ERR_INTERNAL, 10, "internal error (a bug in fovsim)")            \
     X(FS_ERR_INCOMPLETE, 11, "a sweep has missing or failed tasks")         \
+    X(FS_ERR_BUSY,       12, "another run is writing the output folder")    \
     X(FS_REGRESSION,     1, "fovsim check: results outside the baseline's tolerances") \
     X(FS_ERR_INTERRUPTED, 130, "interrupted")
 

@@ -480,10 +480,19 @@ static fs_status load_gltf_scene(const char *path, scene *out)
                       isfinite(a.camera.position.z) && isfinite(a.camera.target.x) &&
                       isfinite(a.camera.target.y) && isfinite(a.camera.target.z) &&
                       v3_len(v3_sub(a.camera.target, a.camera.position)) > 1e-6f;
+    if (a.camera.present && !has_camera)
+        log_warn("%s: its camera's position or direction is not finite (or it looks at itself); a camera fitted to "
+                 "the asset is used instead", path);
     if (has_camera) {
         own.position = a.camera.position;
         own.target = a.camera.target;
+        /* fovsim draws horizontal fields of view in (1, 179) degrees (a scene file's outside is
+         * refused); the asset's camera outside keeps its place and takes the display's, said aloud
+         * (issue 28 part 5). */
         own.hfov_deg = a.camera.hfov_deg > 1 && a.camera.hfov_deg < 179 ? a.camera.hfov_deg : 0;
+        if (own.hfov_deg == 0)
+            log_warn("%s: its camera's horizontal field of view, %.6g degrees, is not in (1, 179); the display's "
+                     "%.6g degrees is used instead", path, (double)a.camera.hfov_deg, (double)out->display.hfov_deg);
     }
     if (scene_add_asset(out, &a) != 0 || !scene_add_instance(out, 0, m4_identity())) {
         asset_free(&a);

@@ -248,27 +248,24 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
             return s;
         const cJSON *t;
         bool enabled = true;
-        double v;
         sc->taa.given = true;
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "enabled")) && (s = jbool(c, t, "taa.enabled", &enabled)) != FS_OK)
             return s;
         sc->taa.off = !enabled;
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "blend"))) {
-            if ((s = jnum(c, t, "taa.blend", (nrange){0, 1, true, false, false, false}, &v)) != FS_OK)
+            if ((s = jfloat(c, t, "taa.blend", (nrange){0, 1, true, false, false, false}, &sc->taa.blend)) != FS_OK)
                 return s;
-            sc->taa.blend = (float)v;
         }
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "gamma"))) {
-            if ((s = jnum(c, t, "taa.gamma", (nrange){0, 16, true, false, false, false}, &v)) != FS_OK)
+            if ((s = jfloat(c, t, "taa.gamma", (nrange){0, 16, true, false, false, false}, &sc->taa.gamma)) != FS_OK)
                 return s;
-            sc->taa.gamma = (float)v;
         }
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "sparse"))) {
-            if (cJSON_IsFalse(t))
-                v = 0;
-            else if ((s = jnum(c, t, "taa.sparse", (nrange){0, 1, false, false, false, false}, &v)) != FS_OK)
+            float f = 0.0f; /* checked as the float it is used as: 1e-300 is not 0 ("off") */
+            if (!cJSON_IsFalse(t) &&
+                (s = jfloat(c, t, "taa.sparse", (nrange){0, 1, false, false, false, false}, &f)) != FS_OK)
                 return s;
-            sc->taa.sparse = v > 0 ? (float)v : -1.0f;
+            sc->taa.sparse = f > 0 ? f : -1.0f;
         }
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "jitter_length")) &&
             (s = jint(c, t, "taa.jitter_length", 1, 1024, &sc->taa.jitter_length)) != FS_OK)

@@ -166,9 +166,20 @@ fs_status jfloat(const jctx *c, const cJSON *it, const char *path, nrange r, flo
     double v;
     fs_status s = jnum(c, it, path, r, &v);
     if (s == FS_OK) {
-        if (!isfinite((float)v))
+        /* Range-checked again as the float it is used as (issue 28 part 5): 1e-300 is > 0 as a
+         * double but 0 as a float, which readers take for "the default". */
+        float f = (float)v;
+        if (!isfinite(f))
             return jfail(c, path, "expected a number that fits a float, got %.9g", v);
-        *out = (float)v;
+        bool tiny = v != 0.0 && (f == 0.0f || !isnormal(f)); /* 0 or denormal as a float: not what was written */
+        if (!nrange_holds(r, (double)f) || tiny) {
+            char want[128];
+            nrange_describe(r, want, sizeof want);
+            return jfail(c, path, "expected %s, got %.9g (%s)", want, v,
+                         tiny ? "too small for the 32-bit float it is used as"
+                                                   : "out of range as the 32-bit float it is used as");
+        }
+        *out = f;
     }
     return s;
 }

@@ -3,6 +3,9 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <time.h>
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,13 +22,14 @@
 #include "output/exr_write.h"
 #include "output/out_path.h"
 #include "scene/frame.h"
+#include "session/session.h"
 
 /* Every field of run_desc is either written into the configuration below or listed there as not
  * changing what a run writes. A new field usually changes the struct's size, which stops the build
  * here until it is sorted into one of the two (LP64 only: the size is the ABI's; a bool that fits
  * into padding slips through, so read the list when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 312, "run_desc changed: add the new field to run_record_describe (or to its list "
+_Static_assert(sizeof(run_desc) == 320, "run_desc changed: add the new field to run_record_describe (or to its list "
                                         "of fields that change nothing written), then update this size");
 #endif
 
@@ -167,7 +171,8 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->first_frame, d->warmup_set ? d->warmup : -1);
     /* Not recorded, because they change nothing a run writes: frames (the record's second part),
      * out_dir (the folder itself), builtin/scene_path and asset_root (the scene's content is),
-     * gpu (the renderer is), warmup unless with first_frame (bench's), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
+     * gpu (the renderer is), wait_lock (when a run starts, not what it writes),
+     * warmup unless with first_frame (bench's), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
      * cache (a cached reference frame equals a drawn one), resume/replace, run_fvvdp (runs after
      * the frames), and the options of other commands: markdown, json, accuracy, acc_error,
      * script, record, split, help_for. */
@@ -369,6 +374,114 @@ static fs_status remove_compare_outputs(const char *dir)
     return st == FS_OK ? remove_fvvdp(dir) : st;
 }
 
+/* >>the lock */
+
+/* What the lock file names: its first line, printable ASCII only, at most 200 bytes. */
+static void lock_holder(int fd, char *out, size_t cap)
+{
+    char buf[256];
+    ssize_t n = pread(fd, buf, sizeof buf - 1, 0);
+    size_t k = 0;
+    for (ssize_t i = 0; i < n && buf[i] != '\n' && k + 1 < cap && k < 200; i++)
+        out[k++] = buf[i] >= 0x20 && buf[i] < 0x7f ? buf[i] : '?';
+    out[k] = '\0';
+    if (k == 0)
+        snprintf(out, cap, "not named yet in %s", RUN_LOCK_FILE);
+}
+
+static double monotonic_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Takes DIR/fovsim-run.lock (run_record.h), waiting up to wait_s seconds, polling 5 times a
+ * second (a blocking flock could not be bounded or interrupted). A lock taken on a file that its
+ * holder removed meanwhile is no lock: the name is opened again until the file locked is the one
+ * the name leads to. */
+static fs_status lock_folder(run_folder *f, const run_desc *d, int wait_s)
+{
+    static const char *const k_cmd[] = {[CMD_RENDER] = "render", [CMD_REFERENCE] = "reference",
+                                        [CMD_COMPARE] = "compare", [CMD_DEMO] = "demo"};
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", f->dir, RUN_LOCK_FILE);
+    const double t0 = monotonic_s();
+    bool said = false;
+    for (;;) {
+        int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+        if (fd < 0) {
+            log_error("%s: cannot open the folder's lock: %s", path, strerror(errno));
+            return FS_ERR_IO;
+        }
+        struct stat a, b;
+        if (fstat(fd, &a) != 0 || !S_ISREG(a.st_mode)) {
+            log_error("%s: expected fovsim's lock of this folder (a regular file); move it away or choose another "
+                      "--out", path);
+            close(fd);
+            return FS_ERR_IO;
+        }
+        if (flock(fd, LOCK_EX | LOCK_NB) == 0) {
+            if (stat(path, &b) != 0 || a.st_dev != b.st_dev || a.st_ino != b.st_ino) {
+                close(fd); /* removed by the run that held it: take the new one */
+                continue;
+            }
+            char host[256] = "", when[64] = "";
+            gethostname(host, sizeof host - 1);
+            time_t now = time(NULL);
+            struct tm tm;
+            strftime(when, sizeof when, "%Y-%m-%d %H:%M:%S UTC", gmtime_r(&now, &tm));
+            char text[600];
+            int n = snprintf(text, sizeof text, "pid %ld on host %.200s, fovsim %s, since %s\n", (long)getpid(), host,
+                             (size_t)d->cmd < sizeof k_cmd / sizeof k_cmd[0] && k_cmd[d->cmd] ? k_cmd[d->cmd] : "?",
+                             when);
+            /* Only a message depends on it: a failed write leaves "not named yet". */
+            if (ftruncate(fd, 0) != 0 || pwrite(fd, text, (size_t)n, 0) != n)
+                log_info("%s: cannot write who holds the lock: %s", path, strerror(errno));
+            f->lock_fd = fd;
+            f->locked = true;
+            return FS_OK;
+        }
+        int e = errno;
+        char who[256];
+        lock_holder(fd, who, sizeof who);
+        close(fd);
+        if (e != EWOULDBLOCK && e != EAGAIN && e != EINTR) {
+            log_error("%s: cannot lock the folder: %s", path, strerror(e));
+            return FS_ERR_IO;
+        }
+        double waited = monotonic_s() - t0;
+        if (waited >= wait_s) {
+            if (wait_s > 0)
+                log_error("%s: another run is still writing this folder after %d s (%s); --out chooses another folder",
+                          f->dir, wait_s, who);
+            else
+                log_error("%s: another run is writing this folder (%s); --wait-lock S waits for it, --out chooses "
+                          "another folder", f->dir, who);
+            return FS_ERR_BUSY;
+        }
+        if (!said) {
+            log_warn("%s: another run is writing this folder (%s); waiting up to %d s for it to end", f->dir, who,
+                     wait_s);
+            said = true;
+        }
+        if (session_interrupted())
+            return FS_ERR_INTERRUPTED;
+        nanosleep(&(struct timespec){0, 200 * 1000 * 1000}, NULL);
+    }
+}
+
+static void unlock_folder(run_folder *f)
+{
+    if (!f->locked)
+        return;
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", f->dir, RUN_LOCK_FILE);
+    unlink(path); /* while still held: a waiter that opened it sees it gone and opens the name again */
+    close(f->lock_fd);
+    f->locked = false;
+}
+
 /* >>open */
 
 fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const session *s, int frames)
@@ -385,6 +498,8 @@ fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, con
     if (!f->kept)
         return FS_ERR_NOMEM;
     st = file_make_dirs(dir);
+    if (st == FS_OK)
+        st = lock_folder(f, d, d->wait_lock);
     if (st != FS_OK)
         return st;
     out_dir_remove_stale_temps(dir);
@@ -444,6 +559,7 @@ void run_folder_close(run_folder *f)
         record_path(f, path, sizeof path);
         unlink(path);
     }
+    unlock_folder(f);
     free(f->config);
     free(f->kept);
     memset(f, 0, sizeof *f);

@@ -26,6 +26,14 @@
 #include "session/session.h"
 
 #define RUN_RECORD_FILE "fovsim-run.txt"
+/* The folder's lock (issue 28 part 3): a run holds an exclusive flock(2) on DIR/fovsim-run.lock
+ * from before it reads the record until after its last file, so a second run into DIR (--replace
+ * and --resume included, and a sweep task run twice) is refused, or waits with --wait-lock,
+ * instead of mixing its frames with the first's. The file names the holder ("pid P on host H,
+ * fovsim render, since T") for the refusal message; it is removed by its holder at the end (a
+ * killed run leaves it, unlocked, and the next run takes it). The record itself cannot carry the
+ * lock: it is replaced by rename, and a lock belongs to one file, not to a name. */
+#define RUN_LOCK_FILE "fovsim-run.lock"
 
 /* The configuration text of a run (the part of the record above "---"), malloc'd into *out.
  * FS_ERR_IO when the executable cannot be read to hash it (never in practice: /proc/self/exe). */
@@ -39,18 +47,23 @@ typedef struct run_folder {
     bool *kept;    /* per frame: a complete frame of the same configuration kept by --resume */
     int kept_count;
     bool written, completed; /* the record, "complete: no" / "complete: yes" */
+    int lock_fd;             /* DIR/fovsim-run.lock, held while locked */
+    bool locked;
 } run_folder;
 
 /* Prepares DIR for a run of `frames` frames named d->name: describes the run's configuration
  * (run_record_describe), creates DIR, removes stale temporary files, checks the record as above
  * (d->resume, d->replace), removes what the run replaces and writes the record ("complete: no").
+ * First it takes the folder's lock (RUN_LOCK_FILE), waiting up to d->wait_lock seconds for
+ * another run holding it; FS_ERR_BUSY with one line naming that run when it is still held.
  * FS_ERR_USAGE with one line when the folder holds another configuration's output and --replace
  * was not given; FS_ERR_IO when it cannot be made, tidied or the record cannot be written.
  * f->kept lists the frames --resume keeps. run_folder_close after any result. */
 fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, const session *s, int frames);
 /* Rewrites the record with "complete: yes" (after the last frame and file of the run). */
 fs_status run_folder_complete(run_folder *f);
-/* Frees f. A run that did not complete and left no frame of its own removes its record too. */
+/* Frees f and releases the lock. A run that did not complete and left no frame of its own removes
+ * its record too. */
 void run_folder_close(run_folder *f);
 /* Prints the line that says what a resume kept and what redrawing kept frames for the TAA
  * history cost (nothing when no frame was kept). */

@@ -177,6 +177,21 @@ check "... naming it" grep -q 'csv/metrics.csv: cannot open' "$T/err.txt"
 damaged rows; awk -F, -v OFS=, 'NR == 3 { $8 = "x" } 1' "$T/base/metrics.csv" >"$T/rows/metrics.csv"
 expect_exit "a damaged metrics.csv row exits 6" 6 "$BIN" check --baseline "$T/rows" "${ENV[@]}"
 check "... naming file:line" grep -q 'rows/metrics.csv:3:' "$T/err.txt"
+# options a baseline never records (the machine's, check's own) are refused, not obeyed (issue 28
+# part 6): a check.json carrying --cache would otherwise send the reference cache elsewhere
+damaged cache; sed -i 's|"--rings",|"--cache", "'"$T"'/evil-cache", "--rings",|' "$T/cache/check.json"
+expect_exit "a check.json storing --cache DIR exits 2" 2 "$BIN" check --baseline "$T/cache" --quiet
+check "... naming check.json, the JSON path and --cache" \
+  grep -q "cache/check.json: compare_argv\[[0-9]*\]: '--cache' is never stored in a baseline" "$T/err.txt"
+check "... and the cache it names is not touched" test ! -e "$T/evil-cache"
+n=0
+for o in '"--no-cache"' '"--gpu", "0"' '"--gpu=0"' '"--out", "x"' '"--replace"' '"--tol-rmse=1"' '"--verbose"'; do
+  n=$((n+1)); damaged "machine$n"; sed -i 's|"--rings",|'"$o"', "--rings",|' "$T/machine$n/check.json"
+  name=${o#\"}; name=${name%%[\"=]*}
+  expect_exit "a check.json storing $o exits 2" 2 "$BIN" check --baseline "$T/machine$n" "${ENV[@]}"
+  check "... naming $name" grep -q "machine$n/check.json: compare_argv\[[0-9]*\]: '$name' is never stored" "$T/err.txt"
+done
+check "... none of them ran" bash -c "! ls -d '$T'/cache-next '$T'/machine*-next 2>/dev/null"
 check "a damaged baseline draws nothing" bash -c "! ls -d '$T'/{trunc,argv0,bogus,role,frame,csv,rows}-next 2>/dev/null"
 
 # ---- recording again replaces the baseline

@@ -290,10 +290,11 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   # EXR library held its context lock, and the error handler asked it for the user data: a hang
   # (killed by `timeout`, 124/137) with a 0-byte temporary file. Expected: exit 6, one line, nothing
   # left. render writes through the writer thread; reference writes the frame and its cache entry.
-  # One 4 KiB page is left free: the folder's record (fovsim-run.txt, written first) fits, the first
-  # frame does not; the record of a run that left no frame is removed again.
+  # Two 4 KiB pages are left free: the folder's lock (fovsim-run.lock, naming its holder) and record
+  # (fovsim-run.txt), written first, fit, the first frame does not; the record of a run that left
+  # no frame is removed again, and the lock with the run.
   mount -t tmpfs -o size=64k tmpfs "$T/full"
-  dd if=/dev/zero of="$T/full/filler" bs=4k count=15 2>/dev/null
+  dd if=/dev/zero of="$T/full/filler" bs=4k count=14 2>/dev/null
   mkdir -p "$T/full/seq" "$T/full/cache"
   timeout -s KILL 60 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
   rc=$?
@@ -306,7 +307,8 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   check "disk full from the start: reference -> exit 6, no hang (exit $rc)" test $rc -eq 6
   check "disk full from the start: reference, one line" test "$(wc -l <"$T/err.txt")" -eq 1
   check "disk full from the start: reference leaves no file" test -z "$(ls -A "$T/full/seq" "$T/full/cache" | grep -v ':$' | grep .)"
-  # Wholly full: the record cannot be written either; exit 6, one line naming it, nothing left.
+  # Wholly full (one page: the lock's): the record cannot be written; exit 6, one line naming it,
+  # nothing left.
   dd if=/dev/zero of="$T/full/filler2" bs=4k count=1 2>/dev/null
   timeout -s KILL 60 "$BIN" render --builtin fence --frames 2 --width 32 --height 18 --out "$T/full/seq" --quiet >/dev/null 2>"$T/err.txt"
   rc=$?

@@ -40,6 +40,8 @@ TEST(options)
     CHECK(d.frames == 12 && d.fps == 30.0f && strcmp(d.out_dir, "o") == 0);
     CHECK(d.width == 320 && d.height == 180 && d.alpha == ALPHA_MODE_TRADITIONAL && d.gpu == 1);
     CHECK(d.quiet && d.compression == EXR_COMPRESS_NONE && strcmp(d.name, "f") == 0);
+    CHECK(parse(&d, "fovsim render fence --wait-lock 30 --replace --fps 0.001") == FS_OK);
+    CHECK(d.wait_lock == 30 && d.replace && d.fps == 0.001f);
     CHECK(parse(&d, "fovsim bench --builtin fence --warmup 2 --markdown x.md") == FS_OK);
     CHECK(d.warmup == 2 && strcmp(d.markdown, "x.md") == 0 && strcmp(d.builtin, "fence") == 0);
     /* A positional scene: a path, or a built-in name. */
@@ -71,6 +73,15 @@ TEST(bad_arguments)
         "fovsim render --quiet=1",
         "fovsim render --quiet --verbose",
         "fovsim render --gpu -2",
+        /* in range as a double, 0 or denormal as the float they are used as (issue 28 part 5) */
+        "fovsim render --fps 1e-300",
+        "fovsim render --fps 0.0001",           /* below FPS_MIN */
+        "fovsim render --taa-blend 1e-300",
+        "fovsim render --hash-scale 1e-40",
+        "fovsim render --taa-sparse 1e-300",
+        "fovsim render --wait-lock 0",          /* at least a second (without it: no wait) */
+        "fovsim render --wait-lock 86401",      /* at most a day: never unbounded */
+        "fovsim plan --wait-lock 5",            /* only for commands that write a run folder */
     };
     log_set_quiet_errors(true);
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
