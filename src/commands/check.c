@@ -25,7 +25,6 @@
 
 #define CHECK_FILE "check.json"
 #define CHECK_FORMAT 1          /* check.json's "fovsim_check": the layout of this file */
-#define CHECK_MAX_ARGS 256      /* compare options a baseline holds */
 #define CHECK_REPORT_LINES 20   /* failures listed on stdout */
 #define CHECK_MAX_FILE (1 << 20)
 
@@ -102,11 +101,14 @@ bool check_tol_apply(check_tol *t, const char *spec, char *err, int err_size)
                 return false;
             }
         }
-        double v = strtod(val, &end);
+        /* Decimal only: strtod also reads hex ("0x10" = 16), inf and nan, none of which a
+         * tolerance is written as (issue 28). */
+        bool decimal = val[0] != '\0' && strspn(val, "0123456789.eE+-") == strlen(val);
+        double v = decimal ? strtod(val, &end) : 0.0;
         if (!strcmp(val, "off"))
             v = INFINITY;
-        else if (end == val || *end || !isfinite(v) || v < 0.0) {
-            snprintf(err, (size_t)err_size, "'%s': expected a number >= 0 or off", val);
+        else if (!decimal || end == val || *end || !isfinite(v) || v < 0.0) {
+            snprintf(err, (size_t)err_size, "'%.40s': expected a decimal number >= 0 or off", val);
             return false;
         }
         if (ring == -2)
@@ -423,9 +425,8 @@ static const char *never_stored_why(const char *opt)
     return "an option of fovsim check itself, or one a baseline refuses";
 }
 
-/* The baseline's compare options into argv (borrowed from root) and tolerances into *t. */
-static fs_status parse_baseline(const char *dir, const cJSON *root, const char **argv, int *argc, check_tols *t,
-                                const char **version)
+fs_status check_baseline_parse(const char *dir, const cJSON *root, const char **argv, int *argc, check_tols *t,
+                               const char **version)
 {
     static const char *const keys[] = {"fovsim_check", "role", "fovsim", "argv", "compare_argv", "tolerances"};
     char path[PATH_MAX + 32], jp[96];
@@ -709,7 +710,7 @@ static fs_status check_against(const check_opts *o)
     int nopts = 0;
     check_tols tols;
     if (st == FS_OK)
-        st = parse_baseline(dir, root, opts, &nopts, &tols, &version);
+        st = check_baseline_parse(dir, root, opts, &nopts, &tols, &version);
     for (int m = 0; m < CHECK_METRIC_COUNT; m++)
         if (o->tol_set[m]) /* the options given now override the baseline's, metric by metric */
             tols.t[m] = o->tol_cli.t[m];

@@ -91,4 +91,18 @@ fs_status check_baseline_validate(const char *dir);
  * either folder is missing or damaged; FS_ERR_NOMEM. */
 fs_status check_judge(const check_judge_desc *d, check_verdict *v);
 
+/* >>baseline (check.c) */
+
+#define CHECK_MAX_ARGS 256 /* compare options a baseline holds */
+
+struct cJSON;
+/* A baseline's check.json, already parsed into root (DIR names it in messages): its compare options
+ * into argv (at most CHECK_MAX_ARGS, borrowed from root; argv[0] is "compare"), its tolerances into
+ * *t (the defaults where it names none) and the recording fovsim's version into *version. Every key
+ * and value is checked: unknown keys, a wrong format or role, options a baseline never stores
+ * (--cache, --gpu, --out, ...), bad tolerance specs: FS_ERR_USAGE with one line naming the file and
+ * the JSON path. tests/fuzz/fuzz_check_merge.c feeds it. */
+fs_status check_baseline_parse(const char *dir, const struct cJSON *root, const char **argv, int *argc,
+                               check_tols *t, const char **version);
+
 #endif

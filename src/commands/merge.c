@@ -18,6 +18,7 @@
 #include "scene/scene.h"
 #include "session/session.h"
 #include "commands/commands.h"
+#include "commands/merge.h"
 #include "commands/sweep_manifest.h"
 
 /* One (configuration, mode) of the sweep: the accuracy-vs-time point. */
@@ -174,6 +175,26 @@ static fs_status check_task_csv(const char *path, const char *text, size_t size)
     return FS_OK;
 }
 
+static const char *const k_num_names[] = {"frame_ms", "flip", "coverage_ratio", "pixels", "coverage", "ref_coverage"};
+
+fs_status merge_check_metrics(const char *path, const char *text, size_t size)
+{
+    fs_status st = check_task_csv(path, text, size);
+    if (st != FS_OK)
+        return st;
+    char header[2048];
+    size_t hl = strcspn(text, "\n");
+    snprintf(header, sizeof header, "%.*s", (int)(hl < sizeof header ? hl : sizeof header - 1), text);
+    int num_cols[6];
+    for (int i = 0; i < 6; i++)
+        num_cols[i] = column(header, k_num_names[i]);
+    int c_mode = column(header, "mode"), c_ring = column(header, "ring"), line = 1;
+    /* Rows end with a line break (check_task_csv); field() stops at it. */
+    for (const char *row = text + hl + (text[hl] == '\n'); *row && st == FS_OK; row += strcspn(row, "\n") + 1)
+        st = check_row(path, ++line, row, c_mode, c_ring, num_cols, k_num_names, 6);
+    return st;
+}
+
 /* Appends task k's metrics rows (prefixed) to csv, and its ring -1 rows to the points. */
 static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char *prefix, int config, char *header,
                         size_t header_cap, sbuf *csv, points *ps)
@@ -186,7 +207,7 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     fs_status st = file_read_all(path, (size_t)1 << 31, "a task's metrics", FS_ERR_IO, &text, &size);
     if (st != FS_OK)
         return st;
-    if ((st = check_task_csv(path, text, size)) != FS_OK) {
+    if ((st = merge_check_metrics(path, text, size)) != FS_OK) {
         free(text);
         return st;
     }
@@ -207,19 +228,10 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     int c_mode = column(header, "mode"), c_ring = column(header, "ring"), c_ms = column(header, "frame_ms"),
         c_flip = column(header, "flip"), c_ratio = column(header, "coverage_ratio"), c_px = column(header, "pixels"),
         c_cov = column(header, "coverage"), c_ref = column(header, "ref_coverage");
-    static const char *const num_names[] = {"frame_ms", "flip", "coverage_ratio", "pixels", "coverage", "ref_coverage"};
-    const int num_cols[] = {c_ms, c_flip, c_ratio, c_px, c_cov, c_ref};
-    int line = 1;
+    /* Every row was checked (merge_check_metrics): read it. */
     for (char *row = nl + 1; *row && st == FS_OK;) {
         char *end = strchr(row, '\n');
         size_t len = end ? (size_t)(end - row) : strlen(row);
-        if (end)
-            *end = '\0'; /* the row alone, for its checks */
-        st = check_row(path, ++line, row, c_mode, c_ring, num_cols, num_names, 6);
-        if (end)
-            *end = '\n';
-        if (st != FS_OK)
-            break;
         sb_append(csv, prefix, strlen(prefix));
         sb_append(csv, row, len);
         sb_append(csv, "\n", 1);
@@ -276,6 +288,14 @@ static fs_status task_summary(const sweep_manifest *m, const sweep_task *k, cJSO
     fs_status st = file_read_all(path, 1 << 24, "a task's summary", FS_ERR_IO, &text, &size);
     if (st != FS_OK)
         return st;
+    st = merge_parse_summary(path, text, size, out);
+    free(text);
+    return st;
+}
+
+fs_status merge_parse_summary(const char *path, const char *text, size_t size, cJSON **out)
+{
+    *out = NULL;
     const char *end = NULL;
     cJSON *j = cJSON_ParseWithLengthOpts(text, size + 1, &end, true);
     if (!j || !cJSON_IsObject(j)) {
@@ -288,10 +308,8 @@ static fs_status task_summary(const sweep_manifest *m, const sweep_task *k, cJSO
         else
             log_error("%s:%d:%d: not valid JSON (a damaged summary: run the task again)", path, line, col);
         cJSON_Delete(j);
-        free(text);
         return FS_ERR_IO;
     }
-    free(text);
     *out = j;
     return FS_OK;
 }

@@ -145,6 +145,8 @@ expect_exit "neither --record nor --baseline" 2 "$BIN" check fence
 expect_exit "--record refuses --out" 2 "$BIN" check --record "$T/x" fence --out "$T/y"
 expect_exit "--record refuses --name" 2 "$BIN" check --record "$T/x" fence --name n
 expect_exit "a bad tolerance" 2 "$BIN" check --baseline "$T/base" --tol-coverage 9=0.1
+expect_exit "a hexadecimal tolerance (0x10 would read as 16)" 2 "$BIN" check --baseline "$T/base" --tol-coverage 0x10
+check "the hexadecimal tolerance: what is expected" grep -q "expected a decimal number" "$T/err.txt"
 expect_exit "--junit into a missing folder" 2 "$BIN" check --baseline "$T/base" --junit "$T/no/such/dir/j.xml"
 expect_exit "--out as the baseline itself" 2 "$BIN" check --baseline "$T/base" --out "$T/base/"
 check "usage errors create nothing" test ! -e "$T/x" -a ! -e "$T/y"
