@@ -20,7 +20,9 @@
 /* >>lines */
 
 /* cJSON returns NULL for a line it could not allocate as for a syntax error; its allocations go
- * through this while a line is parsed, so running out of memory is reported as such (exit 9). */
+ * through this while a line is parsed, so running out of memory is reported as such (exit 9).
+ * cJSON's hooks are global: this relies on traces being loaded before any other thread starts
+ * (fovsim's only threads are the EXR writers, which do not use cJSON). */
 static bool g_json_oom;
 static void *json_malloc(size_t n)
 {
