@@ -101,16 +101,18 @@ EOF
 "$BIN" sweep m.json --local 2 --out sw --quiet >sweep_out.txt 2>sweep_err.txt &
 sweep=$!
 # both tasks started: each has its folder (compare creates it before the first frame)
-for _ in $(seq 1 600); do
+for _ in $(seq 1 1200); do
   [ "$(ls -d sw/tasks/*/ 2>/dev/null | wc -l)" -ge 2 ] && break
   kill -0 $sweep 2>/dev/null || break; sleep 0.05
 done
 kids=$(pgrep -P $sweep | tr '\n' ' ')
 check "two tasks are running before the signal" test "$(echo $kids | wc -w)" -eq 2
+[ "$(echo $kids | wc -w)" -eq 2 ] || { echo "  children: '$kids'; task folders:" >&2; ls sw/tasks >&2; }
 kill -TERM $sweep
 wait $sweep; rc=$?
 check "sweep exits 130 after SIGTERM" test $rc -eq 130
-check "  with one line saying so" grep -q 'interrupted (SIGTERM): 0 of 2 tasks finished, 2 stopped' sweep_err.txt
+[ $rc -eq 130 ] || { echo "  exit $rc; stderr:" >&2; cat sweep_err.txt >&2; }
+check "  with one line saying so" grep -q 'interrupted (SIGTERM): [0-9]* of 2 tasks finished, [0-9]* stopped; run the sweep again to resume' sweep_err.txt
 alive=""
 for k in $kids; do kill -0 "$k" 2>/dev/null && alive="$alive $k"; done
 check "no task outlives the sweep" test -z "$alive"
