@@ -38,8 +38,14 @@ int file_open_regular(const char *path, struct stat *st, const char **why)
         *why = strerror(errno);
         return -1;
     }
-    if (fstat(fd, st) != 0 || !S_ISREG(st->st_mode) || st->st_dev != before.st_dev ||
-        st->st_ino != before.st_ino) {
+    if (fstat(fd, st) != 0) {
+        int err = errno;
+        *why = strerror(err);
+        close(fd);
+        errno = err;
+        return -1;
+    }
+    if (!S_ISREG(st->st_mode) || st->st_dev != before.st_dev || st->st_ino != before.st_ino) {
         *why = S_ISREG(st->st_mode) ? "was replaced while being opened" : kind_of(st->st_mode);
         close(fd);
         errno = EINVAL;
