@@ -12,6 +12,7 @@
 #include "core/log.h"
 #include "passes/plan.h"
 #include "output/out_path.h"
+#include "scene/scene.h"
 
 static const struct {
     const char *name;
@@ -328,10 +329,14 @@ fs_status cli_parse(int argc, char **argv, run_desc *d)
                 log_error("fovsim %s: unexpected argument '%s' (see fovsim %s --help)", c, a, c);
                 return FS_ERR_USAGE;
             }
+            /* A built-in's name is the built-in even where a file or folder of that name is in the
+             * current folder (as in sweep manifests; ./fence is the file): a folder `fence` hid it.
+             * Another word without '/' or '.' that names no file is taken for a built-in name, so
+             * that scene_load_builtin lists the known ones. */
             if (!strncmp(a, "builtin:", 8))
                 d->builtin = a + 8; /* as fovsim prints a built-in scene's path */
-            else if (access(a, F_OK) != 0 && !strchr(a, '/') && !strchr(a, '.'))
-                d->builtin = a; /* a name, not a path: scene_load_builtin says if it is unknown */
+            else if (!strchr(a, '/') && !strchr(a, '.') && (scene_is_builtin(a) || access(a, F_OK) != 0))
+                d->builtin = a;
             else
                 d->scene_path = a;
             continue;

@@ -193,9 +193,16 @@ sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k)
     sweep_task_dir(m, k, path, sizeof path);
     size_t l = strlen(path);
     snprintf(path + l, sizeof path - l, "/%s", RUN_RECORD_FILE);
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return TASK_TODO;
+    struct stat sb;
+    const char *why;
+    int fd = file_open_regular(path, &sb, &why); /* a FIFO there must not hang --list */
+    if (fd < 0)
+        return errno == ENOENT ? TASK_TODO : TASK_INCOMPLETE; /* the task's run says what is wrong */
+    FILE *f = fdopen(fd, "r");
+    if (!f) {
+        close(fd);
+        return TASK_INCOMPLETE;
+    }
     char line[512];
     bool done = false;
     while (fgets(line, sizeof line, f))
@@ -442,11 +449,33 @@ static fs_status submit(const char *script, bool wait)
 
 /* >>--local N */
 
+/* SIGINT or SIGTERM stops the sweep: no new task starts, the signal is passed on to every running
+ * task (which stops as it would by itself: SIGINT after its current frame, SIGTERM at once; either
+ * way its folder resumes), and the sweep waits for them before it exits 130. The handler itself
+ * forwards, so a signal that arrives while the loop is blocked in waitpid() is not lost; the
+ * signals are blocked between fork() and recording the child's pid, so no task escapes it. */
 static volatile sig_atomic_t g_stop;
-static void on_sigint(int sig)
+static volatile sig_atomic_t g_stop_signal;
+static pid_t *volatile g_children; /* the running tasks' pids (0: free slot) */
+static volatile sig_atomic_t g_nchildren;
+
+static void on_stop_signal(int sig)
 {
-    (void)sig;
+    int saved = errno;
     g_stop = 1;
+    g_stop_signal = sig;
+    pid_t *kids = g_children;
+    for (int i = 0; kids && i < g_nchildren; i++)
+        if (kids[i] > 0)
+            kill(kids[i], sig);
+    errno = saved;
+}
+
+static void stop_signals(sigset_t *set)
+{
+    sigemptyset(set);
+    sigaddset(set, SIGINT);
+    sigaddset(set, SIGTERM);
 }
 
 static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, bool quiet)
@@ -465,8 +494,20 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     snprintf(threads, sizeof threads, "%ld", cores / jobs > 1 ? cores / jobs : 1);
     setenv("LP_NUM_THREADS", threads, 0);
-    signal(SIGINT, on_sigint);
-    int next = 0, running = 0, finished = 0, failed = 0, skipped = 0;
+    sigset_t stop_set, old_mask;
+    stop_signals(&stop_set);
+    g_children = pids;
+    g_nchildren = jobs;
+    struct sigaction sa, old_int, old_term;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaddset(&sa.sa_mask, SIGINT);
+    sigaddset(&sa.sa_mask, SIGTERM);
+    sa.sa_flags = 0; /* no SA_RESTART: waitpid returns EINTR */
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    int next = 0, running = 0, finished = 0, failed = 0, skipped = 0, stopped = 0;
     int todo = m->ntasks;
     struct timespec ts;
     while ((next < m->ntasks && !g_stop) || running > 0) {
@@ -484,8 +525,16 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
             while (pids[slot])
                 slot++;
             fflush(stdout);
+            sigprocmask(SIG_BLOCK, &stop_set, &old_mask);
+            if (g_stop) { /* a signal came since the loop's test */
+                sigprocmask(SIG_SETMASK, &old_mask, NULL);
+                break;
+            }
             pid_t pid = fork();
             if (pid == 0) {
+                signal(SIGINT, SIG_DFL); /* the task installs its own */
+                signal(SIGTERM, SIG_DFL);
+                sigprocmask(SIG_SETMASK, &old_mask, NULL);
                 FILE *f = freopen(log, "w", stdout);
                 if (!f || dup2(fileno(stdout), STDERR_FILENO) < 0)
                     _exit(126);
@@ -494,12 +543,15 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
                 _exit(127);
             }
             if (pid < 0) {
-                log_error("cannot start a task: %s", strerror(errno));
+                int err = errno;
+                sigprocmask(SIG_SETMASK, &old_mask, NULL);
+                log_error("cannot start a task: %s", strerror(err));
                 g_stop = 1;
                 break;
             }
-            clock_gettime(CLOCK_MONOTONIC, &ts);
             pids[slot] = pid;
+            sigprocmask(SIG_SETMASK, &old_mask, NULL);
+            clock_gettime(CLOCK_MONOTONIC, &ts);
             which[slot] = i;
             started[slot] = (double)ts.tv_sec + ts.tv_nsec * 1e-9;
             running++;
@@ -518,12 +570,16 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
             slot++;
         if (slot == jobs)
             continue;
-        pids[slot] = 0;
+        pids[slot] = 0; /* (a signal between waitpid and here is sent to a reaped pid: harmless) */
         running--;
-        finished++;
         clock_gettime(CLOCK_MONOTONIC, &ts);
         double el = (double)ts.tv_sec + ts.tv_nsec * 1e-9 - started[slot];
         bool ok = WIFEXITED(ws) && WEXITSTATUS(ws) == 0;
+        if (!ok && g_stop) { /* stopped by the forwarded signal: the one "interrupted" line says it */
+            stopped++;
+            continue;
+        }
+        finished++;
         failed += !ok;
         const sweep_task *k = &m->tasks[which[slot]];
         if (ok && !quiet)
@@ -534,12 +590,17 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
                       which[slot]);
         fflush(stdout);
     }
-    signal(SIGINT, SIG_DFL);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
+    g_children = NULL;
+    g_nchildren = 0;
     free(pids);
     free(which);
     free(started);
     if (g_stop) {
-        log_error("interrupted: %d of %d tasks finished; run the sweep again to resume", finished, todo);
+        log_error("interrupted%s: %d of %d tasks finished, %d stopped; run the sweep again to resume",
+                  g_stop_signal == SIGTERM ? " (SIGTERM)" : g_stop_signal == SIGINT ? " (SIGINT)" : "", finished,
+                  todo, stopped);
         return FS_ERR_INTERRUPTED;
     }
     printf("%d task%s run, %d already complete, %d failed; fovsim merge %s gathers the metrics\n", finished,

@@ -75,6 +75,12 @@
 #endif
 
 /* Most frames one render may ask for (about 15 minutes at 120 fps). */
+/* Longest line of a Tobii livedata.json (one JSON record), bytes: cJSON builds a tree of each line
+ * at about 40 times its length (a 100 MB line took 4 GB). The recordings' lines are under 100. */
+#ifndef MAX_TOBII_RECORD_BYTES
+#define MAX_TOBII_RECORD_BYTES (64u << 10)
+#endif
+
 #ifndef MAX_FRAMES
 #define MAX_FRAMES 100000
 #endif

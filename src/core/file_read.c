@@ -5,31 +5,84 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "core/log.h"
+
+static const char *kind_of(mode_t m)
+{
+    return S_ISDIR(m)    ? "is a directory"
+           : S_ISFIFO(m) ? "is a FIFO (named pipe), not a regular file"
+           : S_ISCHR(m)  ? "is a character device, not a regular file"
+           : S_ISBLK(m)  ? "is a block device, not a regular file"
+           : S_ISSOCK(m) ? "is a socket, not a regular file"
+                         : "is not a regular file";
+}
+
+int file_open_regular(const char *path, struct stat *st, const char **why)
+{
+    struct stat before;
+    if (stat(path, &before) != 0) {
+        *why = strerror(errno);
+        return -1;
+    }
+    if (!S_ISREG(before.st_mode)) {
+        *why = kind_of(before.st_mode);
+        errno = S_ISDIR(before.st_mode) ? EISDIR : EINVAL;
+        return -1;
+    }
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    if (fd < 0) {
+        *why = strerror(errno);
+        return -1;
+    }
+    if (fstat(fd, st) != 0) {
+        int err = errno;
+        *why = strerror(err);
+        close(fd);
+        errno = err;
+        return -1;
+    }
+    if (!S_ISREG(st->st_mode) || st->st_dev != before.st_dev || st->st_ino != before.st_ino) {
+        *why = S_ISREG(st->st_mode) ? "was replaced while being opened" : kind_of(st->st_mode);
+        close(fd);
+        errno = EINVAL;
+        return -1;
+    }
+    return fd;
+}
 
 fs_status file_read_all(const char *path, size_t max_bytes, const char *what, fs_status too_big_status, char **out,
                         size_t *size_out)
 {
     *out = NULL;
     *size_out = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        log_error("%s: cannot open: %s", path, strerror(errno));
-        return FS_ERR_IO;
-    }
     struct stat st;
-    bool have_stat = fstat(fileno(f), &st) == 0;
-    if (have_stat && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        log_error("%s: is a directory, expected %s", path, what);
+    const char *why = "";
+    int fd = file_open_regular(path, &st, &why);
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (!f) {
+        if (fd >= 0) {
+            why = strerror(errno);
+            close(fd);
+        }
+        if (fd >= 0 || strncmp(why, "is ", 3) != 0)
+            log_error("%s: cannot open: %s", path, why);
+        else
+            log_error("%s: %s, expected %s", path, why, what);
         return FS_ERR_IO;
     }
-    /* Regular files are read in one go (+2: room to see the end of the file without growing);
-     * pipes and the like grow geometrically up to the limit. */
+    if ((unsigned long long)st.st_size > max_bytes) { /* refused by its size, unread */
+        fclose(f);
+        log_error("%s: larger than %zu MiB, expected %s", path, max_bytes >> 20, what);
+        return too_big_status;
+    }
+    /* Read in one go (+2: room to see the end of the file without growing); a file that grows
+     * while it is read grows the buffer geometrically up to the limit. */
     size_t cap = 1 << 16, size = 0;
-    if (have_stat && S_ISREG(st.st_mode) && st.st_size > 0 && (unsigned long long)st.st_size <= max_bytes)
+    if (st.st_size > 0)
         cap = (size_t)st.st_size + 2;
     char *text = malloc(cap);
     int err = 0;

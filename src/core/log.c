@@ -61,6 +61,99 @@ void log_escape_write(FILE *f, const char *msg, size_t n)
     }
 }
 
+/* Length of the longest prefix of s[0..n) not longer than max that does not end inside a UTF-8
+ * sequence (a cut there would show the lead byte of a character as an escape). */
+static size_t utf8_cut(const char *s, size_t n, size_t max)
+{
+    if (n <= max)
+        return n;
+    size_t k = max;
+    while (k > 0 && ((unsigned char)s[k] & 0xC0) == 0x80 && max - k < 4)
+        k--;
+    return k;
+}
+
+/* Start of the last tail bytes of s[0..n), moved forward to a character boundary. */
+static size_t utf8_tail(const char *s, size_t n, size_t tail)
+{
+    size_t k = n > tail ? n - tail : 0;
+    while (k < n && ((unsigned char)s[k] & 0xC0) == 0x80)
+        k++;
+    return k;
+}
+
+const char *log_quote(char *buf, size_t cap, const char *p, size_t n)
+{
+    if (cap < 8) {
+        if (cap)
+            buf[0] = '\0';
+        return buf;
+    }
+    const size_t room = cap - 6; /* the quotes, "..." and the NUL */
+    size_t o = 1, i = 0;
+    buf[0] = '\'';
+    for (; i < n; i++) {
+        const size_t cost = p[i] ? 1 : 4; /* a NUL byte is written as \x00, as log_error shows others */
+        if (o - 1 + cost > room)
+            break;
+        if (p[i]) {
+            buf[o++] = p[i];
+        } else {
+            memcpy(buf + o, "\\x00", 4);
+            o += 4;
+        }
+    }
+    if (i < n) { /* cut: not inside a UTF-8 character */
+        while (i > 0 && ((unsigned char)p[i] & 0xC0) == 0x80 && ((unsigned char)buf[o - 1] & 0x80)) {
+            i--;
+            o--;
+        }
+        memcpy(buf + o, "...", 3);
+        o += 3;
+    }
+    buf[o++] = '\'';
+    buf[o] = '\0';
+    return buf;
+}
+
+static bool is_blank(char c) { return c == ' ' || c == '\t'; }
+
+void log_bounded_write(FILE *f, const char *msg, size_t n)
+{
+    size_t written = 0; /* bytes of the message shown, for LOG_MAX_MESSAGE */
+    for (size_t i = 0; i < n;) {
+        size_t e = i;
+        if (is_blank(msg[i]))
+            while (e < n && is_blank(msg[e]))
+                e++;
+        else
+            while (e < n && !is_blank(msg[e]))
+                e++;
+        const char *w = msg + i;
+        size_t len = e - i;
+        if (written >= LOG_MAX_MESSAGE) {
+            fprintf(f, "...[%zu bytes more]", n - i);
+            return;
+        }
+        if (len > LOG_MAX_RUN) {
+            size_t head = utf8_cut(w, len, LOG_RUN_HEAD), tail = utf8_tail(w, len, LOG_RUN_TAIL);
+            log_escape_write(f, w, head);
+            fprintf(f, "...[%zu bytes]...", tail - head);
+            log_escape_write(f, w + tail, len - tail);
+            written += head + (len - tail) + 16;
+        } else {
+            size_t k = written + len > LOG_MAX_MESSAGE ? utf8_cut(w, len, LOG_MAX_MESSAGE - written) : len;
+            log_escape_write(f, w, k);
+            written += k;
+            if (k < len) {
+                fprintf(f, "...[%zu bytes more]", n - i - k);
+                return;
+            }
+        }
+        i = e;
+    }
+}
+
 /* One line: the message is formatted, then every byte that is not printable text (control
  * characters, DEL, malformed UTF-8, C1 controls) is written as an escape (\n, \x1b, ...), so a
  * file name or JSON key quoted in a message can neither break the line nor drive the terminal. */
@@ -93,7 +186,7 @@ static void vline(const char *prefix, const char *fmt, va_list ap)
     if (g_context[0] && prefix[0])
         log_escape_write(stderr, g_context, strlen(g_context));
     if (n > 0)
-        log_escape_write(stderr, buf, (size_t)n);
+        log_bounded_write(stderr, buf, (size_t)n);
     fputc('\n', stderr);
     if (buf != small)
         free(buf);

@@ -38,6 +38,24 @@ void log_set_quiet_errors(bool on);
 /* Writes msg[0..n) to f escaped as described above (no newline added). */
 void log_escape_write(FILE *f, const char *msg, size_t n);
 
+/* Messages are also bounded (issue 28: an 8 MB glTF data: URI made an 11 MB line): in every error,
+ * warning and info line, a run of more than LOG_MAX_RUN bytes without a blank (a quoted URI, key,
+ * field or path) is shown as its first LOG_RUN_HEAD bytes, `...[N bytes]...` and its last
+ * LOG_RUN_TAIL bytes, and a message longer than LOG_MAX_MESSAGE bytes after that ends with
+ * `...[N bytes more]`. Quoting input on purpose goes through log_quote, which shortens more. */
+#define LOG_MAX_RUN 256
+#define LOG_RUN_HEAD 160
+#define LOG_RUN_TAIL 48
+#define LOG_MAX_MESSAGE 4096
+
+/* Writes msg[0..n) to f escaped and bounded as described above (no newline added). */
+void log_bounded_write(FILE *f, const char *msg, size_t n);
+
+/* The one way messages quote input (a field, a key, a URI): 'text' in single quotes, at most
+ * cap - 6 bytes of it (cut at a UTF-8 character boundary), followed by ... when cut. Bytes are
+ * left as they are: log_error escapes them. Returns buf, which must hold at least 8 bytes. */
+const char *log_quote(char *buf, size_t cap, const char *p, size_t n);
+
 /* `fovsim: error: <msg>` on stderr, one line (a newline is appended). */
 void log_error(const char *fmt, ...) FS_PRINTF(1, 2);
 /* `fovsim: warning: <msg>` on stderr, always shown. */

@@ -51,8 +51,8 @@ typedef struct pctx {
     int screen_w, screen_h;
 } pctx;
 
-/* `got` text for messages: at most 40 bytes, non-printable bytes as '?', quoted; "nothing" when
- * n == 0. Returns buf (or a static string). */
+/* `got` text for messages: log_quote's, at most 40 bytes; "nothing" when n == 0. Returns buf (or
+ * a static string). */
 const char *gaze_snip(char *buf, size_t cap, const char *p, size_t n);
 /* Logs `<name>:<line>:<col>: <message>` and returns FS_ERR_GAZE. */
 fs_status gaze_fail(const pctx *c, long line, long col, const char *fmt, ...) FS_PRINTF(4, 5);

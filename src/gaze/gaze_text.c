@@ -15,21 +15,9 @@
 
 const char *gaze_snip(char *buf, size_t cap, const char *p, size_t n)
 {
-    size_t k = 0, lim = 40;
     if (n == 0)
         return "nothing";
-    buf[k++] = '\'';
-    for (size_t i = 0; i < n && i < lim && k + 5 < cap; i++) {
-        unsigned char c = (unsigned char)p[i];
-        buf[k++] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
-    }
-    if (n > lim && k + 5 < cap) {
-        memcpy(buf + k, "...", 3);
-        k += 3;
-    }
-    buf[k++] = '\'';
-    buf[k] = '\0';
-    return buf;
+    return log_quote(buf, cap < 46 ? cap : 46, p, n); /* at most 40 bytes */
 }
 
 fs_status gaze_fail(const pctx *c, long line, long col, const char *fmt, ...)

@@ -10,12 +10,36 @@
  */
 #include "gaze/gaze_read.h"
 
+#include "core/config.h"
+
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 /* >>lines */
+
+/* cJSON returns NULL for a line it could not allocate as for a syntax error; its allocations go
+ * through this while a line is parsed, so running out of memory is reported as such (exit 9).
+ * cJSON's hooks are global: this relies on traces being loaded before any other thread starts
+ * (fovsim's only threads are the EXR writers, which do not use cJSON). */
+static bool g_json_oom;
+static void *json_malloc(size_t n)
+{
+    void *p = malloc(n);
+    if (!p)
+        g_json_oom = true;
+    return p;
+}
+
+static cJSON *parse_tracked(const char *p, size_t n, const char **end)
+{
+    cJSON_Hooks hooks = {json_malloc, free};
+    cJSON_InitHooks(&hooks);
+    cJSON *v = cJSON_ParseWithLengthOpts(p, n, end, false);
+    cJSON_InitHooks(NULL); /* back to malloc and free (realloc too) for everyone else */
+    return v;
+}
 
 /* cJSON over a line. cJSON reports where it stopped, but a parse that runs out of input stops at
  * the last byte too, so it is handed the byte after the line as well when there is one ('\r' or
@@ -26,7 +50,10 @@ static fs_status parse_line(const pctx *c, span line, cJSON **out, size_t *stop)
 {
     const char *end = NULL;
     bool line_end = line.p + line.n < c->text + c->size;
-    *out = cJSON_ParseWithLengthOpts(line.p, line.n + line_end, &end, false);
+    g_json_oom = false;
+    *out = parse_tracked(line.p, line.n + line_end, &end);
+    if (!*out && g_json_oom)
+        return gaze_no_memory(c);
     *stop = end ? (size_t)(end - line.p) : 0;
     if (*out || line_end || *stop + 1 < line.n)
         return FS_OK;
@@ -35,9 +62,11 @@ static fs_status parse_line(const pctx *c, span line, cJSON **out, size_t *stop)
         return gaze_no_memory(c);
     memcpy(copy, line.p, line.n);
     copy[line.n] = '\n';
-    *out = cJSON_ParseWithLengthOpts(copy, line.n + 1, &end, false);
+    *out = parse_tracked(copy, line.n + 1, &end);
     *stop = end ? (size_t)(end - copy) : 0;
     free(copy);
+    if (!*out && g_json_oom)
+        return gaze_no_memory(c);
     return FS_OK;
 }
 
@@ -205,6 +234,9 @@ static fs_status read_line(pctx *c, long no, span line, cJSON **rec)
 {
     char g[64];
     const span t = gaze_trim(line);
+    if (line.n > MAX_TOBII_RECORD_BYTES) /* before cJSON builds its tree (about 40 bytes a byte) */
+        return gaze_fail(c, no, 1, "expected a Tobii record of at most %u bytes (MAX_TOBII_RECORD_BYTES), got a line "
+                         "of %zu bytes", (unsigned)MAX_TOBII_RECORD_BYTES, line.n);
     if (t.p[0] != '{')
         return gaze_fail(c, no, (long)(t.p - line.p) + 1,
                          "expected a JSON object '{' (livedata.json has one per line), got %s",

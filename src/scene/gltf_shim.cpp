@@ -26,11 +26,13 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <zlib.h>
 #include <limits.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/config.h"
+#include "core/file_read.h"
 #include "core/fmath.h"
 #include "core/log.h"
 #include "core/status.h"
@@ -87,6 +89,13 @@ std::string first_line(const std::string &s)
         b = e + 1;
     }
     return std::string();
+}
+
+// Input quoted in a message, as every message quotes it (log_quote): at most 250 bytes.
+std::string quote(const std::string &s)
+{
+    char buf[256];
+    return log_quote(buf, sizeof buf, s.data(), s.size());
 }
 
 void copy_name(char *dst, size_t cap, const std::string &src)
@@ -155,38 +164,43 @@ struct builder {
 
 // >>io
 
+// The whole of a regular file of at most MAX_ASSET_FILE_BYTES; anything else is refused by what it
+// is before it is opened (file_open_regular: a FIFO would hang, a device never end).
 std::vector<unsigned char> read_file(const std::string &path)
 {
-    FILE *f = fopen(path.c_str(), "rb");
-    if (!f)
-        fail(strf("cannot open: %s", strerror(errno)), FS_ERR_IO);
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        // A device (/dev/zero), FIFO or directory: read, it would never end or hang (issue 17).
-        fclose(f);
-        fail("expected a glTF file, got something that is not a regular file (a device, FIFO or directory)");
+    const char *why = "";
+    int fd = file_open_regular(path.c_str(), &sb, &why);
+    if (fd < 0) {
+        if (errno == ENOENT || errno == EACCES || errno == ENOTDIR || errno == ELOOP || errno == ENAMETOOLONG)
+            fail(strf("cannot open: %s", why), FS_ERR_IO);
+        fail(strf("%s; expected a glTF file", why));
     }
     if ((unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
-        fclose(f);
+        close(fd);
         fail(strf("is larger than %llu MiB (MAX_ASSET_FILE_BYTES)", (unsigned long long)MAX_ASSET_FILE_BYTES >> 20));
     }
     std::vector<unsigned char> data;
     unsigned char chunk[1 << 16];
     for (;;) {
-        size_t n = fread(chunk, 1, sizeof chunk, f);
-        data.insert(data.end(), chunk, chunk + n);
-        if (n < sizeof chunk)
+        ssize_t n = read(fd, chunk, sizeof chunk);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            int err = errno;
+            close(fd);
+            fail(strf("cannot read: %s", strerror(err)), FS_ERR_IO);
+        }
+        if (n == 0)
             break;
+        data.insert(data.end(), chunk, chunk + n);
         if (data.size() > (size_t)MAX_ASSET_FILE_BYTES) { // grew while read
-            fclose(f);
+            close(fd);
             fail(strf("is larger than %llu MiB (MAX_ASSET_FILE_BYTES)",
                       (unsigned long long)MAX_ASSET_FILE_BYTES >> 20));
         }
     }
-    int bad = ferror(f), err = errno;
-    fclose(f);
-    if (bad)
-        fail(strf("cannot read: %s", strerror(err)), FS_ERR_IO);
+    close(fd);
     return data;
 }
 
@@ -291,7 +305,7 @@ bool uri_allowed(uri_state &u, const std::string &path)
     if (!uri_of(u, path, &uri))
         return false; // tinygltf's second guess, the current directory: never
     auto refuse = [&](const std::string &why) {
-        u.last = strf("URI '%s' %s", uri.c_str(), why.c_str());
+        u.last = strf("URI %s %s", quote(uri).c_str(), why.c_str());
         u.refusals[path] = u.last;
         return false;
     };
@@ -334,15 +348,15 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
             *err += u.last + "\n";
         return false;
     }
-    int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
     struct stat sb;
-    if (fd < 0 || fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode) ||
-        (unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
+    const char *why = "";
+    int fd = file_open_regular(path.c_str(), &sb, &why); // uri_allowed checked the path; this the file
+    if (fd < 0 || (unsigned long long)sb.st_size > (unsigned long long)MAX_ASSET_FILE_BYTES) {
         if (fd >= 0)
             close(fd);
         std::string uri;
         uri_of(u, path, &uri);
-        u.last = strf("URI '%s' cannot be read as a file", uri.c_str());
+        u.last = strf("URI %s cannot be read as a file", quote(uri).c_str());
         if (err)
             *err += u.last + "\n";
         return false;
@@ -361,7 +375,7 @@ bool fs_read(std::vector<unsigned char> *out, std::string *err, const std::strin
     if (got != out->size()) {
         std::string uri;
         uri_of(u, path, &uri);
-        u.last = strf("URI '%s' could not be read completely", uri.c_str());
+        u.last = strf("URI %s could not be read completely", quote(uri).c_str());
         if (err)
             *err += u.last + "\n";
         return false;
@@ -701,6 +715,166 @@ std::string jpeg_huffman_problem(const unsigned char *b, size_t n)
     return std::string();
 }
 
+// A PNG's pixel data inflates to exactly what its header declares (PNG spec 10.2 and 8.2): height
+// rows of 1 + ceil(width * bits per pixel / 8) bytes, per Adam7 pass when interlaced. stb_image
+// inflates the whole IDAT stream into a growing buffer before it compares (and accepts extra data
+// after an interlaced image), so a 2 MB stream declaring 1x1 pixels took 2 GiB (issue 28). So the
+// stream is inflated here, by zlib, into a buffer of the declared size and no more: a stream that
+// would fill more is refused after one byte too many. The pixels then reach stb_image as a PNG of
+// the same chunks whose IDAT holds them in stored (uncompressed) deflate blocks, which it copies
+// instead of inflating again: the pixel budget, checked against the header, bounds the memory,
+// and each stream is inflated once. Returns why the PNG is refused, or "" with *out the rewritten
+// PNG, or "" with *out empty when stb_image reads the original (no IHDR, no pixels, a stream that
+// ends short: what it refuses itself, bounded by the declared size).
+std::string png_bounded(const unsigned char *b, size_t n, std::vector<unsigned char> *out)
+{
+    out->clear();
+    // The chunks as stb_image walks them: length, type, data, CRC; a truncated one ends the walk.
+    std::vector<std::pair<size_t, size_t>> chunks; // (offset of the length field, data length)
+    for (size_t i = 8; i + 8 <= n;) {
+        const size_t len = std::min((size_t)be32(b + i), n - i - 8);
+        chunks.emplace_back(i, len);
+        if (memcmp(b + i + 4, "IEND", 4) == 0)
+            break;
+        i += 12 + len;
+    }
+    auto is = [&](const std::pair<size_t, size_t> &c, const char *t) { return memcmp(b + c.first + 4, t, 4) == 0; };
+    const unsigned char *ihdr = nullptr;
+    bool raw_deflate = false; // Apple's CgBI PNGs hold a raw deflate stream (stb_image reads them)
+    for (const auto &c : chunks) {
+        raw_deflate = raw_deflate || is(c, "CgBI");
+        if (is(c, "IHDR") && c.second >= 13) {
+            ihdr = b + c.first + 8;
+            break;
+        }
+    }
+    if (!ihdr)
+        return std::string(); // stb_image refuses it ("first not IHDR")
+    const uint64_t w = be32(ihdr), h = be32(ihdr + 4);
+    const unsigned depth = ihdr[8], ctype = ihdr[9], interlace = ihdr[12];
+    const unsigned channels = ctype == 0 ? 1 : ctype == 2 ? 3 : ctype == 3 ? 1 : ctype == 4 ? 2 : ctype == 6 ? 4 : 0;
+    if (!channels || !depth || depth > 16 || interlace > 1)
+        return std::string(); // stb_image refuses these by name
+    const uint64_t bpp = (uint64_t)channels * depth; // bits per pixel
+    auto rows = [&](uint64_t pw, uint64_t ph) -> uint64_t { return pw && ph ? ph * (1 + (pw * bpp + 7) / 8) : 0; };
+    uint64_t expect = 0;
+    if (!interlace) {
+        expect = rows(w, h);
+    } else {
+        static const int xo[7] = {0, 4, 0, 2, 0, 1, 0}, yo[7] = {0, 0, 4, 0, 2, 0, 1};
+        static const int xs[7] = {8, 8, 4, 4, 2, 2, 1}, ys[7] = {8, 8, 8, 4, 4, 2, 2};
+        for (int p = 0; p < 7; p++)
+            expect += rows(w > (uint64_t)xo[p] ? (w - xo[p] + xs[p] - 1) / xs[p] : 0,
+                           h > (uint64_t)yo[p] ? (h - yo[p] + ys[p] - 1) / ys[p] : 0);
+    }
+    if (expect == 0)
+        return std::string();
+    const uint64_t block = 65535, blocks = (expect + block - 1) / block;
+    const uint64_t idat_len = (raw_deflate ? 0 : 2 + 4) + blocks * 5 + expect;
+    if (idat_len > (uint64_t)INT_MAX - n)
+        return strf("%llux%llu pixels of %u bits are more than fovsim decodes in one image (2 GiB)",
+                    (unsigned long long)w, (unsigned long long)h, (unsigned)bpp);
+
+    // The new IDAT's data: [zlib header] blocks of 5 header bytes + up to 65535 pixel bytes, [Adler-32].
+    std::vector<unsigned char> idat((size_t)idat_len);
+    size_t o = raw_deflate ? 0 : 2;
+    if (!raw_deflate) {
+        idat[0] = 0x78; // deflate, 32K window
+        idat[1] = 0x01; // (0x78 * 256 + 0x01) % 31 == 0
+    }
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    if (inflateInit2(&z, raw_deflate ? -15 : 15) != Z_OK)
+        throw std::bad_alloc();
+    uint64_t total = 0;
+    unsigned char spare[64]; // where a stream that goes on past the declared size is caught
+    std::string why;
+    bool ended = false;
+    size_t slot = 0, slot_left = 0; // the current block's next free byte, and how many are left in it
+    for (const auto &c : chunks) {
+        if (ended || !why.empty())
+            break;
+        if (!is(c, "IDAT"))
+            continue;
+        z.next_in = const_cast<unsigned char *>(b + c.first + 8);
+        z.avail_in = (uInt)c.second;
+        while (z.avail_in > 0 && !ended && why.empty()) {
+            if (slot_left == 0 && total < expect) { // open the next stored block
+                const size_t len = (size_t)std::min(block, expect - total);
+                idat[o] = total + len == expect ? 1 : 0; // BFINAL on the last; BTYPE 00, stored
+                idat[o + 1] = (unsigned char)(len & 0xFF);
+                idat[o + 2] = (unsigned char)(len >> 8);
+                idat[o + 3] = (unsigned char)(~len & 0xFF);
+                idat[o + 4] = (unsigned char)((~len >> 8) & 0xFF);
+                slot = o + 5;
+                slot_left = len;
+                o += 5 + len;
+            }
+            const bool full = total == expect;
+            z.next_out = full ? spare : idat.data() + slot;
+            z.avail_out = (uInt)(full ? sizeof spare : slot_left);
+            const uInt before = z.avail_out;
+            const int r = inflate(&z, Z_NO_FLUSH);
+            const size_t got = before - z.avail_out;
+            if (full && got > 0) {
+                why = strf("the PNG's pixel data inflates to more than the %llu bytes its %llux%llu pixels need "
+                           "(a corrupt PNG or a decompression bomb)",
+                           (unsigned long long)expect, (unsigned long long)w, (unsigned long long)h);
+                break;
+            }
+            if (!full) {
+                slot += got;
+                slot_left -= got;
+                total += got;
+            }
+            if (r == Z_MEM_ERROR) {
+                inflateEnd(&z);
+                throw std::bad_alloc();
+            } else if (r == Z_DATA_ERROR && z.msg && strcmp(z.msg, "incorrect data check") == 0) {
+                ended = true; // everything inflated; stb_image does not check the Adler-32 either
+            } else if (r == Z_DATA_ERROR || r == Z_NEED_DICT) {
+                why = strf("corrupt PNG: its compressed pixel data is not a valid zlib stream (%s)",
+                           z.msg ? z.msg : "it needs a preset dictionary");
+            } else if (r == Z_STREAM_END || (r != Z_OK && r != Z_BUF_ERROR)) {
+                ended = true;
+            }
+        }
+    }
+    const uLong z_adler = z.adler;
+    inflateEnd(&z);
+    if (!why.empty() || total < expect)
+        return why; // too short: stb_image says so of the original (which inflates to less than this)
+    if (!raw_deflate) { // zlib kept the Adler-32 of what it inflated
+        const uLong adler = z_adler;
+        idat[o++] = (unsigned char)(adler >> 24);
+        idat[o++] = (unsigned char)(adler >> 16);
+        idat[o++] = (unsigned char)(adler >> 8);
+        idat[o++] = (unsigned char)adler;
+    }
+    // The PNG again: every chunk but the IDATs as it was, the new IDAT where the first one stood.
+    out->reserve(n + idat.size());
+    out->insert(out->end(), b, b + 8);
+    bool placed = false;
+    for (const auto &c : chunks) {
+        if (is(c, "IDAT")) {
+            if (placed)
+                continue;
+            placed = true;
+            unsigned char head[8] = {(unsigned char)(idat.size() >> 24), (unsigned char)(idat.size() >> 16),
+                                     (unsigned char)(idat.size() >> 8), (unsigned char)idat.size(), 'I', 'D', 'A', 'T'};
+            out->insert(out->end(), head, head + 8);
+            out->insert(out->end(), idat.begin(), idat.end());
+            const unsigned char tail[4] = {0, 0, 0, 0}; // the CRC: stb_image reads past it unchecked
+            out->insert(out->end(), tail, tail + 4);
+            std::vector<unsigned char>().swap(idat);
+            continue;
+        }
+        const size_t end = std::min(n, c.first + 12 + c.second);
+        out->insert(out->end(), b + c.first, b + end);
+    }
+    return std::string();
+}
+
 // tinygltf's image callback: checks the bytes tinygltf hands over (for a bufferView image it does
 // not check the view against its buffer), then decodes with tinygltf's own stb_image loader, which
 // expands every image to 4 channels (8 or 16 bits). A failure is recorded, not returned, so that an
@@ -753,8 +927,11 @@ bool load_image_cb(tinygltf::Image *image, const int idx, std::string *err, std:
                                (double)g_scene_budget / (1 << 20));
         return true;
     }
-    if (bytes[0] == 0xFF) { // JPEG (peek_image_size found its SOI)
-        std::string why = jpeg_huffman_problem(bytes, (size_t)size);
+    std::vector<unsigned char> png; // the PNG with its pixels inflated once, within the declared size
+    {
+        // JPEG (peek_image_size found its SOI) or PNG
+        std::string why = bytes[0] == 0xFF ? jpeg_huffman_problem(bytes, (size_t)size)
+                                           : png_bounded(bytes, (size_t)size, &png);
         if (!why.empty()) {
             st->errors[idx] = why;
             return true;
@@ -762,6 +939,10 @@ bool load_image_cb(tinygltf::Image *image, const int idx, std::string *err, std:
     }
     g_scene_pixels += px;
     std::string e;
+    if (!png.empty()) {
+        bytes = png.data();
+        size = (int)png.size();
+    }
     if (!tinygltf::LoadImageData(image, idx, &e, warn, req_w, req_h, bytes, size, nullptr)) {
         std::string line = first_line(e);
         st->errors[idx] = line.empty() ? "cannot decode" : line;

@@ -539,6 +539,14 @@ static const char *const k_builtin_names[] = {"forest", "fence", "tree", "grass"
 
 const char *scene_builtin_list(void) { return "forest fence tree grass wind"; }
 
+bool scene_is_builtin(const char *name)
+{
+    for (size_t i = 0; name && i < sizeof k_builtin_names / sizeof k_builtin_names[0]; i++)
+        if (strcmp(name, k_builtin_names[i]) == 0)
+            return true;
+    return false;
+}
+
 fs_status scene_load_builtin(const char *name, scene *out)
 {
     memset(out, 0, sizeof *out);

@@ -217,6 +217,9 @@ fs_status scene_load_file(const char *path, scene *out);
 fs_status scene_load_builtin(const char *name, scene *out);
 /* Space-separated names of the built-in scenes. */
 const char *scene_builtin_list(void);
+/* True for the name of a built-in scene ("fence"), which the command line takes for the built-in
+ * even when a file or folder of that name is in the current folder. */
+bool scene_is_builtin(const char *name);
 /* Bounds-checks everything (indices < vertex_count, material and image indices, finite
  * positions and transforms); prints the first problem with its location. */
 fs_status scene_validate(const scene *sc);

@@ -343,6 +343,33 @@ static void syntax_error(const jctx *c, const char *text, size_t size, const cha
         log_error("%s:%d: JSON syntax error near '%s'", c->file, line, near);
 }
 
+/* Where cJSON stopped on a document nested deeper than CJSON_NESTING_LIMIT arrays and objects
+ * (it fails at the '[' or '{' one level too deep and says no more than at a syntax error), the line
+ * of that bracket; 0 when the text up to `at` is not that deep. Brackets inside strings do not count. */
+static int too_deep_line(const char *text, const char *at)
+{
+    int depth = 0, line = 1;
+    bool in_string = false;
+    for (const char *p = text; *p && p <= at; p++) {
+        if (*p == '\n')
+            line++;
+        if (in_string) {
+            if (*p == '\\' && p[1])
+                p++;
+            else if (*p == '"')
+                in_string = false;
+        } else if (*p == '"') {
+            in_string = true;
+        } else if (*p == '[' || *p == '{') {
+            if (++depth > CJSON_NESTING_LIMIT)
+                return line;
+        } else if (*p == ']' || *p == '}') {
+            depth--;
+        }
+    }
+    return 0;
+}
+
 fs_status scene_json_parse(const char *text, size_t size, const char *name, const char *base_dir,
                            scene *out)
 {
@@ -357,7 +384,12 @@ fs_status scene_json_parse(const char *text, size_t size, const char *name, cons
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     if (!root) {
-        syntax_error(&c, text, size, end);
+        int deep = end ? too_deep_line(text, end) : 0;
+        if (deep)
+            log_error("%s:%d: arrays and objects nested deeper than %d (cJSON's limit); expected a scene file",
+                      name, deep, CJSON_NESTING_LIMIT);
+        else
+            syntax_error(&c, text, size, end);
         scene_free(out);
         return FS_ERR_SCENE;
     }

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <zlib.h>
 
 #include "core/fmath.h"
 #include "core/log.h"
@@ -943,6 +944,159 @@ TEST(pixel_budget)
     gltf_set_pixel_budget(0, 0);
 }
 
+/* ---- PNGs made here, for the bounded inflate (issue 28): the shim inflates a PNG's pixel data
+ * once into its declared size and hands stb_image the result as stored deflate blocks. These check
+ * that every pixel survives that for interlaced, split-IDAT, 16-bit and palette images, and that a
+ * stream holding more than the header declares is refused. */
+
+static size_t png_chunk(unsigned char *o, const char *type, const unsigned char *d, size_t n)
+{
+    o[0] = (unsigned char)(n >> 24);
+    o[1] = (unsigned char)(n >> 16);
+    o[2] = (unsigned char)(n >> 8);
+    o[3] = (unsigned char)n;
+    memcpy(o + 4, type, 4);
+    if (n)
+        memcpy(o + 8, d, n);
+    uLong crc = crc32(crc32(0L, Z_NULL, 0), o + 4, (uInt)(n + 4));
+    o[8 + n] = (unsigned char)(crc >> 24);
+    o[9 + n] = (unsigned char)(crc >> 16);
+    o[10 + n] = (unsigned char)(crc >> 8);
+    o[11 + n] = (unsigned char)crc;
+    return n + 12;
+}
+
+enum { TP_RGBA8, TP_GA16, TP_PAL2 };
+/* The test image's pixel (x, y) as the PNG stores it (bytes in `raw`, returns how many bits) and
+ * as RGBA8 after the shim's conversion (`rgba`). */
+static int tp_pixel(int kind, int x, int y, unsigned char *raw, unsigned char *rgba)
+{
+    static const unsigned char pal[4][3] = {{255, 0, 0}, {0, 200, 0}, {0, 0, 150}, {90, 90, 90}};
+    if (kind == TP_RGBA8) {
+        raw[0] = rgba[0] = (unsigned char)(x * 19);
+        raw[1] = rgba[1] = (unsigned char)(y * 37);
+        raw[2] = rgba[2] = (unsigned char)(x * y * 7);
+        raw[3] = rgba[3] = (unsigned char)(200 + x);
+        return 32;
+    }
+    if (kind == TP_GA16) {
+        unsigned g = (unsigned)(x * 5000 + y * 300) & 0xFFFF, a = 0xFFFF - (unsigned)x * 1000;
+        raw[0] = (unsigned char)(g >> 8), raw[1] = (unsigned char)g, raw[2] = (unsigned char)(a >> 8), raw[3] = (unsigned char)a;
+        rgba[0] = rgba[1] = rgba[2] = (unsigned char)((g * 255u + 32767u) / 65535u);
+        rgba[3] = (unsigned char)((a * 255u + 32767u) / 65535u);
+        return 32;
+    }
+    raw[0] = (unsigned char)((x + y) % 4);
+    memcpy(rgba, pal[raw[0]], 3);
+    rgba[3] = 255;
+    return 2;
+}
+
+/* A w x h PNG of tp_pixel(kind), Adam7 or not, its zlib stream split over `split` IDAT chunks and
+ * `extra` zero bytes inflated after the pixels. Returns its length in out (cap bytes). */
+static size_t make_png(unsigned char *out, size_t cap, int kind, int w, int h, int interlace, int split, int extra)
+{
+    static const int xo[7] = {0, 4, 0, 2, 0, 1, 0}, yo[7] = {0, 0, 4, 0, 2, 0, 1};
+    static const int xs[7] = {8, 8, 4, 4, 2, 2, 1}, ys[7] = {8, 8, 8, 4, 4, 2, 2};
+    unsigned char raw[8192], px[8], rgba[4];
+    size_t n = 0;
+    int bits = tp_pixel(kind, 0, 0, px, rgba);
+    for (int p = 0; p < (interlace ? 7 : 1); p++) {
+        int x0 = interlace ? xo[p] : 0, y0 = interlace ? yo[p] : 0, dx = interlace ? xs[p] : 1, dy = interlace ? ys[p] : 1;
+        if (x0 >= w || y0 >= h)
+            continue;
+        for (int y = y0; y < h; y += dy) {
+            raw[n++] = 0; /* filter: none */
+            int bit = 0;
+            for (int x = x0; x < w; x += dx) {
+                tp_pixel(kind, x, y, px, rgba);
+                if (bits >= 8) {
+                    memcpy(raw + n, px, (size_t)bits / 8);
+                    n += (size_t)bits / 8;
+                } else {
+                    if (bit == 0)
+                        raw[n++] = 0;
+                    raw[n - 1] |= (unsigned char)(px[0] << (8 - bits - bit));
+                    bit = (bit + bits) % 8;
+                }
+            }
+        }
+    }
+    memset(raw + n, 0, (size_t)extra);
+    n += (size_t)extra;
+    unsigned char z[8192];
+    uLongf zn = sizeof z;
+    CHECK(compress2(z, &zn, raw, n, 9) == Z_OK);
+    size_t o = 0;
+    memcpy(out, "\x89PNG\r\n\x1a\n", 8);
+    o = 8;
+    const unsigned char ihdr[13] = {0, 0, 0, (unsigned char)w, 0, 0, 0, (unsigned char)h,
+                                    (unsigned char)(kind == TP_GA16 ? 16 : kind == TP_PAL2 ? 2 : 8),
+                                    (unsigned char)(kind == TP_RGBA8 ? 6 : kind == TP_GA16 ? 4 : 3), 0, 0,
+                                    (unsigned char)interlace};
+    o += png_chunk(out + o, "IHDR", ihdr, 13);
+    if (kind == TP_PAL2) {
+        unsigned char plte[12];
+        for (int i = 0; i < 4; i++)
+            tp_pixel(kind, i, 0, px, plte + 3 * i);
+        o += png_chunk(out + o, "PLTE", plte, 12);
+    }
+    for (int k = 0; k < split; k++) {
+        size_t a = zn * (size_t)k / (size_t)split, b = zn * (size_t)(k + 1) / (size_t)split;
+        o += png_chunk(out + o, "IDAT", z + a, b - a);
+    }
+    o += png_chunk(out + o, "IEND", NULL, 0);
+    CHECK(o <= cap);
+    return o;
+}
+
+static const char *write_png_gltf(const char *name, const unsigned char *png, size_t n)
+{
+    char rest[8192];
+    snprintf(rest, sizeof rest,
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":3,\"material\":0}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0,"
+             "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+             "\"textures\":[{\"source\":0}],\"images\":[{\"uri\":\"data:image/png;base64,%s\"}]",
+             b64(png, n));
+    return write_tiny(name, rest);
+}
+
+TEST(png_pixels_survive_bounded_inflate)
+{
+    static const struct {
+        int kind, w, h, interlace, split;
+    } cases[] = {{TP_RGBA8, 13, 7, 1, 3}, {TP_RGBA8, 13, 7, 0, 1}, {TP_GA16, 9, 5, 0, 2}, {TP_GA16, 9, 5, 1, 1},
+                 {TP_PAL2, 10, 3, 0, 1},  {TP_PAL2, 11, 9, 1, 2}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        unsigned char png[2048];
+        size_t n = make_png(png, sizeof png, cases[c].kind, cases[c].w, cases[c].h, cases[c].interlace, cases[c].split, 0);
+        asset a;
+        gltf_begin_scene();
+        fs_status s = load_quiet(write_png_gltf("png.gltf", png, n), &a);
+        CHECK(s == FS_OK);
+        if (s == FS_OK && a.image_count == 1) {
+            const image_rgba8 *im = &a.images[0];
+            CHECK(im->width == cases[c].w && im->height == cases[c].h);
+            int bad = 0;
+            for (int y = 0; y < cases[c].h; y++)
+                for (int x = 0; x < cases[c].w; x++) {
+                    unsigned char raw[8], want[4];
+                    tp_pixel(cases[c].kind, x, y, raw, want);
+                    bad += memcmp(im->rgba + 4 * ((size_t)y * (size_t)im->width + (size_t)x), want, 4) != 0;
+                }
+            if (bad)
+                fprintf(stderr, "  case %zu: %d pixels differ\n", c, bad);
+            CHECK(bad == 0);
+        }
+        asset_free(&a);
+        /* the same stream with data after the pixels: refused (stb_image took it when interlaced) */
+        n = make_png(png, sizeof png, cases[c].kind, cases[c].w, cases[c].h, cases[c].interlace, cases[c].split, 1);
+        gltf_begin_scene();
+        CHECK_FAILS(write_png_gltf("png_extra.gltf", png, n), FS_ERR_ASSET);
+    }
+}
+
 /* A GLB whose image bufferView runs past the BIN chunk: tinygltf hands over the pointer
  * unchecked, so the shim must refuse it before stb_image reads (ASan catches a miss). */
 TEST(glb_image_view_out_of_bounds)
@@ -1113,6 +1267,7 @@ int main(void)
     RUN(deep_nesting_refused);
     RUN(uris_name_files_under_the_folder);
     RUN(pixel_budget);
+    RUN(png_pixels_survive_bounded_inflate);
     RUN(jpeg_oversized_huffman_table_refused);
     RUN(node_with_two_parents_refused);
     return test_summary();

@@ -1,5 +1,6 @@
 /* The logger's escaping (issue 17 defect 5): input quoted in a message can neither break the line
  * nor reach the terminal as a control sequence; printable ASCII and well-formed UTF-8 pass. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,10 +60,58 @@ TEST(malformed_utf8_and_c1_controls_are_escaped)
     ESC_EQ("\xf5\x80\x80\x80", "\\xf5\\x80\\x80\\x80");
 }
 
+/* Issue 28: messages are bounded. log_quote keeps at most cap - 6 bytes, never half a UTF-8
+ * character, and shows a NUL byte as \x00; log_bounded_write shortens a long run without blanks
+ * to its head and tail and caps the whole message. */
+TEST(quoted_input_is_bounded)
+{
+    char q[16];
+    CHECK(strcmp(log_quote(q, sizeof q, "short", 5), "'short'") == 0);
+    CHECK(strcmp(log_quote(q, sizeof q, "0123456789abcdef", 16), "'0123456789...'") == 0);
+    /* 8 ASCII bytes, then a 3-byte character that does not fit whole in the 10 allowed */
+    CHECK(strcmp(log_quote(q, sizeof q, "abcdefgh\xe2\x80\x94z", 12), "'abcdefgh...'") == 0);
+    CHECK(strcmp(log_quote(q, sizeof q, "a\0b", 3), "'a\\x00b'") == 0);
+
+    size_t n = (size_t)8 << 20;
+    char *big = malloc(n + 64);
+    CHECK(big != NULL);
+    if (!big)
+        return;
+    memcpy(big, "a.gltf: URI ", 12);
+    memset(big + 12, 'A', n);
+    memcpy(big + 12 + n, " in Buffer", 10);
+    char *out = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&out, &len);
+    CHECK(f != NULL);
+    if (f) {
+        log_bounded_write(f, big, n + 22);
+        fclose(f);
+        CHECK(len < LOG_MAX_RUN + 64);
+        CHECK(out && strncmp(out, "a.gltf: URI AAAA", 16) == 0 && strstr(out, "...[") && strstr(out, "A in Buffer"));
+    }
+    free(out);
+    /* many short words: the whole message is capped */
+    for (size_t i = 0; i < n; i++)
+        big[i] = i % 4 == 3 ? ' ' : 'w';
+    out = NULL;
+    f = open_memstream(&out, &len);
+    CHECK(f != NULL);
+    if (f) {
+        log_bounded_write(f, big, n);
+        fclose(f);
+        CHECK(len <= LOG_MAX_MESSAGE + 40);
+        CHECK(out && strstr(out, "bytes more]"));
+    }
+    free(out);
+    free(big);
+}
+
 int main(void)
 {
     RUN(printable_text_passes);
     RUN(control_characters_are_escaped);
     RUN(malformed_utf8_and_c1_controls_are_escaped);
+    RUN(quoted_input_is_bounded);
     return test_summary();
 }
