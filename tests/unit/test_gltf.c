@@ -1036,9 +1036,11 @@ static size_t make_png(unsigned char *out, size_t cap, int kind, int w, int h, i
                                     (unsigned char)interlace};
     o += png_chunk(out + o, "IHDR", ihdr, 13);
     if (kind == TP_PAL2) {
-        unsigned char plte[12];
-        for (int i = 0; i < 4; i++)
-            tp_pixel(kind, i, 0, px, plte + 3 * i);
+        unsigned char plte[12], entry[4]; /* tp_pixel writes RGBA; the palette holds RGB */
+        for (int i = 0; i < 4; i++) {
+            tp_pixel(kind, i, 0, px, entry);
+            memcpy(plte + 3 * i, entry, 3);
+        }
         o += png_chunk(out + o, "PLTE", plte, 12);
     }
     for (int k = 0; k < split; k++) {
