@@ -9,6 +9,7 @@
 //
 // Sections: >>util >>io >>extensions >>accessors >>images >>materials >>primitives >>nodes >>entry
 
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -231,6 +232,88 @@ void check_json_depth(const unsigned char *s, size_t n, size_t base)
     }
 }
 
+
+// The glTF properties whose values are indices, counts, offsets or enums: a non-negative integer
+// that fits an int. tinygltf reads a value of the wrong kind as "absent" (an accessor byteOffset of
+// -8 became 0) and casts one too large to int ("mesh": 2^40 became mesh 0); issue 28 asks that
+// such a file be refused, naming the JSON path. Objects under "extras" are the author's own data
+// and are not looked at.
+bool is_index_key(const std::string &k)
+{
+    static const char *const keys[] = {"byteOffset", "byteLength", "byteStride", "count",     "buffer",  "bufferView",
+                                       "mesh",       "skin",       "camera",     "material",  "indices", "sampler",
+                                       "source",     "texCoord",   "index",      "node",      "input",   "output",
+                                       "scene",      "componentType", "mode",   "target",    "magFilter", "minFilter",
+                                       "wrapS",      "wrapT",      "skeleton"};
+    for (const char *c : keys)
+        if (k == c)
+            return true;
+    return false;
+}
+
+// Arrays whose elements are indices.
+bool is_index_array_key(const std::string &k)
+{
+    return k == "children" || k == "nodes" || k == "joints";
+}
+
+void check_index_value(const nlohmann::json &v, const std::string &where)
+{
+    const bool ok = (v.is_number_unsigned() && v.get<uint64_t>() <= (uint64_t)INT_MAX) ||
+                    (v.is_number_integer() && v.get<int64_t>() >= 0 && v.get<int64_t>() <= INT_MAX);
+    if (!ok) {
+        std::string shown = v.dump();
+        if (shown.size() > 40)
+            shown = shown.substr(0, 40) + "...";
+        fail(strf("%s: expected an integer 0..%d, got %s", where.c_str(), INT_MAX, shown.c_str()));
+    }
+}
+
+void check_json_values(const nlohmann::json &j, const std::string &where, int depth)
+{
+    if (depth > MAX_GLTF_JSON_DEPTH)
+        return; // check_json_depth has refused it already
+    if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            const std::string &k = it.key();
+            const std::string at = where.empty() ? k : where + "." + k;
+            if (k == "extras")
+                continue;
+            if (is_index_key(k) && it.value().is_number())
+                check_index_value(it.value(), at);
+            else if (is_index_key(k) && (it.value().is_boolean() || it.value().is_string()) && k != "target")
+                fail(strf("%s: expected an integer, got %s", at.c_str(), it.value().is_string() ? "a string" : "a boolean"));
+            else if ((is_index_array_key(k) || (where.size() >= 10 && where.compare(where.size() - 10, 10, "attributes") == 0)) &&
+                     it.value().is_array())
+                for (size_t i = 0; i < it.value().size(); i++) {
+                    // a scene's "nodes" are indices; the document's "nodes" are node objects
+                    const nlohmann::json &e = it.value()[i];
+                    if (e.is_structured())
+                        check_json_values(e, strf("%s[%zu]", at.c_str(), i), depth + 2);
+                    else
+                        check_index_value(e, strf("%s[%zu]", at.c_str(), i));
+                }
+            else
+                check_json_values(it.value(), at, depth + 1);
+        }
+        // A primitive's "attributes" (and a morph target's) map names to accessor indices.
+        if (where.size() >= 10 && where.compare(where.size() - 10, 10, "attributes") == 0)
+            for (auto it = j.begin(); it != j.end(); ++it)
+                check_index_value(it.value(), where + "." + it.key());
+    } else if (j.is_array()) {
+        for (size_t i = 0; i < j.size(); i++)
+            check_json_values(j[i], strf("%s[%zu]", where.c_str(), i), depth + 1);
+    }
+}
+
+// The document's indices, counts and offsets (check_json_values); a document that is not JSON is
+// left to tinygltf, which says where.
+void check_json_indices(const unsigned char *s, size_t n)
+{
+    const nlohmann::json j = nlohmann::json::parse(s, s + n, nullptr, false);
+    if (!j.is_discarded())
+        check_json_values(j, "", 0);
+}
 
 // >>uris
 //
@@ -1483,15 +1566,25 @@ fs_status load(const char *path, asset *out)
     const bool binary = ends_with_ci(spath, ".glb") ||
                         (data.size() >= 4 && memcmp(data.data(), "glTF", 4) == 0);
     if (binary) {
-        // GLB: 12-byte header, then chunk 0 (length, type, data) holds the JSON. Its length is
-        // clamped to the file; tinygltf judges a malformed header.
+        // GLB: 12-byte header (magic, version, length), then chunk 0 (length, type, data) holds the
+        // JSON. Its length is clamped to the file; tinygltf judges a malformed header, but reads a
+        // version-1 header as version 2: refused here.
+        if (data.size() >= 8) {
+            uint32_t version;
+            memcpy(&version, data.data() + 4, 4);
+            if (version != 2)
+                fail(strf("GLB version %u (expected 2: glTF 2.0 binary)", version));
+        }
         if (data.size() >= 20) {
             uint32_t len;
             memcpy(&len, data.data() + 12, 4);
-            check_json_depth(data.data() + 20, std::min((size_t)len, data.size() - 20), 20);
+            const size_t jn = std::min((size_t)len, data.size() - 20);
+            check_json_depth(data.data() + 20, jn, 20);
+            check_json_indices(data.data() + 20, jn);
         }
     } else {
         check_json_depth(data.data(), data.size(), 0);
+        check_json_indices(data.data(), data.size());
     }
     const size_t slash = spath.find_last_of('/');
     const std::string base_dir = slash == std::string::npos ? std::string()

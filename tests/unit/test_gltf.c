@@ -829,6 +829,59 @@ static const char *write_glb(const char *name, const char *json, const void *bin
     return p;
 }
 
+/* Values tinygltf reads as something else (issue 28): a negative byteOffset became 0, a mesh index
+ * of 2^40 became mesh 0, a sparse byteOffset of 2^63 wrapped, a GLB version-1 header read as 2.
+ * Each is refused naming the JSON path; the same documents with the values fixed load. */
+TEST(out_of_range_indices_refused)
+{
+    static const char *const fmt =
+        "{\"asset\":{\"version\":\"2.0\"},"
+        "\"buffers\":[{\"byteLength\":48,\"uri\":\"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAgD8AAAAA\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteLength\":48}],"
+        "\"accessors\":[{\"bufferView\":0,\"byteOffset\":%s,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\","
+        "\"min\":[0,0,0],\"max\":[1,1,0]%s}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+        "\"nodes\":[{\"mesh\":%s}],\"scenes\":[{\"nodes\":[0]}]}";
+    static const char *const sparse_bad = ",\"sparse\":{\"count\":1,\"indices\":{\"bufferView\":0,"
+                                          "\"byteOffset\":9223372036854775808,\"componentType\":5125},"
+                                          "\"values\":{\"bufferView\":0}}";
+    const struct {
+        const char *name, *offset, *extra, *mesh;
+        bool ok;
+    } cases[] = {{"idx_ok.gltf", "0", "", "0", true},
+                 {"idx_negative_offset.gltf", "-8", "", "0", false},
+                 {"idx_mesh_2p40.gltf", "0", "", "1099511627776", false},
+                 {"idx_mesh_float.gltf", "0", "", "0.5", false},
+                 {"idx_sparse_2p63.gltf", "0", sparse_bad, "0", false}};
+    char doc[2048];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int n = snprintf(doc, sizeof doc, fmt, cases[i].offset, cases[i].extra, cases[i].mesh);
+        asset a;
+        fs_status st = load_quiet(write_file(cases[i].name, doc, (size_t)n), &a);
+        CHECK(cases[i].ok ? st == FS_OK : st == FS_ERR_ASSET);
+        if (st == FS_OK)
+            asset_free(&a);
+    }
+    /* GLB version 1 (glTF 1.0's binary): refused, the same file as version 2 loads */
+    int n = snprintf(doc, sizeof doc, fmt, "0", "", "0");
+    (void)n;
+    const char *glb = write_glb("idx_v2.glb", doc, NULL, 0);
+    asset a;
+    fs_status st = load_quiet(glb, &a);
+    CHECK(st == FS_OK);
+    if (st == FS_OK)
+        asset_free(&a);
+    size_t len = 0;
+    unsigned char *d = read_all(glb, &len);
+    CHECK(d != NULL && len > 8);
+    if (d) {
+        d[4] = 1; /* the version word */
+        CHECK(load_quiet(write_file("idx_v1.glb", d, len), &a) == FS_ERR_ASSET);
+    }
+    free(d);
+}
+
 /* Nesting (issue 17 defect 2): 20,000 nested arrays overflowed the stack of tinygltf's JSON parser
  * (a segfault, .gltf and .glb alike); the shim refuses a document nested deeper than
  * MAX_GLTF_JSON_DEPTH before the library sees it. Brackets inside strings do not count, and
@@ -1266,6 +1319,7 @@ int main(void)
     RUN(sparse_and_quantized_accessors);
     RUN(bad_files_fail_cleanly);
     RUN(glb_image_view_out_of_bounds);
+    RUN(out_of_range_indices_refused);
     RUN(deep_nesting_refused);
     RUN(uris_name_files_under_the_folder);
     RUN(pixel_budget);
