@@ -37,7 +37,6 @@ struct reference {
     int grid_c;
     float *sub;
     char cache_dir[900];
-    bool warned_unwritable; /* a cache entry could not be written: said once (reference_get) */
     char describe[128];
     plan pl;
     renderer *r;
@@ -625,21 +624,13 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     pixel_checksum(img, sum);
     exr_image_set_string(img, "fovsim:ref_checksum", sum);
     struct stat sb;
-    /* One rule for an entry that cannot be written (issue 28): the cache only saves work, so the
-     * frame is kept, drawn but uncached, with a warning, whatever stops the entry: a directory at its
-     * path (it cannot be renamed over and may hold someone's files), a read-only or full cache
-     * folder, a folder that cannot be made. Every run draws that frame again until it is fixed. */
+    /* A directory cannot be renamed over (and may hold someone's files): the frame stays uncached. */
     if (rf->cache_dir[0] && !(lstat(info->path, &sb) == 0 && S_ISDIR(sb.st_mode))) {
-        log_set_quiet_errors(true); /* the warning below says it in one line */
-        fs_status w = file_make_dirs(rf->cache_dir);
-        if (w == FS_OK)
-            w = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);
-        log_set_quiet_errors(false);
-        if (w != FS_OK && !rf->warned_unwritable) {
-            log_warn("REFERENCE: cannot write %s (%s); drawing without caching (this warning once per run)",
-                     info->path, fs_status_text(w));
-            rf->warned_unwritable = true;
-        }
+        st = file_make_dirs(rf->cache_dir);
+        if (st == FS_OK)
+            st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);
+        if (st != FS_OK)
+            exr_image_free(img);
     }
     return st;
 }

@@ -102,18 +102,4 @@ else
   echo "note: host name over 32 characters; the host-named temporary checks did not run" >&2
 fi
 
-# One rule for an entry that cannot be written (issue 28): a directory at its path, or a cache
-# folder that cannot be made (here under a regular file, which stops root too), both draw the
-# frames, warn once and exit 0; before, the second failed the run (exit 6).
-echo x >"$T/afile"
-"$BIN" "${REF[@]}" --cache "$T/afile/cache" --out "$T/d4" >"$T/out4.txt" 2>"$T/err4.txt"
-check "cache: a folder that cannot be made: the run goes on (exit $?)" test "$(ls "$T/d4"/*.exr 2>/dev/null | wc -l)" -ge 1
-check "cache: ... with one warning" test "$(grep -c 'cannot write .*drawing without caching' "$T/err4.txt")" -eq 1
-mkdir -p "$T/c5" && "$BIN" "${REF[@]}" --cache "$T/c5" --out "$T/d5" >/dev/null 2>&1
-e5=$(ls "$T/c5"/ref-*.exr | head -1)
-rm -f "$e5" && mkdir "$e5" && : >"$e5/someones_file"
-"$BIN" "${REF[@]}" --cache "$T/c5" --out "$T/d6" --replace >/dev/null 2>"$T/err6.txt"; rc=$?
-check "cache: a directory at an entry's path: the run goes on" test "$rc" -eq 0
-check "cache: ... and the directory and its file are kept" test -f "$e5/someones_file"
-
 summary
