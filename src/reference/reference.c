@@ -591,10 +591,14 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
         else if (cr == CACHE_CHECKSUM)
             log_warn("REFERENCE: %s: its pixels do not match their checksum (changed after it was written); "
                      "drawing it again", info->path);
-        else if (cr == CACHE_NOT_REGULAR && S_ISDIR(mode))
-            log_warn("REFERENCE: %s is a directory, not a cache entry; drawing the frame without caching it",
-                     info->path);
-        else if (cr == CACHE_NOT_REGULAR)
+        else if (cr == CACHE_NOT_REGULAR && S_ISDIR(mode)) {
+            /* One rule for an entry the cache cannot hold (issue 28): the run fails with one line,
+             * as it does when the cache folder cannot be made or written; before, a directory here
+             * was bypassed with a warning and every run drew the frame again. */
+            log_error("%s: is a directory where the reference cache keeps an entry; remove it or use another "
+                      "--cache", info->path);
+            return FS_ERR_IO;
+        } else if (cr == CACHE_NOT_REGULAR)
             log_warn("REFERENCE: %s is %s, not a cache entry; drawing the frame and replacing it", info->path,
                      file_kind(mode));
     }
@@ -623,9 +627,7 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     char sum[17];
     pixel_checksum(img, sum);
     exr_image_set_string(img, "fovsim:ref_checksum", sum);
-    struct stat sb;
-    /* A directory cannot be renamed over (and may hold someone's files): the frame stays uncached. */
-    if (rf->cache_dir[0] && !(lstat(info->path, &sb) == 0 && S_ISDIR(sb.st_mode))) {
+    if (rf->cache_dir[0]) {
         st = file_make_dirs(rf->cache_dir);
         if (st == FS_OK)
             st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);

@@ -102,4 +102,17 @@ else
   echo "note: host name over 32 characters; the host-named temporary checks did not run" >&2
 fi
 
+# One rule for an entry the cache cannot hold (issue 28): a directory at an entry's path and a cache
+# folder that cannot be made (here under a regular file, which stops root too) both stop the run
+# with one line, exit 6, and the directory (someone's files) is kept. Before, the directory was
+# bypassed with a warning (exit 0).
+echo x >"$T/afile"
+expect_exit "cache: a folder that cannot be made: exit 6, one line" 6 "$BIN" "${REF[@]}" --cache "$T/afile/cache" --out "$T/d4"
+mkdir -p "$T/c5" && "$BIN" "${REF[@]}" --cache "$T/c5" --out "$T/d5" >/dev/null 2>&1
+e5=$(ls "$T/c5"/ref-*.exr | head -1)
+rm -f "$e5" && mkdir "$e5" && : >"$e5/someones_file"
+expect_exit "cache: a directory at an entry's path: exit 6, one line" 6 "$BIN" "${REF[@]}" --cache "$T/c5" --out "$T/d6"
+check "cache: ... naming it" grep -q "is a directory where the reference cache keeps an entry" "$T/err.txt"
+check "cache: ... and the directory and its file are kept" test -f "$e5/someones_file"
+
 summary
