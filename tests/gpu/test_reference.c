@@ -736,7 +736,7 @@ TEST(cache_tampered_fifo_directory)
     CHECK(system(cmd) == 0);
     scene sc;
     CHECK(scene_load_builtin("fence", &sc) == FS_OK);
-    exr_image first, got, again;
+    exr_image first, got;
     reference_info i1, i2, i3;
     CHECK(ref_frame(&sc, W, H, 1, 2, dir, &first, &i1) == FS_OK);
     CHECK(!i1.cached);
@@ -769,19 +769,17 @@ TEST(cache_tampered_fifo_directory)
     exr_image_free(&got);
     struct stat sb;
     CHECK(stat(i1.path, &sb) == 0 && S_ISREG(sb.st_mode));
-    /* A directory there: a miss, drawn, the run goes on; the directory is left alone (it may hold
-     * someone's files) and the frame is not cached. */
+    /* A directory there: the cache cannot hold the entry, so the run stops with one line (issue 28:
+     * one rule with a cache folder that cannot be written; it used to be bypassed), no hang, and
+     * the directory is left alone (it may hold someone's files). */
     CHECK(unlink(i1.path) == 0);
     CHECK(mkdir(i1.path, 0755) == 0);
-    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &got, &i2) == FS_OK);
-    CHECK(!i2.cached && files_equal(&first, &got));
-    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &again, &i3) == FS_OK);
-    CHECK(!i3.cached && files_equal(&first, &again));
+    log_set_quiet_errors(true);
+    CHECK(ref_frame(&sc, W, H, 1, 2, dir, &got, &i2) == FS_ERR_IO);
+    log_set_quiet_errors(false);
     CHECK(stat(i1.path, &sb) == 0 && S_ISDIR(sb.st_mode));
     alarm(0);
     signal(SIGALRM, old_alarm);
-    exr_image_free(&got);
-    exr_image_free(&again);
     exr_image_free(&first);
     scene_free(&sc);
 }
