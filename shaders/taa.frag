@@ -161,6 +161,7 @@ void main()
     vec2 ndc = (vec2(pix) + 0.5) / u_size * 2.0 - 1.0; // this pixel's centre, this frame's NDC
     vec2 prev_ndc = ndc;                               // where it was last frame
     vec3 motion = vec3(0.0);                           // its own motion (world, last frame - now)
+    float depth_cur = texelFetch(u_depth, pix, 0).r;   // its own sample's window depth
 #endif
     if (valid) {
 #if defined(TAA_CAMERA_MOTION) || defined(TAA_OBJECT_MOTION)
@@ -169,7 +170,7 @@ void main()
         // Through the nearest surface of the neighbourhood (Karis 2014): a pixel whose sample missed a
         // thin leaf or wire the neighbours hit follows that leaf, whose history it shares.
         ivec2 near_px = pix;
-        float zw = texelFetch(u_depth, pix, 0).r;
+        float zw = depth_cur;
         for (int k = 1; k < TAA_NEIGHBOURS; k++) {
             ivec2 q = clamp(pix + TAA_OFFSET[k], ivec2(0), ivec2(u_size) - 1);
             float zq = texelFetch(u_depth, q, 0).r;
@@ -224,7 +225,6 @@ void main()
     // Carried into this frame, that surface must still lie on this pixel; where it has moved away
     // (the pixel's surface now moves differently from what the history shows), the history is of
     // something else (taa_history_surface_here; docs/taa.md, "Sparse coverage and disocclusion").
-    float depth_cur = texelFetch(u_depth, pix, 0).r;
     float keep = depth_cur;
     if (valid) {
         vec2 offset;

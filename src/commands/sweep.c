@@ -40,6 +40,7 @@
 #include "core/hash.h"
 #include "core/log.h"
 #include "core/spawn.h"
+#include "core/strbuf.h"
 #include "output/out_path.h"
 #include "fov/fov_ring.h"
 #include "session/run_record.h"
@@ -270,26 +271,7 @@ static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
     return st;
 }
 
-/* >>shell quoting */
-
-/* `s` in single quotes for a POSIX shell, appended to buf. */
-static void shq(char *buf, size_t n, const char *s)
-{
-    size_t l = strlen(buf);
-    if (l + 1 < n)
-        buf[l++] = '\'';
-    for (; *s && l + 5 < n; s++) {
-        if (*s == '\'') {
-            memcpy(buf + l, "'\\''", 4);
-            l += 4;
-        } else {
-            buf[l++] = *s;
-        }
-    }
-    if (l + 1 < n)
-        buf[l++] = '\'';
-    buf[l] = '\0';
-}
+/* >>shell quoting (shell_quote, core/spawn.h) */
 
 /* Whether `s`, bound for a line of a jobs file or a Slurm script (`what` names it), holds no control
  * character: quoting keeps everything else one word, but a line break would end the line (GNU
@@ -319,15 +301,14 @@ static fs_status scripts_safe(const sweep_manifest *m, const char *exe, bool slu
     return ok ? FS_OK : FS_ERR_USAGE;
 }
 
-/* The command that runs task I, as a shell line (also how --list shows it). */
-static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, char *out, size_t n)
+/* The command that runs task I, as a shell line, appended to out. */
+static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, sbuf *out)
 {
-    out[0] = '\0';
-    shq(out, n, exe);
-    strncat(out, " sweep ", n - strlen(out) - 1);
-    shq(out, n, m->frozen);
-    strncat(out, " --task ", n - strlen(out) - 1);
-    strncat(out, i_expr, n - strlen(out) - 1);
+    shell_quote(out, exe);
+    sb_puts(out, " sweep ");
+    shell_quote(out, m->frozen);
+    sb_puts(out, " --task ");
+    sb_puts(out, i_expr);
 }
 
 /* >>--list */
@@ -345,14 +326,15 @@ static fs_status list_tasks(const sweep_manifest *m)
         state_count[s]++;
         char *argv[SWEEP_MAX_ARGS];
         int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
-        char cmd[8192] = "";
+        sbuf cmd = {0};
         for (int a = 0; a < argc; a++) {
             if (a)
-                strncat(cmd, " ", sizeof cmd - strlen(cmd) - 1);
-            shq(cmd, sizeof cmd, a == 0 ? "fovsim" : argv[a]);
+                sb_puts(&cmd, " ");
+            shell_quote(&cmd, a == 0 ? "fovsim" : argv[a]);
         }
         sweep_task_argv_free(argv, argc);
-        printf("%4d  %-10s %s\n      %s\n", i, k_state_names[s], k->name, cmd);
+        printf("%4d  %-10s %s\n      %s\n", i, k_state_names[s], k->name, cmd.p ? cmd.p : "");
+        free(cmd.p);
     }
     printf("%d done, %d incomplete, %d to do\n", state_count[TASK_DONE], state_count[TASK_INCOMPLETE],
            state_count[TASK_TODO]);
@@ -365,22 +347,22 @@ static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char
 {
     if (scripts_safe(m, exe, false) != FS_OK)
         return FS_ERR_USAGE;
-    size_t cap = (size_t)m->ntasks * (2 * (strlen(exe) + strlen(m->frozen) + strlen(m->out)) + 128) + 1;
-    char *text = malloc(cap), line[3 * PATH_MAX + 400];
-    if (!text)
-        return FS_ERR_NOMEM;
-    size_t len = 0;
+    sbuf t = {0};
     for (int i = 0; i < m->ntasks; i++) {
-        char idx[16], log[PATH_MAX + 64] = "";
+        char idx[16], lp[PATH_MAX + 64];
         snprintf(idx, sizeof idx, "%d", i);
-        task_command(m, exe, idx, line, sizeof line);
-        char lp[PATH_MAX + 64];
         snprintf(lp, sizeof lp, "%s/logs/task-%04d.log", m->out, i);
-        shq(log, sizeof log, lp);
-        len += (size_t)snprintf(text + len, cap - len, "%s >%s 2>&1\n", line, log);
+        task_command(m, exe, idx, &t);
+        sb_puts(&t, " >");
+        shell_quote(&t, lp);
+        sb_puts(&t, " 2>&1\n");
     }
-    fs_status st = out_write_atomic(path, text);
-    free(text);
+    if (t.oom) {
+        free(t.p);
+        return FS_ERR_NOMEM;
+    }
+    fs_status st = out_write_atomic(path, t.p ? t.p : "");
+    free(t.p);
     if (st == FS_OK)
         printf("wrote %d commands to %s (one task each; a completed task is skipped, so running the file again "
                "resumes it)\n  e.g.: parallel --jobs 4 --joblog %s/joblog --resume-failed < %s\n",
@@ -395,7 +377,7 @@ static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *sc
     if (scripts_safe(m, exe, true) != FS_OK)
         return FS_ERR_USAGE;
     snprintf(script, n, "%s/sweep.sbatch", m->out);
-    char text[16384], cmd[3 * PATH_MAX];
+    char text[16384];
     int o = snprintf(text, sizeof text,
                      "#!/bin/bash\n"
                      "# fovsim sweep: one task per array index (fovsim sweep --list shows them). A completed task\n"
@@ -417,8 +399,15 @@ static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *sc
                   "# llvmpipe draws with as many threads as the task has cores\n"
                   "export LP_NUM_THREADS=${LP_NUM_THREADS:-${SLURM_CPUS_PER_TASK:-1}}\n",
                   m->out, m->out);
-    task_command(m, exe, "\"$SLURM_ARRAY_TASK_ID\"", cmd, sizeof cmd);
-    o += snprintf(text + o, sizeof text - (size_t)o, "exec %s\n", cmd);
+    sbuf cmd = {0};
+    task_command(m, exe, "\"$SLURM_ARRAY_TASK_ID\"", &cmd);
+    if (cmd.oom) {
+        free(cmd.p);
+        return FS_ERR_NOMEM;
+    }
+    if (o < (int)sizeof text)
+        o += snprintf(text + o, sizeof text - (size_t)o, "exec %s\n", cmd.p);
+    free(cmd.p);
     if (o >= (int)sizeof text) {
         log_error("%s: the Slurm script is longer than %zu bytes (too many \"extra\" lines?)", script, sizeof text);
         return FS_ERR_USAGE;

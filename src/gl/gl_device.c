@@ -118,7 +118,7 @@ static EGLDisplay open_display(int gpu_index)
 }
 
 /* What both kinds of context share once current: the GL 4.5 check, the cached strings and
- * capabilities (no glGet* later, STYLE.md), debug output. On failure the device is destroyed. */
+ * capabilities (queried once: no glGet* in the frame loop), debug output. On failure the device is destroyed. */
 static fs_status cache_context_state(bool debug)
 {
     if (epoxy_gl_version() < 45) {

@@ -6,7 +6,7 @@
  *     (llvmpipe on machines without a GPU).
  * It makes a surfaceless OpenGL 4.5 core context current on the calling thread; GL entry points
  * come from libepoxy. In debug builds (or with FOVSIM_GL_DEBUG=1) GL debug output goes to stderr.
- * This is the only mutable global state in fovsim (STYLE.md): one device per process.
+ * This is the only mutable global state in fovsim (by design): one device per process.
  *
  * A window's context (src/gl/gl_window.c) is adopted instead with gl_device_adopt_current.
  *

@@ -152,7 +152,7 @@ gl_window *gl_window_create(const gl_window_desc *desc, fs_status *status)
         *status = st;
         return NULL;
     }
-    /* Once, not per frame (STYLE.md: no glGet* in the frame loop). */
+    /* Once, not per frame: no glGet* in the frame loop (it stalls the pipeline). */
     GLint enc = GL_LINEAR;
     glGetNamedFramebufferAttachmentParameteriv(0, GL_BACK_LEFT, GL_FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING, &enc);
     w->srgb = enc == GL_SRGB;

@@ -168,21 +168,14 @@ static void fullscreen_pass(plan_pass *ps, const char *name, const char *fs)
 }
 
 /* Some alpha-tested pass draws with a stochastic threshold (its samples are noise). */
-/* Some surface is alpha-tested (a MASK pass, any mode). */
-static bool has_mask(const plan *p)
-{
-    for (int i = 0; i < p->pass_count; i++)
-        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK)
-            return true;
-    return false;
-}
-
-static bool has_stochastic_mask(const plan *p)
+/* Some surface is alpha-tested (a MASK pass): in any mode, or (stochastic_only) with a stochastic
+ * or hashed test, whose samples are noise in time. */
+static bool has_mask(const plan *p, bool stochastic_only)
 {
     for (int i = 0; i < p->pass_count; i++) {
         alpha_mode m = p->passes[i].mode;
         if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
-            (m == ALPHA_MODE_STOCHASTIC || m == ALPHA_MODE_HASHED || m == ALPHA_MODE_HASHED_A2C))
+            (!stochastic_only || m == ALPHA_MODE_STOCHASTIC || m == ALPHA_MODE_HASHED || m == ALPHA_MODE_HASHED_A2C))
             return true;
     }
     return false;
@@ -327,12 +320,12 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_HISTORY_CATMULL_ROM 1");
         if (out->taa_controls.nan_check == TAA_NAN_SET)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
-        out->taa_coarse_history = out->layout.count > 1 && has_stochastic_mask(out);
+        out->taa_coarse_history = out->layout.count > 1 && has_mask(out, true);
         /* The sparse-coverage rule (docs/taa.md, "Sparse coverage"): wherever a surface is
          * alpha-tested, a pixel's coverage sample is a binary draw (a stochastic or hashed
          * threshold, or a jittered sub-pixel leaf under any test), which its neighbours cannot
          * refute. Scenes without MASK surfaces keep the plain clamp. */
-        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out);
+        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out, false);
         if (out->taa_sparse)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
         /* Disocclusion (docs/taa.md): only where pixels move, i.e. where TAA reprojects through

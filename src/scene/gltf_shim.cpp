@@ -273,36 +273,32 @@ void check_json_values(const nlohmann::json &j, const std::string &where, int de
 {
     if (depth > MAX_GLTF_JSON_DEPTH)
         return; // check_json_depth has refused it already
-    if (j.is_object()) {
-        for (auto it = j.begin(); it != j.end(); ++it) {
-            const std::string &k = it.key();
-            const std::string at = where.empty() ? k : where + "." + k;
-            if (k == "extras")
-                continue;
-            if (is_index_key(k) && it.value().is_number())
-                check_index_value(it.value(), at);
-            else if (is_index_key(k) && (it.value().is_boolean() || it.value().is_string()) && k != "target")
-                fail(strf("%s: expected an integer, got %s", at.c_str(), it.value().is_string() ? "a string" : "a boolean"));
-            else if ((is_index_array_key(k) || (where.size() >= 10 && where.compare(where.size() - 10, 10, "attributes") == 0)) &&
-                     it.value().is_array())
-                for (size_t i = 0; i < it.value().size(); i++) {
-                    // a scene's "nodes" are indices; the document's "nodes" are node objects
-                    const nlohmann::json &e = it.value()[i];
-                    if (e.is_structured())
-                        check_json_values(e, strf("%s[%zu]", at.c_str(), i), depth + 2);
-                    else
-                        check_index_value(e, strf("%s[%zu]", at.c_str(), i));
-                }
-            else
-                check_json_values(it.value(), at, depth + 1);
-        }
-        // A primitive's "attributes" (and a morph target's) map names to accessor indices.
-        if (where.size() >= 10 && where.compare(where.size() - 10, 10, "attributes") == 0)
-            for (auto it = j.begin(); it != j.end(); ++it)
-                check_index_value(it.value(), where + "." + it.key());
-    } else if (j.is_array()) {
+    if (j.is_array())
         for (size_t i = 0; i < j.size(); i++)
             check_json_values(j[i], strf("%s[%zu]", where.c_str(), i), depth + 1);
+    if (!j.is_object())
+        return;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        const std::string &k = it.key();
+        const nlohmann::json &v = it.value();
+        const std::string at = where.empty() ? k : where + "." + k;
+        if (k == "extras")
+            continue;
+        if (k == "attributes" && v.is_object()) // a primitive's: attribute names to accessor indices
+            for (auto a = v.begin(); a != v.end(); ++a)
+                check_index_value(a.value(), at + "." + a.key());
+        else if (is_index_key(k) && !v.is_structured()) // (an animation channel's "target" is an object)
+            check_index_value(v, at);
+        else if (is_index_array_key(k) && v.is_array())
+            // a scene's "nodes" are indices; the document's "nodes" are node objects
+            for (size_t i = 0; i < v.size(); i++) {
+                if (v[i].is_structured())
+                    check_json_values(v[i], strf("%s[%zu]", at.c_str(), i), depth + 2);
+                else
+                    check_index_value(v[i], strf("%s[%zu]", at.c_str(), i));
+            }
+        else
+            check_json_values(v, at, depth + 1);
     }
 }
 
