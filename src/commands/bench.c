@@ -22,7 +22,7 @@
 #include "gaze/gaze.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "session/session.h"
 
 /* The layouts bench measures: full resolution, the run's rings without ring LOD, and (when the run

@@ -11,7 +11,7 @@
 #include "core/progress.h"
 #include "passes/abuffer.h"
 #include "reference/reference.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "session/session.h"
 #include "session/run_record.h"
 

@@ -44,7 +44,7 @@
 #include "output/out_path.h"
 #include "fov/fov_ring.h"
 #include "session/run_record.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "session/session.h"
 #include "commands/sweep_manifest.h"
 

@@ -23,10 +23,10 @@
 #include <stdbool.h>
 
 #include "core/config.h"
+#include "core/display.h"
 #include "core/fmath.h"
 #include "core/log.h"
 #include "core/status.h"
-#include "scene/scene.h"
 
 #ifdef __cplusplus
 extern "C" {

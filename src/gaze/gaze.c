@@ -44,16 +44,6 @@ gaze_format gaze_format_parse(const char *name)
     return GAZE_FORMAT_AUTO;
 }
 
-const char *gaze_eye_name(gaze_eye e)
-{
-    switch (e) {
-    case GAZE_EYE_LEFT: return "left";
-    case GAZE_EYE_RIGHT: return "right";
-    case GAZE_EYE_AVERAGE: return "average";
-    default: return "auto";
-    }
-}
-
 /* >>detect */
 
 static const char *const k_asc_words[] = {"MSG",  "START", "END",    "SAMPLES", "EVENTS", "PRESCALER",

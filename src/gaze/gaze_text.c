@@ -37,6 +37,16 @@ fs_status gaze_no_memory(const pctx *c)
     return FS_ERR_NOMEM;
 }
 
+const char *gaze_eye_name(gaze_eye e)
+{
+    switch (e) {
+    case GAZE_EYE_LEFT: return "left";
+    case GAZE_EYE_RIGHT: return "right";
+    case GAZE_EYE_AVERAGE: return "average";
+    default: return "auto";
+    }
+}
+
 /* >>text */
 
 bool gaze_next_line(line_it *it, span *line)
@@ -286,4 +296,3 @@ fs_status gaze_finish(pctx *c, gaze_format fmt, gaze_trace *out)
         log_warn("GAZE: [%s] no valid sample in %d; the gaze stays at the display centre", c->name, m);
     return FS_OK;
 }
-

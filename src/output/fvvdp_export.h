@@ -18,7 +18,7 @@
 
 #include "core/status.h"
 #include "output/exr_write.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 
 #define FVVDP_MAX_SEQUENCES 16
 

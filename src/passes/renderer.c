@@ -1,6 +1,6 @@
-/* renderer.c: the renderer's lifetime: the resources its passes declare, its programs (one per
- * plan pass, TAA, composite, list resolve), renderer_create and renderer_destroy. The other files
- * are listed in renderer_internal.h. */
+/* renderer.c: the renderer's lifetime: its programs (one per plan pass, TAA, composite, list
+ * resolve), renderer_create and renderer_destroy. The other files are listed in
+ * renderer_internal.h. */
 #include "passes/renderer_internal.h"
 
 #include <stdio.h>
@@ -9,25 +9,6 @@
 #include "core/log.h"
 #include "gl/gl_device.h"
 #include "gl/gl_program.h"
-
-/* >>resources
- * What the forward pass reads and writes (STYLE.md: each pass declares its resources up front);
- * pass_resource and the tables' indices (RES_*, OUT_*) are in renderer_internal.h. */
-
-/* Each ring's forward passes write these, at the ring's resolution. */
-const pass_resource k_forward_resources[] = {
-    {"color", "linear premultiplied radiance, A = opacity", GL_RGBA16F, true, false},
-    {"coverage", "opacity contributed by alpha-mapped surfaces", GL_R16F, true, false},
-    {"depth", "depth buffer", GL_DEPTH_COMPONENT24, true, false},
-    {"motion", "world position last frame - now, of swaying fragments (plan.velocity)", GL_RGBA16F, true, true},
-};
-
-/* The composite reads every ring's color and coverage and writes these at display resolution. */
-const pass_resource k_composite_resources[] = {
-    {"color", "display colour, rings upsampled and blended", GL_RGBA16F, true, false},
-    {"coverage", "display coverage", GL_R16F, true, false},
-    {"debug", "ring.id (ring + blend weight) and eccentricity (degrees)", GL_RG32F, true, true},
-};
 
 /* >>programs */
 /* Builds the program of a plan pass (its shaders and sorted defines). */

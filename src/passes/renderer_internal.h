@@ -2,9 +2,9 @@
  * contract is renderer.h): `struct renderer` and its GL objects, the resources the passes declare,
  * and the steps of renderer_create that live in renderer_upload.c.
  *
- *   renderer.c         the resources the passes declare, the programs, renderer_create and _destroy
- *   renderer_upload.c  the scene on the GPU (textures, samplers, primitives, instances), the render
- *                      targets, the exact reference's list store
+ *   renderer.c         the programs, renderer_create and _destroy
+ *   renderer_upload.c  the resources the passes declare, the scene on the GPU (textures, samplers,
+ *                      primitives, instances), the render targets, the exact reference's list store
  *   renderer_draw.c    one frame: each ring's culling and forward passes, the list pass and its
  *                      resolve, the TAA resolve, the composite; stage timing and statistics
  *   renderer_read.c    read-back (images, depth, fragment lists) and the framebuffer the viewer blits
@@ -18,7 +18,7 @@
 
 #include <epoxy/gl.h>
 
-/* >>resources: what the passes read and write (the tables are in renderer.c) */
+/* >>resources: what the passes read and write (the tables are in renderer_upload.c) */
 typedef struct pass_resource {
     const char *name, *desc;
     GLenum format;

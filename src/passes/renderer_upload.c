@@ -1,6 +1,7 @@
 /* renderer_upload.c: what renderer_create puts on the GPU once the programs are built: the scene
  * (textures with their mip chains, samplers, primitives, instances and their sway attributes),
- * the render targets, and the exact reference's fragment-list store. */
+ * the render targets with the resources their passes declare, and the exact reference's
+ * fragment-list store. */
 #include "passes/renderer_internal.h"
 
 #include <math.h>
@@ -11,6 +12,26 @@
 #include "core/log.h"
 #include "scene/cards.h"
 #include "scene/mip.h"
+
+/* >>resources
+ * What the forward pass reads and writes, declared up front in one table per pass so that the
+ * targets made below and the passes that bind them cannot disagree; pass_resource and the tables'
+ * indices (RES_*, OUT_*) are in renderer_internal.h. */
+
+/* Each ring's forward passes write these, at the ring's resolution. */
+const pass_resource k_forward_resources[] = {
+    {"color", "linear premultiplied radiance, A = opacity", GL_RGBA16F, true, false},
+    {"coverage", "opacity contributed by alpha-mapped surfaces", GL_R16F, true, false},
+    {"depth", "depth buffer", GL_DEPTH_COMPONENT24, true, false},
+    {"motion", "world position last frame - now, of swaying fragments (plan.velocity)", GL_RGBA16F, true, true},
+};
+
+/* The composite reads every ring's color and coverage and writes these at display resolution. */
+const pass_resource k_composite_resources[] = {
+    {"color", "display colour, rings upsampled and blended", GL_RGBA16F, true, false},
+    {"coverage", "display coverage", GL_R16F, true, false},
+    {"debug", "ring.id (ring + blend weight) and eccentricity (degrees)", GL_RG32F, true, true},
+};
 
 /* >>upload */
 /* Textures are stored as RGBA16 UNORM, linear premultiplied. 16-bit unorm holds every 8-bit

@@ -45,7 +45,7 @@
 
 #include "core/status.h"
 #include "output/exr_write.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
 
 #define REFERENCE_SUPERSAMPLE_DEFAULT 4 /* S: S x S sub-samples per pixel */

@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "core/config.h"
+#include "core/display.h"
 #include "core/fmath.h"
 #include "core/status.h"
 
@@ -168,11 +169,6 @@ typedef struct camera_state {
     vec3 position, target;
     float hfov_deg;
 } camera_state;
-
-typedef struct display_desc {
-    int width, height; /* pixels, default 1280 x 720 */
-    float hfov_deg;    /* horizontal field of view, default 90 */
-} display_desc;
 
 typedef struct light_desc {
     vec3 direction;   /* world direction the light travels (towards the ground), normalised */

@@ -21,7 +21,7 @@
 #include "gl/gl_device.h"
 #include "output/exr_write.h"
 #include "output/out_path.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "session/session.h"
 
 /* Every field of run_desc is either written into the configuration below or listed there as not

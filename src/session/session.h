@@ -13,7 +13,7 @@
 #include "passes/plan.h"
 #include "passes/renderer.h"
 #include "reference/reference.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
 
 typedef struct session {

@@ -19,7 +19,7 @@
 #include "passes/renderer.h"
 #include "core/file_read.h"
 #include "session/session.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "view/gaze_record.h"
 #include "view/view_input.h"
 

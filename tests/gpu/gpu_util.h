@@ -9,7 +9,7 @@
 #include "gl/gl_device.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
-#include "scene/frame.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
 #include "test.h"
 

@@ -1,4 +1,6 @@
-/* frame.h: the CPU front end of one frame (STYLE.md "front end / back end").
+/* frame.h: the CPU front end of one frame. It sits above the scene and foveation (it combines
+ * the camera path with the gaze's ring layout) and below the renderer, the reference and the
+ * outputs that consume it (docs/design.md).
  *
  * frame_record_make evaluates everything a frame needs before any GL call: time, camera, view and
  * projection matrices, clip planes fitted to the scene. The renderer consumes the record; replay

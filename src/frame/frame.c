@@ -1,4 +1,4 @@
-#include "scene/frame.h"
+#include "frame/frame.h"
 
 #include <math.h>
 
