@@ -1,4 +1,4 @@
-// composite.frag: foveation rings to display resolution (DESIGN.md "Foveation", "Composite").
+// composite.frag: foveation rings to display resolution (docs/design.md "Foveation", "Composite").
 // Every display pixel takes the innermost ring that covers it, upsampled bilinearly, blended with the
 // next ring inside the band at each border. Outputs colour, coverage and, with DEBUG_CHANNELS,
 // ring.id (ring + blend weight of the next) and eccentricity (degrees).

@@ -4,7 +4,7 @@
 //   PASS_BLEND   alpha-blended materials, premultiplied output, no depth writes;
 //   PASS_LIST    the exact reference: MASK and BLEND fragments appended to per-pixel lists
 //                (common/abuffer.glsl), nothing written to the targets.
-// Outputs: colour (linear, premultiplied, A = opacity) and coverage (DESIGN.md: opacity contributed
+// Outputs: colour (linear, premultiplied, A = opacity) and coverage (docs/design.md "Coverage": opacity contributed
 // by alpha-mapped surfaces; 0 for opaque geometry and background).
 #ifdef PASS_LIST
 // The list pass allocates its nodes once per subgroup where it can (common/abuffer.glsl).

@@ -1,4 +1,4 @@
-// taa.frag: temporal antialiasing of one foveation ring (DESIGN.md "Temporal antialiasing").
+// taa.frag: temporal antialiasing of one foveation ring (docs/design.md "Temporal antialiasing").
 // Runs over the ring's footprint in ring pixels, right after the ring was drawn with sub-pixel
 // jitter. Each pixel reprojects through its depth (and, with TAA_OBJECT_MOTION, its swaying
 // instance's own motion) into the PREVIOUS frame's ring (the ring frustum moves with the gaze),

@@ -1,4 +1,4 @@
-// alpha_test.glsl: the one alpha test of fovsim (STYLE.md: "Put the alpha test in one function").
+// alpha_test.glsl: the one alpha test of fovsim (one function, so no pass can test differently: docs/design.md "Conventions").
 // The strategy comes from the plan as ALPHA_MODE (an ALPHA_MODE_ID_* value from shared_defs.h).
 // The threshold math lives in alpha_hash.glsl, whose C twin is src/passes/alpha_hash.c.
 #ifndef ALPHA_MODE

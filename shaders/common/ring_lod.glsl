@@ -1,4 +1,4 @@
-// ring_lod.glsl: per-ring stochastic simplification of foliage cards (issue 20; Cook et al. 2007).
+// ring_lod.glsl: per-ring stochastic simplification of foliage cards (docs/ring-lod.md; Cook et al. 2007).
 // C twin: src/fov/ring_lod.c (declared in src/fov/ring_lod.h, which documents the law); both
 // evaluate the same float operations in the same order. The law's (a, k, gain) is computed per ring
 // on the CPU (ring_lod_law_for) and comes in as one vec3; cards and ranks: src/scene/cards.h.

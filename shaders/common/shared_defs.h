@@ -38,7 +38,7 @@
 #define SWAY_WAVELENGTH_DEFAULT 10.0 /* metres between instances swaying in phase along the wind */
 #define SWAY_OFFSET_MAX 1.0e6       /* an offset component beyond this (or not finite) = no sway */
 
-/* Per-ring stochastic simplification of foliage cards (issue 20; Cook et al. 2007). GLSL:
+/* Per-ring stochastic simplification of foliage cards (docs/ring-lod.md; Cook et al. 2007). GLSL:
  * common/ring_lod.glsl, C twin: src/fov/ring_lod.c (ring_lod.h documents the law); the cards and
  * their ranks: src/scene/cards.c. */
 #define ATTR_CARD 10                /* per vertex: card centre xyz (asset space), rank w */
@@ -84,7 +84,7 @@
 #define ALPHA_HASH_LOG2_CLAMP 60.0  /* log2(pixScale) and LODs are clamped to [-60, 60] */
 #define ALPHA_MAX_ANISO_LOG2 4      /* anisotropic hash: at most 2^4 = 16 x finer cells per axis */
 #define ALPHA_A2C_MAX_SAMPLES 16    /* hashed A2C: n is a power of two <= this */
-/* Each noise level hashes its own lattice (issue 27): the level key of level e, XORed into the
+/* Each noise level hashes its own lattice (docs/hashed-alpha.md "Assets a pixel or two wide"): the level key of level e, XORed into the
  * layer key, is (e + ALPHA_HASH_LEVEL_BIAS) * ALPHA_HASH_LEVEL_MUL (mod 2^32). The multiplier is odd
  * (2^32 / golden ratio), so the 121 levels of [-60, 60] get 121 distinct keys, none of them 0
  * (docs/hashed-alpha.md, "Listing 1, and where we depart from it"). */
@@ -94,7 +94,7 @@
  * cycles through thresholds spread evenly over (0, 1], which TAA averages (docs/hashed-alpha.md). */
 #define ALPHA_FRAME_OFFSET_STEP 0.61803398875
 
-/* TAA: temporal antialiasing (DESIGN.md "Temporal antialiasing"). GLSL: common/taa.glsl, C twin:
+/* TAA: temporal antialiasing (docs/design.md "Temporal antialiasing"). GLSL: common/taa.glsl, C twin:
  * src/passes/taa_math.c (taa_math.h documents each function). */
 #define TAA_JITTER_LENGTH_DEFAULT 16 /* Halton(2,3) jitter period in frames */
 #define TAA_JITTER_LENGTH_MAX 4096   /* longest period (keeps the 24-bit Halton values nonzero) */

@@ -1,4 +1,4 @@
-// taa.glsl: the math of temporal antialiasing (DESIGN.md "Temporal antialiasing"). C twin:
+// taa.glsl: the math of temporal antialiasing (docs/design.md "Temporal antialiasing"). C twin:
 // src/passes/taa_math.c (declared in src/passes/taa_math.h, which documents each function); both
 // take their constants from common/shared_defs.h and evaluate the same float operations in the same
 // order. `precise` stops the compiler from fusing multiply-adds the C side does not fuse. NaN and

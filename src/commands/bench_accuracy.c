@@ -21,7 +21,7 @@
 #include "commands/measure.h"
 #include "session/session.h"
 
-/* The accuracy-vs-time matrix (DESIGN.md "Outputs"; docs/benchmarks.md): alpha modes x foveation
+/* The accuracy-vs-time matrix (docs/design.md "Outputs"; docs/benchmarks.md): alpha modes x foveation
  * off / default / aggressive (and default+lod, the default rings with ring LOD, when the run asks
  * for it) x TAA off / on, every configuration drawn over the same consecutive
  * frames (TAA needs a real sequence), timings interleaved per frame so all see the same machine

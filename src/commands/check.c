@@ -102,7 +102,7 @@ bool check_tol_apply(check_tol *t, const char *spec, char *err, int err_size)
             }
         }
         /* Decimal only: strtod also reads hex ("0x10" = 16), inf and nan, none of which a
-         * tolerance is written as (issue 28). */
+         * tolerance is written as. */
         bool decimal = val[0] != '\0' && strspn(val, "0123456789.eE+-") == strlen(val);
         double v = decimal ? strtod(val, &end) : 0.0;
         if (!strcmp(val, "off"))
@@ -464,7 +464,7 @@ fs_status check_baseline_parse(const char *dir, const cJSON *root, const char **
             return bad_json(path, jp, *argc ? "expected a string" : "expected \"compare\"");
         /* A baseline holds compare's options that shape the run; --record keeps the machine's
          * (--cache, --gpu, ...) and check's own out of it, so one here was not written by fovsim
-         * and is refused rather than obeyed (issue 28 part 6; docs/check.md). */
+         * and is refused rather than obeyed (docs/check.md). */
         const char *never = never_stored(e->valuestring);
         if (*argc > 0 && never) {
             char why[200];

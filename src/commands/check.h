@@ -1,5 +1,5 @@
-/* check.h: `fovsim check`, renderer regression tests against a recorded baseline (issue 19 part 1;
- * docs/check.md).
+/* check.h: `fovsim check`, renderer regression tests against a recorded baseline
+ * (docs/check.md).
  *
  *   fovsim check --record DIR [SCENE] [compare's options] [--tol-METRIC SPEC ...]
  *   fovsim check --baseline DIR [--out NEXT] [--junit FILE] [--tol-METRIC SPEC ...]

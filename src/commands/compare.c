@@ -334,7 +334,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     bool csv_tmp_ok = out_path_temp_name(csv_path, csv_tmp, sizeof csv_tmp);
     snprintf(json_path, sizeof json_path, "%s/summary.json", out);
     run_folder fo = {0};
-    /* A killed run's litter, another configuration's output, --resume (issue 17): the metrics need
+    /* A killed run's litter, another configuration's output, --resume (README "Output folders"): the metrics need
      * every frame's images, so a resumed compare draws every frame again and writes only the
      * frames it lacks; the reference of the frames drawn before comes from the cache. */
     if (st == FS_OK)

@@ -119,7 +119,7 @@ static fs_status check_row(const char *path, int line, const char *row, int c_mo
     return FS_OK;
 }
 
-/* The structure of a task's metrics.csv (issue 28 part 4), before a value is read: the header
+/* The structure of a task's metrics.csv (docs/cluster.md), before a value is read: the header
  * names every column merge reads; every row has as many fields as the header, none empty, and
  * ends with a line break (a file cut mid-row lacks it). One line with file:line and FS_ERR_IO
  * otherwise. `text` is the whole file. */
@@ -276,7 +276,7 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
 
 /* The task's summary.json as a JSON object into *out. A file that cannot be read, is not JSON or
  * not an object is refused with one line (file:line:column for a syntax error), never merged as
- * null (issue 28 part 4). */
+ * null (docs/cluster.md). */
 static fs_status task_summary(const sweep_manifest *m, const sweep_task *k, cJSON **out)
 {
     char dir[PATH_MAX + 300], path[PATH_MAX + 320];

@@ -1,5 +1,5 @@
 /* merge.h: the readers of `fovsim merge` (merge.c) that take a task's files as fovsim wrote them
- * and refuse anything else (issue 28; docs/cluster.md): exposed for tests/fuzz/fuzz_check_merge.c.
+ * and refuse anything else (docs/cluster.md; docs/testing.md "Security tests"): exposed for tests/fuzz/fuzz_check_merge.c.
  * Both take the whole file, NUL-terminated at text[size] (as file_read_all gives it), and name
  * `path` in their one-line messages. */
 #ifndef FOVSIM_MERGE_H

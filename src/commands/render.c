@@ -45,7 +45,7 @@ fs_status cmd_render(const run_desc *d)
     const char *out = d->out_dir ? d->out_dir : "out/render";
     int frames = session_frame_count(d, &s.sc);
     run_folder rf = {0};
-    /* a killed run's litter, another configuration's output, --resume (issue 17) */
+    /* a killed run's litter, another configuration's output, --resume (README "Output folders") */
     st = run_folder_open(&rf, out, d, &s, frames);
     exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
     if (st == FS_OK && !w)

@@ -1,4 +1,4 @@
-/* sweep.c: `fovsim sweep MANIFEST` (issue 18; docs/cluster.md); `fovsim merge SWEEP_DIR` is merge.c.
+/* sweep.c: `fovsim sweep MANIFEST` (docs/cluster.md); `fovsim merge SWEEP_DIR` is merge.c.
  *
  * A manifest (JSON) names scenes, gaze traces, alpha modes, ring layouts, TAA settings, the
  * display and the reference; the sweep is the product of scenes x traces x ring layouts x TAA

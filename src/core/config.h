@@ -85,7 +85,7 @@
 #define MAX_FRAMES 100000
 #endif
 
-/* --fps range (issue 28 part 5): one frame per 1000 s at the slowest, so that every frame's time
+/* --fps range (README "Limits", numbers): one frame per 1000 s at the slowest, so that every frame's time
  * (MAX_FRAMES / FPS_MIN at most) is a finite 32-bit float with room to spare. */
 #define FPS_MIN 0.001f
 #define FPS_MAX 1000.0f

@@ -38,7 +38,7 @@ void log_set_quiet_errors(bool on);
 /* Writes msg[0..n) to f escaped as described above (no newline added). */
 void log_escape_write(FILE *f, const char *msg, size_t n);
 
-/* Messages are also bounded (issue 28: an 8 MB glTF data: URI made an 11 MB line): in every error,
+/* Messages are also bounded (an 8 MB glTF data: URI once made an 11 MB line): in every error,
  * warning and info line, a run of more than LOG_MAX_RUN bytes without a blank (a quoted URI, key,
  * field or path) is shown as its first LOG_RUN_HEAD bytes, `...[N bytes]...` and its last
  * LOG_RUN_TAIL bytes, and a message longer than LOG_MAX_MESSAGE bytes after that ends with

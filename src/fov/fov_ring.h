@@ -64,7 +64,7 @@ typedef struct fov_layout {
 
 /* Foveation off: one ring, scale 1, bias 0, covering the display. */
 fov_layout fov_layout_off(void);
-/* The acuity layout for a display (DESIGN.md "Foveation", docs/foveation.md "Layouts"): ring k
+/* The acuity layout for a display (docs/design.md "Foveation", docs/foveation.md "Layouts"): ring k
  * (block 2^k) starts at the eccentricity e_k where MAR(e_k) = slope * e_k + omega0 equals the
  * largest angle a 2^k-pixel block spans anywhere on the display, 2^k / f radians at the principal
  * point (f: focal length in pixels; both the radial pitch cos^2(t)/f and the tangential cos(t)/f

@@ -1,4 +1,4 @@
-/* ring_lod.h: per-ring stochastic simplification of foliage (issue 20; Cook, Halstead, Planck & Ryu
+/* ring_lod.h: per-ring stochastic simplification of foliage (docs/ring-lod.md; Cook, Halstead, Planck & Ryu
  * 2007, "Stochastic Simplification of Aggregate Detail"): the law, the C twin of
  * shaders/common/ring_lod.glsl, the default per-ring schedule and its text form
  * (--ring-lod / a scene's "ring_lod"). The cards and their ranks are src/scene/cards.h.

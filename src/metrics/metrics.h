@@ -1,5 +1,5 @@
 /* metrics.h: image metrics of a foveated method against the reference, per foveation ring and
- * over the whole display (DESIGN.md "Ground truth and metrics"; formulas in docs/metrics.md).
+ * over the whole display (docs/design.md "Ground truth and metrics"; formulas in docs/metrics.md).
  *
  * Per ring and for the whole display: mean coverage of the method and of the reference and their
  * ratio (peripheral coverage preservation), RMSE and PSNR of linear RGB against the reference (and

@@ -1,5 +1,5 @@
 /* warp.h: the previous frame warped into the current one by camera reprojection, for the
- * motion-compensated temporal error of issue 15 (docs/metrics.md; not yet in the metrics).
+ * motion-compensated temporal error (metrics_temporal; docs/metrics.md "Temporal error").
  *
  * Each current pixel's centre and window depth give a world point (the inverse of the current
  * view-projection); the previous view-projection projects it into the previous frame

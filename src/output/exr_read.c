@@ -240,7 +240,7 @@ static bool open_read(const char *path, exr_stream *s, exr_context_t *ctxt)
 {
     memset(s, 0, sizeof *s);
     *ctxt = NULL;
-    /* O_NONBLOCK: a FIFO opens at once instead of waiting for a writer (issue 17), and is then
+    /* O_NONBLOCK: a FIFO opens at once instead of waiting for a writer (README "Limits"), and is then
      * refused below with everything else that is not a regular file. No effect on files. */
     s->fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
     if (s->fd < 0) {

@@ -94,7 +94,7 @@ float exr_half_round(float f)
 /* The stream of the context this thread is driving, for exr_stream_error_handler. The handler gets
  * no user data, and it must not ask the Core for it: exr_get_user_data takes the context lock,
  * which a write context already holds while it reports an error from inside exr_write_header
- * (a disk full before the first byte), so asking deadlocked the writer (issue 17, defect 1). The
+ * (a disk full before the first byte), so asking deadlocked the writer. The
  * Core calls the handler on the thread that called into it, so a thread-local pointer, bound for
  * the context's whole life (exr_stream_bind .. exr_stream_unbind), is always the right stream. */
 static _Thread_local exr_stream *tl_stream;
@@ -415,7 +415,7 @@ fs_status exr_write_file_quiet(const char *path, const exr_image *img, exr_compr
     if (rv != EXR_ERR_SUCCESS)
         goto fail;
     /* No fsync: the rename already keeps a killed or failed run from leaving a truncated frame
-     * under the final name (what a future --resume would rely on; there is none yet, issue 17). Surviving a power cut as well would
+     * under the final name (what --resume relies on). Surviving a power cut as well would
      * need an fsync of the file and its directory per frame (milliseconds each on common file
      * systems), for frames that a rerun regenerates anyway. */
     int fd = s.fd;

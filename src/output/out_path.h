@@ -1,5 +1,5 @@
 /* out_path.h: the lengths of the paths a run will write, checked with the other arguments, before
- * anything is drawn or created (issue 17, defect 8: a 250-character --name used to render, then
+ * anything is drawn or created (README "Exit status"; a 250-character --name used to render, then
  * fail at the first write with exit 6, a truncated message and an empty output folder).
  *
  * What a run writes into DIR (--out) is `<name>.<frame:04d>.exr`, through the temporary
@@ -56,7 +56,7 @@ bool out_path_temp_name(const char *path, char *out, size_t cap);
  * at the temporary name. */
 fs_status out_write_atomic(const char *path, const char *text);
 
-/* >>housekeeping at the start of a run (issue 17, defect 9; issue 18: shared storage) */
+/* >>housekeeping at the start of a run (README "Output folders"; docs/reference.md "A cache on shared storage") */
 
 /* A temporary file name of fovsim's writers, parsed. */
 typedef struct out_temp_name {
@@ -64,7 +64,7 @@ typedef struct out_temp_name {
     char host[OUT_PATH_HOST_MAX + 1]; /* "" in the old format */
 } out_temp_name;
 /* Whether `file` is a temporary name of fovsim's writers: `<anything>.tmp.<host>.<pid>.<n>`
- * (out_path_temp_name), or the old format of fovsim before issue 18, `<anything>.tmp.<pid>` or
+ * (out_path_temp_name), or the old format of fovsim before names carried the host, `<anything>.tmp.<pid>` or
  * `<anything>.tmp.<pid>.<n>` (no host: taken to be this machine's); pid of 1 to 9 digits, > 0. */
 bool out_path_temp_parse(const char *file, out_temp_name *t);
 /* The pid of out_path_temp_parse, 0 when `file` is not such a name. */

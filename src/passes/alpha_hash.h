@@ -83,7 +83,7 @@ uint32_t alpha_hash_layer(uint32_t instance, uint32_t primitive);
  * (level + ALPHA_HASH_LEVEL_BIAS) * ALPHA_HASH_LEVEL_MUL mod 2^32: distinct and nonzero for every
  * level in [-60, 60]. alpha_hashed_threshold_layer XORs it into the layer key of each of its two
  * hashes, so the two levels hash different lattices and stay independent where their cells are the
- * same cell, within a pixel of the object origin (docs/hashed-alpha.md; issue 27).
+ * same cell, within a pixel of the object origin (docs/hashed-alpha.md "Assets a pixel or two wide").
  * GLSL twin: alpha_hash_level_key. */
 uint32_t alpha_hash_level_key(int level);
 

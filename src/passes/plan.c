@@ -280,7 +280,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->debug_channels = o.debug_channels;
     out->composite = out->rings || o.overlay || o.debug_channels;
     out->ring_cull = out->layout.count > 1 && !o.no_ring_cull;
-    /* Ring LOD (issue 20, docs/ring-lod.md): only for scenes with foliage to thin, never for the
+    /* Ring LOD (docs/ring-lod.md): only for scenes with foliage to thin, never for the
      * reference, and only when some ring keeps fewer than all cards (an explicit schedule of ones
      * compiles it too: that is how a test shows u = 1 changes nothing). */
     if (o.ring_lod.kind != RING_LOD_OFF && !out->reference) {

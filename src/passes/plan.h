@@ -1,6 +1,6 @@
 /* plan.h: which passes and shader variants a scene needs, decided before anything is drawn.
  *
- * DESIGN.md "Simulate only what the scene calls for": the plan is computed once from the scene's
+ * docs/design.md "Simulate only what the scene calls for": the plan is computed once from the scene's
  * content and the run options. A scene with no MASK material gets no alpha-test variant whatever
  * --alpha says; no BLEND material, no blend pass; no MSAA target unless an A2C mode is in use; no
  * TAA history for a single frame; no rings when foveation is off; no sway without swaying instances
@@ -65,7 +65,7 @@ typedef enum taa_neighbourhood_kind { TAA_NEIGHBOURHOOD_DEFAULT, TAA_NEIGHBOURHO
 typedef enum taa_history_kind { TAA_HISTORY_DEFAULT, TAA_HISTORY_CATMULL, TAA_HISTORY_BILINEAR } taa_history_kind;
 typedef enum taa_nan_kind { TAA_NAN_DEFAULT, TAA_NAN_TAP, TAA_NAN_SET } taa_nan_kind;
 
-/* Temporal antialiasing controls (DESIGN.md "Temporal antialiasing"); zero = default. */
+/* Temporal antialiasing controls (docs/design.md "Temporal antialiasing", docs/taa.md); zero = default. */
 typedef struct taa_controls {
     float blend;        /* weight of the current frame, default TAA_BLEND_DEFAULT (0.1) */
     float gamma;        /* variance-box half-width in sigmas, default TAA_GAMMA_DEFAULT (1) */

@@ -5,7 +5,7 @@
  *   renderer *r = renderer_create(&(renderer_desc){ .scene = &sc, .plan = &pl }, &status);
  *   renderer_draw(r, &frame);  renderer_read(r, &img);  ...  renderer_destroy(r);
  *
- * Passes declare their resources (STYLE.md, Falcor): see k_forward_resources in renderer_upload.c.
+ * Passes declare their resources (docs/design.md "Conventions"): see k_forward_resources in renderer_upload.c.
  * With foveation the forward passes run once per ring into the ring's own target (cropped frustum,
  * ring mip bias), and a composite pass upsamples and blends the rings at display resolution.
  * A2C modes draw each ring through a shared 4x MSAA target and resolve it into the ring's layer.

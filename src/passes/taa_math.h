@@ -1,4 +1,4 @@
-/* taa_math.h: the math of temporal antialiasing (DESIGN.md "Temporal antialiasing"), the C twin of
+/* taa_math.h: the math of temporal antialiasing (docs/design.md "Temporal antialiasing"), the C twin of
  * shaders/common/taa.glsl.
  *
  * Every function has a GLSL function of the same name and the same float operations in the same

@@ -20,8 +20,8 @@
 #include "output/out_path.h"
 
 /* Bump when the method changes what a reference frame holds: old cache files then miss.
- * 3: entries carry fovsim:ref_checksum (issue 17). 4: the key holds the GL renderer and version
- * (issue 18). */
+ * 3: entries carry fovsim:ref_checksum (a tampered entry is drawn again). 4: the key holds the GL renderer and version
+ * (a cache many machines share). */
 #define REFERENCE_FORMAT_VERSION 4
 
 enum { REF_CHANNELS = 5 }; /* R, G, B, A, coverage */
@@ -103,7 +103,7 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     FS_ASSERT(rf->ss <= REFERENCE_SUPERSAMPLE_MAX && rf->k <= REFERENCE_SAMPLES_MAX && rf->k % 2 == 0);
     if (desc->cache_dir) {
         snprintf(rf->cache_dir, sizeof rf->cache_dir, "%s", desc->cache_dir);
-        out_dir_remove_stale_temps(rf->cache_dir); /* what killed runs left (issue 17) */
+        out_dir_remove_stale_temps(rf->cache_dir); /* what killed runs left (README "Output folders") */
     }
     rf->on_pass = desc->on_pass;
     rf->user = desc->user;
@@ -148,7 +148,7 @@ reference *reference_create(const scene *sc, const reference_desc *desc, fs_stat
     h = hash_u64(h, scene_content_hash(sc));
     h = hash_shaders(h);
     /* The GL that draws it: another GPU or driver can rasterise and filter slightly differently, and
-     * a key must mean the same bytes also in a cache that many machines share (issue 18). */
+     * a key must mean the same bytes also in a cache that many machines share (docs/reference.md "A cache on shared storage"). */
     const char *gl_renderer = gl_device_renderer(), *gl_version = gl_device_version();
     h = hash_str(h, gl_renderer ? gl_renderer : "");
     h = hash_str(h, gl_version ? gl_version : "");
@@ -592,7 +592,7 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
             log_warn("REFERENCE: %s: its pixels do not match their checksum (changed after it was written); "
                      "drawing it again", info->path);
         else if (cr == CACHE_NOT_REGULAR && S_ISDIR(mode)) {
-            /* One rule for an entry the cache cannot hold (issue 28): the run fails with one line,
+            /* One rule for an entry the cache cannot hold (docs/reference.md "Cache"): the run fails with one line,
              * as it does when the cache folder cannot be made or written; before, a directory here
              * was bypassed with a warning and every run drew the frame again. */
             log_error("%s: is a directory where the reference cache keeps an entry; remove it or use another "

@@ -1,4 +1,4 @@
-/* reference.h: the converged ground truth every method is measured against (DESIGN.md "Ground
+/* reference.h: the converged ground truth every method is measured against (docs/design.md "Ground
  * truth and metrics", docs/reference.md).
  *
  * A reference frame is the display at full resolution with S x S sub-samples per pixel (box

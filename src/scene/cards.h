@@ -1,4 +1,4 @@
-/* cards.h: the cards of an asset's foliage, for per-ring stochastic simplification (issue 20, Cook,
+/* cards.h: the cards of an asset's foliage, for per-ring stochastic simplification (docs/ring-lod.md; Cook,
  * Halstead, Planck & Ryu 2007, "Stochastic Simplification of Aggregate Detail"; the per-ring law is
  * src/fov/ring_lod.h).
  *

@@ -235,7 +235,7 @@ void check_json_depth(const unsigned char *s, size_t n, size_t base)
 
 // The glTF properties whose values are indices, counts, offsets or enums: a non-negative integer
 // that fits an int. tinygltf reads a value of the wrong kind as "absent" (an accessor byteOffset of
-// -8 became 0) and casts one too large to int ("mesh": 2^40 became mesh 0); issue 28 asks that
+// -8 became 0) and casts one too large to int ("mesh": 2^40 became mesh 0); the rule is that
 // such a file be refused, naming the JSON path. Objects under "extras" are the author's own data
 // and are not looked at.
 bool is_index_key(const std::string &k)
@@ -797,7 +797,7 @@ std::string jpeg_huffman_problem(const unsigned char *b, size_t n)
 // A PNG's pixel data inflates to exactly what its header declares (PNG spec 10.2 and 8.2): height
 // rows of 1 + ceil(width * bits per pixel / 8) bytes, per Adam7 pass when interlaced. stb_image
 // inflates the whole IDAT stream into a growing buffer before it compares (and accepts extra data
-// after an interlaced image), so a 2 MB stream declaring 1x1 pixels took 2 GiB (issue 28). So the
+// after an interlaced image), so a 2 MB stream declaring 1x1 pixels took 2 GiB (README "Limits"). So the
 // stream is inflated here, by zlib, into a buffer of the declared size and no more: a stream that
 // would fill more is refused after one byte too many. The pixels then reach stb_image as a PNG of
 // the same chunks whose IDAT holds them in stored (uncompressed) deflate blocks, which it copies

@@ -10,7 +10,7 @@
  *
  * mip_chain_build_castano builds the same chain and then rescales the alpha of every level l >= 1
  * so that a traditional test (alpha >= cutoff) passes the same share of texels as at level 0
- * (Castano's coverage-preserving mipmaps, seed 001; DESIGN.md "Alpha-test strategies", castano).
+ * (Castano's coverage-preserving mipmaps, seed 001; docs/design.md "Alpha-test strategies", castano).
  *
  * What it does NOT do: upload (passes/renderer_upload.c).
  */

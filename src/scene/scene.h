@@ -39,7 +39,7 @@ typedef enum alpha_kind {
     ALPHA_KIND_BLEND,
 } alpha_kind;
 
-/* Alpha-test strategy for MASK materials (DESIGN.md "Alpha-test strategies", docs/alpha-modes.md). */
+/* Alpha-test strategy for MASK materials (docs/design.md "Alpha-test strategies", docs/alpha-modes.md). */
 typedef enum alpha_mode {
     ALPHA_MODE_DEFAULT = 0, /* "not set": inherit the scene's or CLI's mode */
     ALPHA_MODE_TRADITIONAL,

@@ -166,7 +166,7 @@ fs_status jfloat(const jctx *c, const cJSON *it, const char *path, nrange r, flo
     double v;
     fs_status s = jnum(c, it, path, r, &v);
     if (s == FS_OK) {
-        /* Range-checked again as the float it is used as (issue 28 part 5): 1e-300 is > 0 as a
+        /* Range-checked again as the float it is used as (README "Limits", numbers): 1e-300 is > 0 as a
          * double but 0 as a float, which readers take for "the default". */
         float f = (float)v;
         if (!isfinite(f))

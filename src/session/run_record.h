@@ -1,5 +1,5 @@
-/* run_record.h: the record of what wrote an output folder, and --resume / --replace (issue 17,
- * defect 9; README "Output folders").
+/* run_record.h: the record of what wrote an output folder, and --resume / --replace (docs/design.md
+ * "Outputs"; README "Output folders").
  *
  * render, reference, compare and demo write into DIR (--out) a text file, DIR/fovsim-run.txt:
  * one "key: value" line per setting that changes what the run writes (the command, --name, every
@@ -26,7 +26,7 @@
 #include "session/session.h"
 
 #define RUN_RECORD_FILE "fovsim-run.txt"
-/* The folder's lock (issue 28 part 3): a run holds an exclusive flock(2) on DIR/fovsim-run.lock
+/* The folder's lock (README "Output folders", one writer at a time): a run holds an exclusive flock(2) on DIR/fovsim-run.lock
  * from before it reads the record until after its last file, so a second run into DIR (--replace
  * and --resume included, and a sweep task run twice) is refused, or waits with --wait-lock,
  * instead of mixing its frames with the first's. The file names the holder ("pid P on host H,

@@ -1,4 +1,4 @@
-/* view.h: `fovsim view`, the interactive viewer (issue 7; docs/viewer.md).
+/* view.h: `fovsim view`, the interactive viewer (docs/viewer.md).
  *
  * A GLFW window (gl_window) at the display size of the scene shows the frames of the same renderer,
  * shaders and plan as `fovsim render` (plans come from session_plan_options), with the mouse as the

@@ -127,7 +127,7 @@ static bool leaves_card_scene(scene *sc)
 
 TEST(receding_leaf_card_per_mode)
 {
-    /* The other direction of DESIGN.md's coverage error: Leaves.png has mean alpha 0.44 above its
+    /* The other direction of the coverage error (docs/design.md "Ground truth and metrics"): Leaves.png has mean alpha 0.44 above its
      * 0.2 cutoff, so box-filtered mips bloat the traditional test towards full cover. Castano and
      * the hashed family keep the card's coverage. */
     enum { W = 640, H = 360 };

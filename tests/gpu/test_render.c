@@ -1,5 +1,5 @@
 /* Headless rendering on llvmpipe (or a GPU): built-in scenes and real glTF assets produce
- * plausible images, coverage behaves as DESIGN.md defines it. */
+ * plausible images, coverage behaves as docs/design.md "Coverage" defines it. */
 #include "gpu_util.h"
 
 enum { W = 160, H = 90 };

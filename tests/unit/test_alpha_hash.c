@@ -1,7 +1,7 @@
 /* alpha_hash: the hashed / stochastic alpha thresholds of seed 000 (§4-6, Listing 1, Eq. 1-3).
  *
  * What is asserted, and why these bounds:
- *   - every threshold is finite and in (0, 1] for the hard cases of DESIGN.md (interpolation factor
+ *   - every threshold is finite and in (0, 1] for the hard cases of docs/design.md "Hard cases and where they are tested" (interpolation factor
  *     0, 1, 0.5 and within 1e-7 of 0 or 1; derivatives 0, denormal, 1e-30, 1e30, NaN, inf;
  *     coordinates +-1e7, exact integers, -0, NaN, inf), both hashes, anisotropic on and off;
  *   - alpha = 0 never passes and alpha = 1 always does, for every strategy;

@@ -1,6 +1,6 @@
 /* test_gltf.c: gltf_load against the real assets of shared/assets (SOURCES.md A) and against small
  * hand-made files, good and bad, written to the scratch directory. Bad files are checked for the
- * returned code and a zeroed asset, never for message text (STYLE.md "Testing"). */
+ * returned code and a zeroed asset, never for message text (docs/design.md "Conventions"). */
 #include <cjson/cJSON.h>
 #include <math.h>
 #include <stdint.h>

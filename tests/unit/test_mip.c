@@ -236,7 +236,7 @@ TEST(build_speed_2048)
     free(im.rgba);
 }
 
-/* DESIGN.md "Ground truth and metrics": Leaves.png has mean alpha 0.44; with its glTF cutoff 0.2
+/* docs/design.md "Ground truth and metrics": Leaves.png has mean alpha 0.44; with its glTF cutoff 0.2
  * a traditional test keeps 0.44 of texels at mip 0 and everything at mip 10 (bloat). */
 TEST(megakit_leaves_coverage_bloats)
 {

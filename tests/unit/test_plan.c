@@ -1,4 +1,4 @@
-/* The plan: only the passes and variants a scene's content calls for (DESIGN.md). */
+/* The plan: only the passes and variants a scene's content calls for (docs/design.md "Simulate only what the scene calls for"). */
 #include <stdlib.h>
 #include <string.h>
 

@@ -1,7 +1,7 @@
 /* Unit tests of the TAA math (src/passes/taa_math.c, C twin of shaders/common/taa.glsl): Halton
  * jitter, YCoCg, variance clipping, the sparse-coverage rule, the disocclusion test, the neighbourhood's statistics (3x3
  * and cross, NaN per tap or per set), Catmull-Rom weights and taps, the history sum, resolve,
- * sanitize, reprojection, and the hard cases of DESIGN.md (NaN/Inf in the current frame, history
+ * sanitize, reprojection, and the hard cases of docs/design.md "Hard cases and where they are tested" (NaN/Inf in the current frame, history
  * or matrices). */
 #include <float.h>
 #include <stdint.h>
