@@ -5,7 +5,7 @@ ok()   { passed=$((passed+1)); echo "ok   $1" >&2; }
 fail() { failed=$((failed+1)); echo "FAIL $1" >&2; }
 check() { local name=$1; shift; if "$@"; then ok "$name"; else fail "$name"; fi; }
 # expect_exit NAME CODE CMD...: exit status CODE, exactly one line on stderr, and no control bytes
-# in it (messages escape what they quote from input, issue 17)
+# in it (messages escape what they quote from input, README "Limits")
 expect_exit() {
   local name=$1 code=$2; shift 2
   "$@" >"$T/out.txt" 2>"$T/err.txt"; local rc=$?

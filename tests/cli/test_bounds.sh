@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Resource bounds and hangs (issue 28 parts 7, 8, 10, 11 and two silent refusals): every input path
+# Resource bounds and hangs (README "Limits", and two silent refusals): every input path
 # is refused by what it is before it is opened (a FIFO hung, /dev/zero was read for 512 MiB); a PNG
 # whose pixel data inflates past its declared size is refused without inflating it (2 GiB for a
 # 1x1 PNG); a message quoting an 8 MB data: URI stays short; SIGTERM to `sweep --local 2` stops its

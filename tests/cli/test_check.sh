@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# fovsim check (issue 19 part 1; docs/check.md): a baseline passes against itself with every
+# fovsim check (docs/check.md): a baseline passes against itself with every
 # difference 0; the same options over a changed scene (a tree's alpha cutoff, the tree seen only
 # beyond 15 degrees of the gaze) fail with ring 1 named and ring 0 not; tolerances per ring
 # override; frame time is judged only with --tol-time; a missing or damaged baseline is one line and its documented exit status, before
@@ -93,7 +93,7 @@ check "... the scene is what differs from the baseline's run" grep -q "run (fovs
 check "... a diff image per failing frame" \
   bash -c "for f in 0 1 2; do head -c 4 '$T/base-next/diff.000'\$f.exr | od -An -tx1 | grep -q '76 2f 31 01' || exit 1; done"
 # Traditional fails in all three frames. Hashed's coverage ratio on this 32 x 18 ring moves by about
-# the tolerance (0.05-0.10 with the level keys of issue 27; 0.01-0.05 before), so which of its frames
+# the tolerance (0.05-0.10 with the level keys of 2026-12-02; 0.01-0.05 before), so which of its frames
 # fail depends on the hash values: the JUnit count is checked against check.json's failing cases.
 NFAIL=$(python3 -c 'import json,sys; print(len({(f["frame"], f["image"]) for f in json.load(open(sys.argv[1]))["failures"]}))' \
   "$T/base-next/check.json")
@@ -179,8 +179,8 @@ check "... naming it" grep -q 'csv/metrics.csv: cannot open' "$T/err.txt"
 damaged rows; awk -F, -v OFS=, 'NR == 3 { $8 = "x" } 1' "$T/base/metrics.csv" >"$T/rows/metrics.csv"
 expect_exit "a damaged metrics.csv row exits 6" 6 "$BIN" check --baseline "$T/rows" "${ENV[@]}"
 check "... naming file:line" grep -q 'rows/metrics.csv:3:' "$T/err.txt"
-# options a baseline never records (the machine's, check's own) are refused, not obeyed (issue 28
-# part 6): a check.json carrying --cache would otherwise send the reference cache elsewhere
+# options a baseline never records (the machine's, check's own) are refused, not obeyed (docs/check.md
+# "Recording a baseline"): a check.json carrying --cache would otherwise send the reference cache elsewhere
 damaged cache; sed -i 's|"--rings",|"--cache", "'"$T"'/evil-cache", "--rings",|' "$T/cache/check.json"
 expect_exit "a check.json storing --cache DIR exits 2" 2 "$BIN" check --baseline "$T/cache" --quiet
 check "... naming check.json, the JSON path and --cache" \

@@ -73,7 +73,7 @@ FOVSIM_NO_PIPELINE_STATS=1 "$BIN" bench --builtin fence --frames 2 --warmup 1 --
 check "bench JSON: counts unknown (-1) without the extension" python3 "$SRC/tests/cli/check_bench_json.py" "$T/bench_nostats.json" unknown
 # Ring culling (docs/foveation.md): rings skip instances only their hole would show, so they draw
 # fewer than with --ring-cull off, and fewer primitives; the same frames. Four rings (the auto layout
-# at 320x180 before issue 16 part 3; the acuity-safe auto layout has two on so coarse a display).
+# at 320x180 before 2026-12-01's auto layout; the acuity-safe auto layout has two on so coarse a display).
 BENCH_RINGS=21.719414:1:0,34.564426:1/2:0,47.247437:1/4:0,*:1/8:0
 for c in on off; do
   "$BIN" bench --builtin forest --frames 2 --warmup 0 --width 320 --height 180 --taa off --ring-cull $c \
@@ -208,7 +208,7 @@ check "unknown mode creates nothing" test ! -e "$T/bad7"
 expect_exit "no such EGL device -> 7" 7 "$BIN" render --gpu 15 --frames 1 --out "$T/bad8"
 check "no GL context creates nothing" test ! -e "$T/bad8"
 
-# ---- output paths too long for the file system (issue 17, defect 8): refused with the other
+# ---- output paths too long for the file system (README "Exit status"): refused with the other
 # arguments (exit 2, one line, nothing drawn or created). The old code rendered, then failed the
 # first write with exit 6, a message cut short and an empty folder left behind.
 long_name=$(printf 'n%.0s' $(seq 250))
@@ -226,10 +226,10 @@ max_name=$(printf 'm%.0s' $(seq 188))
 "$BIN" render --builtin fence --frames 1 --width 32 --height 18 --name "$max_name" --out "$T/maxname" --quiet >/dev/null 2>"$T/err.txt"
 check "--name of 188 characters renders" test $? -eq 0 -a -f "$T/maxname/$max_name.0000.exr"
 
-# ---- a rerun tidies the folder (issue 17, defect 9): the temporary files of killed runs (their
+# ---- a rerun tidies the folder (README "Output folders"): the temporary files of killed runs (their
 # pid gone) are removed, those of a live process kept, and the frames of an earlier, longer run
 # removed, so the folder holds exactly the new sequence. The old code left all of it. Temporary
-# names carry the host (issue 18, `.tmp.<host>.<pid>.<n>`): another host's are kept (a run there
+# names carry the host (`.tmp.<host>.<pid>.<n>`): another host's are kept (a run there
 # may be writing them; its pids mean nothing here); names without a host (older fovsim) are
 # taken as this host's.
 RR="$T/rerun"
@@ -286,7 +286,7 @@ if mkdir -p "$T/full" && mount -t tmpfs -o size=160k tmpfs "$T/full" 2>/dev/null
   for f in "$T"/full/seq/*.exr; do [ -e "$f" ] || continue; exrheader "$f" >/dev/null 2>&1 || bad=1; done
   check "full disk: every frame left is complete" test $bad -eq 0
   umount "$T/full"
-  # Already full before the first frame (issue 17, defect 1): the header write failed while the
+  # Already full before the first frame (it once deadlocked the writer): the header write failed while the
   # EXR library held its context lock, and the error handler asked it for the user data: a hang
   # (killed by `timeout`, 124/137) with a 0-byte temporary file. Expected: exit 6, one line, nothing
   # left. render writes through the writer thread; reference writes the frame and its cache entry.

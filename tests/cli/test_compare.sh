@@ -14,7 +14,7 @@ done
 
 REF=(--supersample 2 --samples 8 --cache "$T/cache")
 # The rings these checks measure: four, down to 1/8 scale (what the auto layout gave at 320x180
-# before issue 16 part 3; the acuity-safe auto layout has only two rings on so coarse a display,
+# before 2026-12-01's auto layout; the acuity-safe auto layout has only two rings on so coarse a display,
 # and these checks are about alpha modes in coarse rings, not about the layout).
 RINGS=21.719414:1:0,34.564426:1/2:0,47.247437:1/4:0,*:1/8:0
 # compare SCENE TAA OUT [OPTION...]: 320x180, the rings above, 12 frames
@@ -40,7 +40,7 @@ display_ratio() {
 within() { python3 -c "import sys; a=float('$1'); sys.exit(0 if $2 <= a <= $3 else 1)"; }
 
 # ---- the headline claim. Coverage ratios over frames are ratios of sums (docs/metrics.md
-# "Coverage ratio over frames"; the means of per-frame ratios measured before issue 27 in brackets).
+# "Coverage ratio over frames"; the means of per-frame ratios measured before 2026-12-02 in brackets).
 # Forest with TAA: hashed keeps the two outer rings' coverage within 10 % of the reference,
 # traditional loses at least 25 % in the outermost ring (measured 0.998 and 1.034 vs 0.011
 # [0.98-1.04 vs 0.01]). Fence without TAA: hashed within 10 %, traditional loses all but a few per
@@ -61,7 +61,7 @@ check "compare fence exits 0" test $rc -eq 0
 for ring in -1 -2 -3; do
   # The outermost ring (1/8 scale) shades only ~15 ring pixels of fence per frame here (~940 display
   # pixels), a handful of noise cells: its per-frame hashed ratio spans 0.02-1.9, and a 12-frame
-  # mean is noise (0.88 before the per-layer hash keys of issue 16 part 4, 1.33 after; over 48
+  # mean is noise (0.88 before the per-layer hash keys of 2026-12-01, 1.33 after; over 48
   # frames 0.92 and 1.08; the ratio of sums over the 12 frames is 1.244). It is checked with the rest
   # of the display below; 10 % elsewhere.
   if [ $ring -ne -1 ]; then
@@ -76,7 +76,7 @@ check "fence, no TAA: hashed display coverage ratio $r within 10 %" within "$r" 
 compare fence on "$T/fence_taa"
 r=$(display_ratio "$T/fence_taa")
 # the sparse-coverage rule (docs/taa.md "Sparse coverage and disocclusion"): within 10 % with TAA
-# too (measured 1.024; 0.771 with issue 16's slack)
+# too (measured 1.024; 0.771 with the earlier slack of docs/taa.md "Sparse stochastic coverage")
 check "fence, TAA: hashed keeps $r of the display's coverage within 10 %" within "$r" 0.9 1.1
 compare fence on "$T/fence_taa_nosparse" --taa-sparse off
 r=$(display_ratio "$T/fence_taa_nosparse")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hostile and malformed input (issue 17, the input side): every case exits with its documented
+# Hostile and malformed input (README "Exit status", "Limits"): every case exits with its documented
 # status, prints exactly one line on stderr naming the file and what was expected, leaves no output
 # behind, and never echoes control characters from the input.
 set -u

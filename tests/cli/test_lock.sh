@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# An output folder has one writer at a time (issue 28 part 3; README "Output folders"): while a
+# An output folder has one writer at a time (README "Output folders"): while a
 # render writes DIR, a second one into DIR, with --replace or --resume, is refused with one line
 # naming the first (pid, host) and exit 12; with --wait-lock S it waits, then runs, and DIR ends
 # with its frames only, under its own complete record; a wait that runs out is refused the same

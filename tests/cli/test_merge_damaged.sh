@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# fovsim merge refuses a task's files that fovsim did not write whole (issue 28 part 4): a
+# fovsim merge refuses a task's files that fovsim did not write whole (docs/cluster.md): a
 # metrics.csv cut mid-row, one without a column merge reads, a row short of a field, an empty
 # field, and a summary.json that is not valid JSON or not an object; each is one line naming
 # file:line (and exit 6), never merged with 0, another column's value or null in its place.

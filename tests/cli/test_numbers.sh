@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Numbers are range-checked as the 32-bit floats they are used as (issue 28 part 5): an option
+# Numbers are range-checked as the 32-bit floats they are used as (README "Limits", numbers): an option
 # whose value is in range as a double but 0 or denormal as a float (1e-300, 1e-40) is refused with
 # one line and exit 2, never taken as 0 (which reads as "the default" everywhere); a scene file's
 # the same with exit 3; a glTF camera whose horizontal field of view is outside (1, 179) degrees

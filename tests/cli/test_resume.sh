@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Output folders (issue 17, defect 9; README "Output folders"): every folder records the
+# Output folders (README "Output folders"): every folder records the
 # configuration that wrote it; --resume keeps the complete frames of the same configuration and
 # draws the rest, byte-identical to an uninterrupted run (TAA history included); another
 # configuration is refused unless --replace; a compare's metrics and FovVideoVDP files never

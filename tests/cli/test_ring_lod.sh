@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Ring LOD from the command line and scene files (issue 20, docs/ring-lod.md): `fovsim plan` shows
+# Ring LOD from the command line and scene files (docs/ring-lod.md): `fovsim plan` shows
 # it only for scenes with foliage to thin, the scene key equals the option, frames say what they
 # drew, a folder drawn without it is another configuration, and bad values get one-line errors.
 set -u

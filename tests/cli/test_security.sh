@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# No shell between fovsim and the programs it starts (issue 28, security): every command that starts
+# No shell between fovsim and the programs it starts (docs/testing.md "Security tests"): every command that starts
 # another program (merge -> gnuplot, bench --accuracy -> gnuplot, compare --fvvdp -> python3) is run
 # with hostile paths (a space, quotes, $(...), backquotes, ;...;, a newline, a leading dash) and with
 # hostile values read back from files (a task's metrics.csv, a scene file's name that lands in a
@@ -9,7 +9,7 @@
 #
 # compare --fvvdp runs a stand-in pyfvvdp (tests/cli/fake_fvvdp: the API run_fvvdp.py calls, with a
 # JOD computed from the frames) under /usr/bin/python3 (numpy, scripts/setup.sh); a fake `fvvdp`
-# command is on PATH too, which is what fovsim before issue 28 looked for.
+# command is on PATH too, which is what fovsim looked for before 2026-12-02.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
 SRC=${FOVSIM_SOURCE:?set by CMake}

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A reference cache shared by many runs at once (issue 18; docs/reference.md "A cache on shared
+# A reference cache shared by many runs at once (docs/reference.md "A cache on shared
 # storage"): identical keys give identical bytes (no time, pid or host in a file); two processes
 # drawing the same cache keys at once both finish, and the entries they leave are whole, valid and
 # byte-identical to a serial run's, as are both outputs; a reader polling the cache meanwhile never
@@ -102,7 +102,7 @@ else
   echo "note: host name over 32 characters; the host-named temporary checks did not run" >&2
 fi
 
-# One rule for an entry the cache cannot hold (issue 28): a directory at an entry's path and a cache
+# One rule for an entry the cache cannot hold (docs/reference.md "Cache"): a directory at an entry's path and a cache
 # folder that cannot be made (here under a regular file, which stops root too) both stop the run
 # with one line, exit 6, and the directory (someone's files) is kept. Before, the directory was
 # bypassed with a warning (exit 0).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Summaries that can't mislead (issue 27 part 4), end to end at 96x54 to 160x90, a few frames:
+# Summaries that can't mislead (docs/metrics.md "Coverage ratio over frames", "Still camera"), end to end at 96x54 to 160x90, a few frames:
 # - the coverage ratio over frames is the ratio of the coverage summed over them, also when the gaze
 #   rests on sky for some frames (the reference covers nothing or a few pixels there: the mean of
 #   per-frame ratios read 3.3 in a ring whose summed ratio is 1.2); per frame, and over frames, a

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# fovsim sweep and merge (issue 18): one task list run serially, --local 2 and through GNU parallel
+# fovsim sweep and merge (docs/cluster.md): one task list run serially, --local 2 and through GNU parallel
 # gives the same metrics (byte-identical rows apart from the timing column); a task killed with
 # SIGKILL is redone on the next run; merge reports a missing task; frame chunks cover every frame
 # once and, with the whole history as warm-up, equal an unbroken run; bad manifests get one line

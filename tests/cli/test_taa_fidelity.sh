@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# TAA fidelity (issue 27, docs/taa.md "Sparse coverage" and "Disocclusion"), measured against the
+# TAA fidelity (docs/taa.md "Sparse coverage" and "Disocclusion"), measured against the
 # run's own reference with `fovsim compare`:
 # 1. a still camera over sparse sub-pixel foliage (600 Clover_1 plants 22-60 m away, 320x180, 32
 #    frames): every mode's TAA coverage over frames 8-31 within 5 % of the same mode without TAA

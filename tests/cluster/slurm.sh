@@ -1,5 +1,5 @@
 # shellcheck shell=bash
-# slurm.sh: a one-node Slurm cluster on 127.0.0.1 for tests (issue 18; docs/cluster.md, "A one-node
+# slurm.sh: a one-node Slurm cluster on 127.0.0.1 for tests (docs/cluster.md, "A one-node
 # Slurm for testing"). Sourced, not run: CMake registers only tests/cluster/test_*.sh.
 #
 #   . tests/cluster/slurm.sh

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # shellcheck source-path=SCRIPTDIR
-# A real one-node Slurm (tests/cluster/slurm.sh; issue 18): an array job runs every task, at most
+# A real one-node Slurm (tests/cluster/slurm.sh; docs/cluster.md): an array job runs every task, at most
 # %N at a time, and `sbatch --wait` reports a failing task; afterwards no daemon, job step or job
 # of ours is left running. Twice in a row, in fresh folders. Label "slurm" (ctest -L slurm);
 # exit 77 (skipped) without the packages.

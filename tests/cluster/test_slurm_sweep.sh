@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# fovsim sweep on a real (one-node) Slurm (issue 18): the 2 scenes x 2 traces x 2 modes sweep of
+# fovsim sweep on a real (one-node) Slurm (docs/cluster.md): the 2 scenes x 2 traces x 2 modes sweep of
 # tests/cli/test_sweep.sh submitted as an array with `fovsim sweep --slurm --submit --wait`, merged,
 # and compared with a serial run of the same manifest (byte-identical metrics apart from the timing
 # column); then a second submission skips every task. Exits 77 (skipped) without the packages.

@@ -1,4 +1,4 @@
-/* fuzz_check_merge.c: the readers of files fovsim reads back from its own runs (issue 28): merge's
+/* fuzz_check_merge.c: the readers of files fovsim reads back from its own runs (docs/cluster.md, docs/check.md): merge's
  * task metrics.csv and summary.json (merge_check_metrics, merge_parse_summary) and check's baseline
  * check.json (check_baseline_parse, after cJSON).
  *

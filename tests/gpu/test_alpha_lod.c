@@ -1,4 +1,4 @@
-/* The alpha LOD clamp (issue 27 part 5, docs/hashed-alpha.md "Alpha LOD clamp"): with
+/* The alpha LOD clamp (docs/hashed-alpha.md "Alpha LOD clamp"): with
  * --alpha-lod-max N the alpha test reads alpha at most at mip level N.
  *
  * Scene: walls of 60 randomly turned Quaternius MegaKit Clover_1 (the shared test assets, CC0; Leaves.png,

@@ -1,4 +1,4 @@
-/* Hashed coverage at distance (issue 16 part 4): hashed alpha testing keeps the reference's coverage
+/* Hashed coverage at distance (docs/hashed-alpha.md "Coverage at distance"): hashed alpha testing keeps the reference's coverage
  * at 4, 16, 64 and 256 m and at widths 1280 -> 80 px.
  *
  * Scenes: a "wall" of randomly turned instances of a Quaternius MegaKit plant (../shared/assets, CC0)
@@ -23,7 +23,7 @@
  * threshold shared by every layer in a noise cell) Bush_Common kept 0.92 at 64 m and 0.84 at
  * 256 m, Plant_1_Big 0.92 at 256 m: the test failed. Stochastic is measured alongside and reported.
  *
- * Also: a grass tuft 1.41 pixels wide at 64 and 128 m (issue 27 part 3; see the test). The whole
+ * Also: a grass tuft 1.41 pixels wide at 64 and 128 m (see the test). The whole
  * file takes ~42 s on 2 cores with llvmpipe (the tufts ~17 of them). */
 #include <unistd.h>
 
@@ -129,7 +129,7 @@ TEST(hashed_keeps_the_references_coverage_from_1280_to_80_px)
 
 /* >>tiny */
 
-/* Issue 27 part 3: an asset 1-2 pixels wide lies within a pixel or so of its object origin, where
+/* docs/hashed-alpha.md "Assets a pixel or two wide": an asset 1-2 pixels wide lies within a pixel or so of its object origin, where
  * Listing 1's two cells floor(2^lo obj) and floor(2^hi obj) are the same cell. Hashed with one
  * function they gave equal values, and Eq. 1's CDF then let too many fragments of alpha < 0.5 pass.
  * Each level now hashes its own lattice (docs/hashed-alpha.md, "Assets a pixel or two wide").

@@ -714,7 +714,7 @@ TEST(stochastic_coplanar_cards_are_tested_independently)
     scene_free(&sc);
 }
 
-/* Issue 17, defect 4: the cache trusted any readable EXR with the right key. A tampered entry
+/* The cache once trusted any readable EXR with the right key. A tampered entry
  * (pixels rewritten, header kept) gave silently wrong metrics; a FIFO at the entry's path hung
  * the run (the open waited for a writer); a directory there failed the whole run (the rename of
  * the redrawn frame). Now every entry carries a checksum of its pixels, verified on read, and
@@ -769,7 +769,7 @@ TEST(cache_tampered_fifo_directory)
     exr_image_free(&got);
     struct stat sb;
     CHECK(stat(i1.path, &sb) == 0 && S_ISREG(sb.st_mode));
-    /* A directory there: the cache cannot hold the entry, so the run stops with one line (issue 28:
+    /* A directory there: the cache cannot hold the entry, so the run stops with one line (docs/reference.md "Cache":
      * one rule with a cache folder that cannot be written; it used to be bypassed), no hang, and
      * the directory is left alone (it may hold someone's files). */
     CHECK(unlink(i1.path) == 0);

@@ -1,4 +1,4 @@
-/* Ring LOD on the GPU (issue 20, docs/ring-lod.md): a field of identical cards keeps its covered
+/* Ring LOD on the GPU (docs/ring-lod.md): a field of identical cards keeps its covered
  * area when a ring keeps a fraction u of them; u = 1 draws bit for bit what no simplification
  * draws; a still camera draws the same frame twice; a slowly moving gaze changes coverage no faster
  * with ring LOD than without; the reference and scenes without card aggregates compile nothing. */

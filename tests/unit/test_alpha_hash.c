@@ -273,7 +273,7 @@ TEST(matches_listing_1_on_ordinary_inputs)
         float max_deriv = fmaxf(sqrtf(dx.x * dx.x + dx.y * dx.y + dx.z * dx.z), sqrtf(dy.x * dy.x + dy.y * dy.y + dy.z * dy.z));
         float pix_scale = 1.0f / (1.0f * max_deriv);
         float s0 = exp2f(floorf(log2f(pix_scale))), s1 = exp2f(ceilf(log2f(pix_scale)));
-        /* The one departure this keeps: each level hashes its own lattice (issue 27). */
+        /* The one departure this keeps: each level hashes its own lattice (docs/hashed-alpha.md "Assets a pixel or two wide"). */
         uint32_t k0 = alpha_hash_level_key((int)floorf(log2f(pix_scale)));
         uint32_t k1 = alpha_hash_level_key((int)ceilf(log2f(pix_scale)));
         float h0 = alpha_hash_kind_layer(v3(floorf(s0 * obj.x), floorf(s0 * obj.y), floorf(s0 * obj.z)), kind, k0);
@@ -824,7 +824,7 @@ TEST(alpha_lod_clamp_is_min_of_level_and_clamp)
 
 /* The forward shader's hashed test takes the fade level from the uv derivatives in one log2
  * (alpha_texture_fade_level): the level the trilinear lookup reads, alpha_texture_lod's lod biased
- * and clamped at 0 as the sampler does, and nothing more for anisotropy (issue 16: the level
+ * and clamped at 0 as the sampler does, and nothing more for anisotropy (docs/hashed-alpha.md "The fade and anisotropy": the level
  * already follows the footprint's long axis; adding log2(pmax / pmin) completed the fade up to 4
  * levels early on grazing surfaces). Finite and in [0, 60] always. */
 TEST(texture_fade_level_is_the_trilinear_level)
@@ -1056,7 +1056,7 @@ TEST(layered_thresholds_are_uniform)
 /* Listing 1's two hashes floor(2^lo obj) and floor(2^hi obj) are the same cell wherever
  * |obj| < 2^-hi on every axis: within a pixel of the object origin. Hashed with one function, the
  * two values there are equal, Eq. 1's CDF then skews the threshold (for alpha < 0.5 too many
- * fragments pass), and an asset 1-2 pixels wide lies entirely in that region (issue 27). Each
+ * fragments pass), and an asset 1-2 pixels wide lies entirely in that region (docs/hashed-alpha.md "Assets a pixel or two wide"). Each
  * level hashes its own lattice (alpha_hash_level_key), so the two are independent there too.
  *
  * Inputs: points uniform in |obj| < 2^-l on every axis (one pixel of footprint 2^-l around the

@@ -229,7 +229,7 @@ TEST(degenerate_paths)
     }
 }
 
-/* Two equal keys hold the camera exactly (issue 27): the built-in wind scene's two keys gave
+/* Two equal keys hold the camera exactly (docs/metrics.md "Still camera"): the built-in wind scene's two keys gave
  * positions an ulp off the key between them, and its frames' view-projections differed. Also a
  * still span followed by a move: the still span is the key itself. */
 TEST(two_equal_keys_hold_the_key_exactly)

@@ -73,7 +73,7 @@ TEST(bad_arguments)
         "fovsim render --quiet=1",
         "fovsim render --quiet --verbose",
         "fovsim render --gpu -2",
-        /* in range as a double, 0 or denormal as the float they are used as (issue 28 part 5) */
+        /* in range as a double, 0 or denormal as the float they are used as (README "Limits", numbers) */
         "fovsim render --fps 1e-300",
         "fovsim render --fps 0.0001",           /* below FPS_MIN */
         "fovsim render --taa-blend 1e-300",

@@ -536,7 +536,7 @@ TEST(atomic_failure_midway)
     exr_image_free(&big);
 }
 
-/* A disk that is full before the first byte (issue 17, defect 1): the header write fails inside
+/* A disk that is full before the first byte (it once deadlocked the writer): the header write fails inside
  * exr_write_header, while the Core holds its context lock. The error handler used to ask the Core
  * for the user data (exr_get_user_data takes that lock again) and the write hung for ever. The
  * file-size limit stands in for the full disk (EFBIG instead of ENOSPC, the same path); an alarm
@@ -590,7 +590,7 @@ TEST(atomic_failure_at_header)
     exr_image_free(&img2);
 }
 
-/* Only regular files are read (issue 17, defect 4): a FIFO is refused at once instead of
+/* Only regular files are read (README "Limits"): a FIFO is refused at once instead of
  * blocking the open until a writer comes, a directory with one line. */
 TEST(read_refuses_fifo_and_directory)
 {

@@ -268,7 +268,7 @@ static double worst_block_over_mar(const display_desc *d, const fov_layout *l, i
     return worst;
 }
 
-/* Issue 16 part 3: no ring's block is coarser than the MAR at the ring's inner edge, for the larger
+/* docs/foveation.md "Layouts": no ring's block is coarser than the MAR at the ring's inner edge, for the larger
  * of the two pixel pitches (radial cos^2 e / f, tangential cos e / f) and for any gaze on the
  * display. Checked by brute force over gazes and blocks, and fov_ring_block_mar_ratio bounds what
  * the brute force finds, closely where some gaze puts the display centre in the ring. */
@@ -301,7 +301,7 @@ TEST(auto_layout_blocks_resolve_the_acuity_for_any_gaze)
 TEST(acuity_margin_of_explicit_layouts)
 {
     display_desc d = disp(1280, 720, 90);
-    /* The auto layout before issue 16 part 3 (radial pitch, centred gaze): the 1/16 ring from
+    /* The auto layout of before 2026-12-01 (radial pitch, centred gaze): the 1/16 ring from
      * 34.56 deg has 1.432 deg blocks at the principal point against MAR = 0.971 deg. */
     fov_layout old = parse_ok("5.689322:1:0,11.726324:1/2:0,21.719414:1/4:0,34.564426:1/8:0,*:1/16:0", &d);
     int worst = -2;

@@ -706,7 +706,7 @@ TEST(tobii_nesting_limit)
     free(text);
 }
 
-/* README "Limits" (issue 28): a Tobii line is at most MAX_TOBII_RECORD_BYTES long, refused by its
+/* README "Limits": a Tobii line is at most MAX_TOBII_RECORD_BYTES long, refused by its
  * length before cJSON builds a tree of it (about 40 bytes a byte: a 100 MB record took 4 GB). A
  * valid gaze record padded to the bound loads; one byte more is refused, naming the bound. */
 TEST(tobii_record_bound)

@@ -829,7 +829,7 @@ static const char *write_glb(const char *name, const char *json, const void *bin
     return p;
 }
 
-/* Values tinygltf reads as something else (issue 28): a negative byteOffset became 0, a mesh index
+/* Values tinygltf reads as something else (README "Limits"): a negative byteOffset became 0, a mesh index
  * of 2^40 became mesh 0, a sparse byteOffset of 2^63 wrapped, a GLB version-1 header read as 2.
  * Each is refused naming the JSON path; the same documents with the values fixed load. */
 TEST(out_of_range_indices_refused)
@@ -882,7 +882,7 @@ TEST(out_of_range_indices_refused)
     free(d);
 }
 
-/* Nesting (issue 17 defect 2): 20,000 nested arrays overflowed the stack of tinygltf's JSON parser
+/* Nesting (README "Limits", glTF JSON): 20,000 nested arrays overflowed the stack of tinygltf's JSON parser
  * (a segfault, .gltf and .glb alike); the shim refuses a document nested deeper than
  * MAX_GLTF_JSON_DEPTH before the library sees it. Brackets inside strings do not count, and
  * moderate nesting in extras still loads. A node chain deeper than MAX_GLTF_NODE_DEPTH is
@@ -936,7 +936,7 @@ TEST(deep_nesting_refused)
     free(chain);
 }
 
-/* URIs (issue 17 defects 7 and 10): a buffer URI naming a directory was "out of memory" (tinygltf
+/* URIs (README "Limits", glTF URIs): a buffer URI naming a directory was "out of memory" (tinygltf
  * asked for 2^63 bytes); one climbing out of the glTF file's folder read the file. Both are
  * FS_ERR_ASSET now, decided before reading; a data: URI and a sibling file still load. */
 TEST(uris_name_files_under_the_folder)
@@ -969,7 +969,7 @@ TEST(uris_name_files_under_the_folder)
     asset_free(&a);
 }
 
-/* Decoded-pixel budgets (issue 17 defect 3): checked against the declared size before decoding. */
+/* Decoded-pixel budgets (README "Limits", glTF images): checked against the declared size before decoding. */
 TEST(pixel_budget)
 {
     char rest[2048];
@@ -997,7 +997,7 @@ TEST(pixel_budget)
     gltf_set_pixel_budget(0, 0);
 }
 
-/* ---- PNGs made here, for the bounded inflate (issue 28): the shim inflates a PNG's pixel data
+/* ---- PNGs made here, for the bounded inflate (README "Limits", glTF images): the shim inflates a PNG's pixel data
  * once into its declared size and hands stb_image the result as stored deflate blocks. These check
  * that every pixel survives that for interlaced, split-IDAT, 16-bit and palette images, and that a
  * stream holding more than the header declares is refused. */

@@ -1,4 +1,4 @@
-/* The logger's escaping (issue 17 defect 5): input quoted in a message can neither break the line
+/* The logger's escaping (a message is always one line: README "Limits"): input quoted in a message can neither break the line
  * nor reach the terminal as a control sequence; printable ASCII and well-formed UTF-8 pass. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,7 +60,7 @@ TEST(malformed_utf8_and_c1_controls_are_escaped)
     ESC_EQ("\xf5\x80\x80\x80", "\\xf5\\x80\\x80\\x80");
 }
 
-/* Issue 28: messages are bounded. log_quote keeps at most cap - 6 bytes, never half a UTF-8
+/* Messages are bounded (README "Limits"). log_quote keeps at most cap - 6 bytes, never half a UTF-8
  * character, and shows a NUL byte as \x00; log_bounded_write shortens a long run without blanks
  * to its head and tail and caps the whole message. */
 TEST(quoted_input_is_bounded)

@@ -16,7 +16,7 @@ static ring_metrics frame_ring(long long pixels, double cov, double ref)
     return m;
 }
 
-/* The user's case (issue 27): the gaze rests on sky for a few frames, where the fovea's reference
+/* The user's case (docs/metrics.md "Coverage ratio over frames"): the gaze rests on sky for a few frames, where the fovea's reference
  * covers 0 to 4 pixels. The mean of per-frame ratios read 4.2 to 6.8; the coverage summed over the
  * frames is what the summary reports. */
 TEST(coverage_over_frames_is_the_ratio_of_sums)

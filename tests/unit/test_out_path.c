@@ -1,5 +1,5 @@
 /* test_out_path.c: output path lengths are checked with the arguments (src/output/out_path.c,
- * issue 17 defect 8), and the longest --name accepted really fits a file name. */
+ * README "Exit status"), and the longest --name accepted really fits a file name. */
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -100,7 +100,7 @@ TEST(longest_name_writes)
 
 TEST(temp_pid_parsing)
 {
-    /* The old format (fovsim before issue 18): no host. */
+    /* The old format (fovsim before names carried the host): no host. */
     CHECK(out_path_temp_pid(".frame.0003.exr.tmp.4242.7") == 4242);
     CHECK(out_path_temp_pid(".metrics.csv.tmp.17") == 17);
     CHECK(out_path_temp_pid("summary.json.tmp.99") == 99);
@@ -251,7 +251,7 @@ static bool age_file(const char *dir, const char *name, long age)
     return utimensat(AT_FDCWD, p, ts, 0) == 0;
 }
 
-/* Issue 18: a shared cache (NFS, Lustre) is written by runs on many machines. A temporary name
+/* docs/reference.md "A cache on shared storage": a shared cache (NFS, Lustre) is written by runs on many machines. A temporary name
  * carries the host: only this host's temporaries of dead processes are removed at once; another
  * host's pids mean nothing here, so its temporaries are kept (its run may still be writing them)
  * until they are older than OUT_PATH_TEMP_MAX_AGE_S, what a run killed there leaves. */

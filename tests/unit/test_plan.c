@@ -391,7 +391,7 @@ TEST(taa_only_for_sequences_and_reprojection_only_for_a_moving_camera)
     CHECK(p.taa_coarse_history);
     CHECK(plan_build(&sc, &(plan_options){.taa = true, .frames = 48, .alpha_mode = ALPHA_MODE_TRADITIONAL, .layout = l}, &p) == FS_OK);
     CHECK(!p.taa_coarse_history && !has_define(&p.taa_pass, "TAA_COARSE_HISTORY 1"));
-    /* The sparse-coverage rule wherever a surface is alpha-tested (issue 27: a jittered sub-pixel
+    /* The sparse-coverage rule wherever a surface is alpha-tested (docs/taa.md "Sparse coverage and disocclusion": a jittered sub-pixel
      * leaf is a binary draw under any test), with or without hashed's per-frame offset. */
     const struct {
         alpha_mode mode;

@@ -197,7 +197,7 @@ TEST(a_frozen_image_scores_worse_than_the_method_it_froze)
     ring_mask_free(&m);
 }
 
-/* A still camera's warp is the identity exactly (issue 27): a frame that did not change scores
+/* A still camera's warp is the identity exactly (docs/metrics.md "Still camera"): a frame that did not change scores
  * temporal error 0, not the float rounding of reprojecting through inverse(VP) VP, which moves
  * pixels by ~1e-5 and read 8.3e-5 on a real run. A noisy image makes any resampling show. The
  * previous view-projection is the same matrix, then the same matrix one float ulp off in every
