@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Reproduces the measurements of docs/hashed-alpha.md "Coverage at distance" and "Alpha LOD clamp"
-# (issue 27 part 5): walls of 60 randomly turned MegaKit plants at distance D (over 0.9 D x 0.44 D
+# Reproduces the measurements of docs/hashed-alpha.md "Coverage at distance" and "Alpha LOD clamp":
+# walls of 60 randomly turned MegaKit plants at distance D (over 0.9 D x 0.44 D
 # of a 90 deg view, +-10 % in depth), 320x180, rings and TAA off, one frame, still camera,
 # traditional/stochastic/hashed against the exact reference. SEEDS walls per case (scatter seeds
 # 1..SEEDS), their coverage summed, because a wall of 60 small plants covers only 10-1400 pixels.

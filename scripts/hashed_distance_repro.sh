@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduces the measurements of docs/hashed-alpha.md "Coverage at distance" (issue 16 part 4):
+# Reproduces the measurements of docs/hashed-alpha.md "Coverage at distance":
 # walls of a MegaKit plant at 4/16/64/256 m (320x180) and a width sweep at 64 m, rings and TAA
 # off, one frame, traditional/stochastic/hashed against the exact reference.
 #   scripts/hashed_distance_repro.sh [OUT] [--supersample S]   (default OUT out/hashed_distance, S 4)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# How far a chunked sweep differs from an unbroken run (issue 18; docs/cluster.md "Frame chunks"):
+# How far a chunked sweep differs from an unbroken run (docs/cluster.md "Frame chunks"):
 # the forest with TAA, hashed and traditional, the demo tour gaze, split into chunks of C frames
 # with W frames of warm-up, against one unbroken compare. Prints, per W, the largest and mean
 # per-pixel difference (linear RGB, oiiotool --diff on each mode's layers) over the frames that
