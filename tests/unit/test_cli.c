@@ -43,7 +43,7 @@ TEST(options)
     CHECK(parse(&d, "fovsim render fence --wait-lock 30 --replace --fps 0.001") == FS_OK);
     CHECK(d.wait_lock == 30 && d.replace && d.fps == 0.001f);
     CHECK(parse(&d, "fovsim bench --builtin fence --warmup 2 --markdown x.md") == FS_OK);
-    CHECK(d.warmup == 2 && strcmp(d.markdown, "x.md") == 0 && strcmp(d.builtin, "fence") == 0);
+    CHECK(d.bench.warmup == 2 && strcmp(d.bench.markdown, "x.md") == 0 && strcmp(d.builtin, "fence") == 0);
     /* A positional scene: a path, or a built-in name. */
     CHECK(parse(&d, "fovsim plan scenes/x.json") == FS_OK && strcmp(d.scene_path, "scenes/x.json") == 0 && !d.builtin);
     CHECK(parse(&d, "fovsim plan plant.glb --alpha traditional") == FS_OK && strcmp(d.scene_path, "plant.glb") == 0);
@@ -107,11 +107,11 @@ TEST(view_cli)
 {
     run_desc d;
     CHECK(parse(&d, "fovsim view") == FS_OK && d.cmd == CMD_VIEW && !strcmp(d.builtin, "forest"));
-    CHECK(d.script == NULL && d.record == NULL && d.split[0] == ALPHA_MODE_DEFAULT);
+    CHECK(d.view.script == NULL && d.view.record == NULL && d.view.split[0] == ALPHA_MODE_DEFAULT);
     CHECK(parse(&d, "fovsim view fence --script s.txt --record out/r.csv --split traditional,hashed --taa off "
                         "--rings off --width 160 --height 90 --gaze builtin:pursuit") == FS_OK);
-    CHECK(!strcmp(d.builtin, "fence") && !strcmp(d.script, "s.txt") && !strcmp(d.record, "out/r.csv"));
-    CHECK(d.split[0] == ALPHA_MODE_TRADITIONAL && d.split[1] == ALPHA_MODE_HASHED && d.taa == 0);
+    CHECK(!strcmp(d.builtin, "fence") && !strcmp(d.view.script, "s.txt") && !strcmp(d.view.record, "out/r.csv"));
+    CHECK(d.view.split[0] == ALPHA_MODE_TRADITIONAL && d.view.split[1] == ALPHA_MODE_HASHED && d.taa.mode == 0);
     CHECK(parse(&d, "fovsim view --help") == FS_OK && d.cmd == CMD_HELP && d.help_for == CMD_VIEW);
     CHECK(parse(&d, "fovsim help view") == FS_OK && d.help_for == CMD_VIEW);
     log_set_quiet_errors(true);
@@ -135,10 +135,10 @@ TEST(reference_and_compare_options)
     run_desc d;
     log_set_quiet_errors(true);
     CHECK(parse(&d, "fovsim compare fence --modes traditional,castano --samples 8 --supersample 2 --cache /tmp/c") == FS_OK);
-    CHECK(d.cmd == CMD_COMPARE && d.bench_mode_count == 2 && d.samples == 8 && d.supersample == 2);
-    CHECK(!strcmp(d.cache_dir, "/tmp/c") && !strcmp(d.name, "compare"));
-    CHECK(parse(&d, "fovsim reference forest --no-cache") == FS_OK && d.no_cache && !strcmp(d.name, "reference"));
-    CHECK(parse(&d, "fovsim bench forest --accuracy --samples 4") == FS_OK && d.accuracy && d.samples == 4);
+    CHECK(d.cmd == CMD_COMPARE && d.bench_mode_count == 2 && d.ref.samples == 8 && d.ref.supersample == 2);
+    CHECK(!strcmp(d.ref.cache_dir, "/tmp/c") && !strcmp(d.name, "compare"));
+    CHECK(parse(&d, "fovsim reference forest --no-cache") == FS_OK && d.ref.no_cache && !strcmp(d.name, "reference"));
+    CHECK(parse(&d, "fovsim bench forest --accuracy --samples 4") == FS_OK && d.bench.accuracy && d.ref.samples == 4);
     CHECK(parse(&d, "fovsim reference --samples 3") == FS_ERR_USAGE);      /* odd: no two halves */
     CHECK(parse(&d, "fovsim reference --samples 0") == FS_ERR_USAGE);
     CHECK(parse(&d, "fovsim reference --supersample 17") == FS_ERR_USAGE);
