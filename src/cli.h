@@ -150,10 +150,11 @@ const char *cli_command_name(command cmd);
  * got 'V'") and false. */
 bool cli_parse_int(const char *opt, const char *v, int lo, int hi, int *out);
 
-/* Whether `arg` ("--gpu", "--cache=DIR") names an option of the machine that runs a command
- * (cli_options.c: OPT_MACHINE): fovsim check passes these to compare and never stores them in a
- * baseline. *takes_value: whether it is followed by a value when written without '='. */
-bool cli_is_machine_option(const char *arg, bool *takes_value);
+/* When `arg` ("--gpu", "--cache=DIR") names an option of the machine that runs a command
+ * (cli_options.c: OPT_MACHINE), its name ("--cache"), else NULL: fovsim check passes these to
+ * compare and never stores them in a baseline. *takes_value (may be NULL): whether the value is
+ * the next argument (an option with a value, written without '='). */
+const char *cli_machine_option(const char *arg, bool *takes_value);
 
 /* Prints the help text of a command (CMD_NONE: overview) on stdout (cli_help.c). */
 void cli_print_help(command cmd);

@@ -429,12 +429,14 @@ unsigned cli_context(command cmd, const run_desc *d)
     return c;
 }
 
-bool cli_is_machine_option(const char *arg, bool *takes_value)
+const char *cli_machine_option(const char *arg, bool *takes_value)
 {
     char name[64];
     snprintf(name, sizeof name, "%.*s", (int)strcspn(arg, "="), arg);
     const cli_option *o = cli_option_find(name);
+    if (!o || !(o->flags & OPT_MACHINE))
+        return NULL;
     if (takes_value)
-        *takes_value = o && o->arg != ARG_FLAG && !strchr(arg, '=');
-    return o && (o->flags & OPT_MACHINE);
+        *takes_value = o->arg != ARG_FLAG && !strchr(arg, '=');
+    return o->name;
 }

@@ -65,15 +65,17 @@ static alpha_params run_alpha_params(const run_desc *d)
     return alpha_params_defaults(&a);
 }
 
-/* The ring layout of a run: --rings, else the scene file's, else auto; checked against the display. */
+/* The ring layout of a run: --rings (parsed by the CLI), else the scene file's, else auto; "auto"
+ * resolved against the display. */
 static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, int height, fov_layout *out)
 {
-    const char *spec = d->rings ? d->rings : sc->rings[0] ? sc->rings : "auto";
     display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
                        sc->display.hfov_deg};
     char err[256];
-    if (fov_layout_parse(spec, &dd, out, err, sizeof err) != FS_OK) {
-        log_error("%s: %s", d->rings ? "--rings" : sc->path, err);
+    if (d->rings) {
+        *out = d->rings_layout.kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : d->rings_layout;
+    } else if (fov_layout_parse(sc->rings[0] ? sc->rings : "auto", &dd, out, err, sizeof err) != FS_OK) {
+        log_error("%s: %s", sc->path, err);
         return FS_ERR_USAGE;
     }
     /* An auto layout that would shade as many pixels as the display (small or coarse displays,
