@@ -149,9 +149,9 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
             d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");
         sb_printf(&t, "a2c sharpen: %d\n", d->a2c_sharpen);
-        if (d->alpha_lod != 0) /* absent when not given: folders written before the option stay valid */
+        if (d->alpha_lod != ALPHA_LOD_CLAMP_UNSET) /* absent when not given: folders written before the option stay valid */
         {
-            if (d->alpha_lod < 0)
+            if (d->alpha_lod == ALPHA_LOD_CLAMP_OFF)
                 sb_printf(&t, "alpha lod max: off\n");
             else
                 sb_printf(&t, "alpha lod max: %.9g\n", d->alpha_lod_max);

@@ -61,7 +61,7 @@ static alpha_params run_alpha_params(const run_desc *d)
     alpha_params a = {.hash_scale = d->hash_scale, .anisotropic = d->hash_aniso, .no_fade = d->no_fade,
                       .no_frame_offset = d->no_hash_offset, .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen,
                       .lod_clamp = d->alpha_lod, .lod_max = d->alpha_lod_max};
-    a.hash_kind = d->hash_kind >= 0 ? d->hash_kind : ALPHA_HASH_DEFAULT;
+    a.hash_kind = d->hash_kind != HASH_CHOICE_DEFAULT ? (int)d->hash_kind : ALPHA_HASH_DEFAULT;
     return alpha_params_defaults(&a);
 }
 
@@ -106,7 +106,7 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
     *out = (plan_options){.alpha_mode = d->alpha, .width = d->width, .height = d->height,
                           .frames = session_frame_count(d, sc), .overlay = d->overlay,
                           .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
-                          .taa = d->taa.mode >= 0 ? d->taa.mode == 1 : !sc->taa.off,
+                          .taa = d->taa.mode != TAA_SWITCH_SCENE ? d->taa.mode == TAA_SWITCH_ON : !sc->taa.off,
                           .taa_controls = {.blend = d->taa.blend > 0 ? d->taa.blend : sc->taa.blend,
                                            .gamma = d->taa.gamma > 0 ? d->taa.gamma : sc->taa.gamma,
                                            .sparse = d->taa.sparse != 0 ? d->taa.sparse : sc->taa.sparse,
@@ -114,9 +114,9 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                                                                  : sc->taa.jitter_length,
                                            .no_object_motion = d->taa.no_object_motion,
                                            .no_disocclusion = d->taa.no_disocclusion,
-                                           .neighbourhood = (taa_neighbourhood_kind)d->taa.neighbourhood,
-                                           .history = (taa_history_kind)d->taa.history,
-                                           .nan_check = (taa_nan_kind)d->taa.nan},
+                                           .neighbourhood = d->taa.neighbourhood,
+                                           .history = d->taa.history,
+                                           .nan_check = d->taa.nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
     fs_status st = resolve_layout(d, sc, d->width, d->height, &out->layout);
     return st == FS_OK ? resolve_ring_lod(d, sc, &out->layout, &out->ring_lod) : st;
@@ -271,7 +271,7 @@ reference *session_reference(const run_desc *d, const session *s, ref_progress *
 {
     char buf[1024];
     reference_desc rd = {.width = s->pl.width, .height = s->pl.height, .supersample = d->ref.supersample,
-                         .kind = d->ref.kind ? REFERENCE_STOCHASTIC : REFERENCE_EXACT,
+                         .kind = d->ref.kind,
                          .samples = d->ref.samples, .list_mb = d->ref.memory_mb,
                          .cache_dir = session_cache_dir(d, buf, sizeof buf),
                          .on_pass = on_ref_pass, .user = rp};

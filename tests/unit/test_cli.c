@@ -1,8 +1,13 @@
 /* Command-line parsing: defaults, every option, and the errors a user will make. */
 #include <string.h>
 
+#include <stdlib.h>
+
 #include "cli.h"
+#include "cli_internal.h"
 #include "core/log.h"
+#include "session/run_record.h"
+#include "session/session.h"
 #include "test.h"
 
 static fs_status parse(run_desc *d, const char *line)
@@ -152,8 +157,77 @@ TEST(reference_and_compare_options)
     log_set_quiet_errors(false);
 }
 
+
+/* A value of option o that differs from its default in `def`, as text for cli_apply_option. */
+static const char *other_value(const cli_option *o, const run_desc *def, char *buf, size_t n)
+{
+    static const struct {
+        const char *name, *value;
+    } k_custom[] = {{"--builtin", "fence"}, {"--name", "n"}, {"--asset-root", "dir"}, {"--alpha", "hashed"},
+                    {"--alpha-lod-max", "2"}, {"--taa-sparse", "0.5"}, {"--rings", "off"}, {"--samples", "8"},
+                    {"--gaze-format", "csv"}, {"--split", "traditional,hashed"}, {"--modes", "hashed"}};
+    const char *field = (const char *)def + o->field;
+    switch (o->arg) {
+    case ARG_FLAG: return NULL;
+    case ARG_STRING: return "x";
+    case ARG_INT: snprintf(buf, n, "%d", (int)o->hi); return buf;
+    case ARG_FLOAT: snprintf(buf, n, "%g", o->hi); return buf;
+    case ARG_CHOICE:
+        for (const cli_choice *c = o->choices; c->name; c++)
+            if (c->value != (o->size == sizeof(bool) ? (int)*(const bool *)field : *(const int *)field))
+                return c->name;
+        return "?";
+    case ARG_CUSTOM:
+        for (size_t k = 0; k < sizeof k_custom / sizeof k_custom[0]; k++)
+            if (!strcmp(o->name, k_custom[k].name))
+                return k_custom[k].value;
+        return "?";
+    }
+    return "?";
+}
+
+/* The option table's OPT_RECORDED flag is what the run record holds: every recorded option
+ * changes the record's configuration, every other option leaves it as it is. */
+TEST(recorded_options_are_the_run_records)
+{
+    session s;
+    memset(&s, 0, sizeof s);
+    CHECK(scene_load_builtin("fence", &s.sc) == FS_OK);
+    gaze_sample one = {.x = 0.5f, .y = 0.5f, .valid = true};
+    s.gaze.samples = &one;
+    s.gaze.count = 1;
+    snprintf(s.gaze.path, sizeof s.gaze.path, "g.csv");
+    s.pl.width = 64;
+    s.pl.height = 64;
+    run_desc base;
+    cli_begin(&base, CMD_COMPARE);
+    base.name = "compare";
+    base.compare.first_frame = 1; /* --warmup is recorded with it */
+    char *ref = NULL;
+    CHECK(run_record_describe(&base, &s, &ref) == FS_OK);
+    for (size_t i = 0; ref && i < k_cli_option_count; i++) {
+        const cli_option *o = &k_cli_options[i];
+        /* Help-only rows set nothing; --width and --height reach the record as the plan's size. */
+        if ((o->flags & OPT_HELP_ONLY) || !strcmp(o->name, "--width") || !strcmp(o->name, "--height"))
+            continue;
+        run_desc d = base;
+        char buf[32], *text = NULL;
+        CHECK(cli_apply_option(&d, o->name, other_value(o, &base, buf, sizeof buf)) == FS_OK);
+        CHECK(run_record_describe(&d, &s, &text) == FS_OK);
+        bool changed = text && strcmp(text, ref) != 0, recorded = (o->flags & OPT_RECORDED) != 0;
+        if (changed != recorded)
+            fprintf(stderr, "%s: %s in cli_options.c, but %s the run record\n", o->name,
+                    recorded ? "OPT_RECORDED" : "not OPT_RECORDED", changed ? "changes" : "does not change");
+        CHECK(changed == recorded);
+        free(text);
+    }
+    free(ref);
+    scene_free(&s.sc);
+}
+
 int main(void)
 {
+    RUN(recorded_options_are_the_run_records);
     RUN(view_cli);
     RUN(reference_and_compare_options);
     RUN(defaults);
