@@ -225,8 +225,36 @@ TEST(recorded_options_are_the_run_records)
     scene_free(&s.sc);
 }
 
+/* A run built from parts, as fovsim check and sweep build compare's: the same table and checks. */
+TEST(run_from_parts)
+{
+    run_desc d;
+    char *opts[] = {"fence", "--modes", "traditional,hashed", "--rings=10:1:0,*:1/4:0", "--taa", "off"};
+    cli_begin(&d, CMD_COMPARE);
+    CHECK(cli_parse_args(&d, 6, opts) == FS_OK);
+    CHECK(cli_apply_option(&d, "--out", "/tmp/fovsim-parts") == FS_OK);
+    CHECK(cli_apply_option(&d, "--replace", NULL) == FS_OK);
+    CHECK(cli_finish(&d) == FS_OK);
+    CHECK(d.cmd == CMD_COMPARE && !strcmp(d.builtin, "fence") && d.bench_mode_count == 2 && d.replace);
+    CHECK(d.taa.mode == TAA_SWITCH_OFF && !strcmp(d.name, "compare") && !strcmp(d.out_dir, "/tmp/fovsim-parts"));
+    CHECK(d.rings_layout.kind == FOV_LAYOUT_EXPLICIT && d.rings_layout.count == 2);
+    CHECK(!strcmp(cli_command_name(CMD_COMPARE), "compare"));
+    bool takes = false;
+    CHECK(cli_machine_option("--gpu", &takes) && takes && !strcmp(cli_machine_option("--cache=x", &takes), "--cache"));
+    CHECK(!takes && !cli_machine_option("--rings", NULL) && cli_machine_option("--quiet", NULL));
+    log_set_quiet_errors(true);
+    cli_begin(&d, CMD_COMPARE);
+    CHECK(cli_apply_option(&d, "--replace", "1") == FS_ERR_USAGE);      /* a flag takes no value */
+    CHECK(cli_apply_option(&d, "--out", NULL) == FS_ERR_USAGE);         /* expected a value */
+    CHECK(cli_apply_option(&d, "--nope", "1") == FS_ERR_USAGE);
+    CHECK(cli_apply_option(&d, "--rings", "10:1:0,5:1/2:0,*:1/4:0") == FS_ERR_USAGE); /* checked when given */
+    CHECK(cli_apply_option(&d, "--alpha", "hashed") == FS_OK && cli_finish(&d) == FS_ERR_USAGE); /* compare: --modes */
+    log_set_quiet_errors(false);
+}
+
 int main(void)
 {
+    RUN(run_from_parts);
     RUN(recorded_options_are_the_run_records);
     RUN(view_cli);
     RUN(reference_and_compare_options);
