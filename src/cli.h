@@ -1,13 +1,17 @@
-/* cli.h: argv -> run_desc (STYLE.md: parse, then run). No side effects beyond printing usage
- * errors; all range checks happen here so a bad argument never reaches the renderer. */
+/* cli.h: argv -> run_desc (docs/design-notes.md, "The command line from one table"). No side
+ * effects beyond printing usage errors; every range check happens here (cli_options.c's table) so
+ * a bad argument never reaches the renderer. */
 #ifndef FOVSIM_CLI_H
 #define FOVSIM_CLI_H
 
 #include <stdbool.h>
 
+#include "common/shared_defs.h"
 #include "core/status.h"
 #include "gaze/gaze.h"
 #include "output/exr_write.h"
+#include "passes/plan.h"
+#include "reference/reference.h"
 #include "scene/scene.h"
 
 typedef enum command {
@@ -22,7 +26,21 @@ typedef enum command {
     CMD_LIST_GPUS,
     CMD_REFERENCE,
     CMD_COMPARE,
+    CMD_SWEEP, /* sweep, merge and check parse their own options from run_desc.own */
+    CMD_MERGE,
+    CMD_CHECK,
+    CMD_COUNT
 } command;
+
+/* --taa on|off, or the scene's setting (on for more than one frame unless the scene says off). */
+typedef enum taa_switch { TAA_SWITCH_SCENE = -1, TAA_SWITCH_OFF = 0, TAA_SWITCH_ON = 1 } taa_switch;
+/* --hash pcg|sine, or the project's default (ALPHA_HASH_DEFAULT). */
+typedef enum hash_choice { HASH_CHOICE_DEFAULT = -1, HASH_CHOICE_PCG = ALPHA_HASH_PCG,
+                           HASH_CHOICE_SINE = ALPHA_HASH_SINE } hash_choice;
+/* --alpha-lod-max: not given (the materials' own clamps), a level (alpha_lod_max), or off. */
+typedef enum alpha_lod_choice { ALPHA_LOD_CLAMP_UNSET = 0, ALPHA_LOD_CLAMP_LEVEL = 1, ALPHA_LOD_CLAMP_OFF = -1 } alpha_lod_choice;
+/* bench --accuracy --error: the error plotted and on which the Pareto fronts are taken. */
+typedef enum acc_error_kind { ACC_ERROR_FLIP = 0, ACC_ERROR_ALPHA_RMSE, ACC_ERROR_RMSE, ACC_ERROR_TEMPORAL } acc_error_kind;
 
 typedef struct run_desc {
     command cmd;
@@ -37,72 +55,108 @@ typedef struct run_desc {
     alpha_mode alpha;        /* --alpha, DEFAULT = the scene's */
     int gpu;                 /* --gpu N, -1 = auto */
     bool verbose, quiet, gl_debug;
-    int warmup;              /* bench: --warmup, default 5 */
-    const char *markdown;    /* bench: --markdown FILE, append a result table */
     exr_compression_kind compression; /* --compression zip|none|piz */
     const char *rings;       /* --rings auto|off|SPEC; NULL = the scene's, else auto */
+    fov_layout rings_layout; /* --rings parsed (FOV_LAYOUT_AUTO: resolved against the display per scene) */
     const char *ring_lod;    /* --ring-lod off|simplify[:U1,...]; NULL = the scene's, else off */
     const char *gaze_path;   /* --gaze FILE; NULL = fixation at the display centre */
     gaze_format gaze_format; /* --gaze-format, default detected from the content */
     gaze_eye eye;            /* --eye left|right|average, default auto */
     bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
     bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
-    bool json;               /* bench: --format json */
     float hash_scale;        /* --hash-scale, 0 = default 1 */
-    int hash_kind;           /* --hash pcg|sine, -1 = default */
+    hash_choice hash_kind;   /* --hash pcg|sine */
     bool hash_aniso;         /* --hash-aniso */
     bool no_fade;            /* --no-fade */
     bool no_hash_offset;     /* --no-hash-offset */
     bool a2c_sharpen;        /* --a2c-sharpen */
-    int taa;                 /* --taa on|off: 1 / 0; -1 = the scene's, else on (for more than one frame) */
-    float taa_blend;         /* --taa-blend, 0 = default 0.1 */
-    float taa_gamma;         /* --taa-gamma, 0 = default 1 */
-    float taa_sparse;        /* --taa-sparse S|off, 0 = default TAA_SPARSE_SLACK, negative = off */
-    int jitter_length;       /* --jitter-length, 0 = default 16 */
-    bool no_object_motion;   /* --object-motion off: TAA ignores swaying instances' own motion */
-    bool no_disocclusion;    /* --taa-disocclusion off: TAA keeps history whose surface moved away */
+    float fade_n;            /* --fade-n, 0 = default 6 */
+    alpha_lod_choice alpha_lod; /* --alpha-lod-max N|off */
+    float alpha_lod_max;     /* --alpha-lod-max N: mip level in [0, ALPHA_LOD_MAX_LIMIT] */
     bool no_ring_cull;       /* --ring-cull off: rings draw what only their hole would see */
     bool composite_per_pixel; /* --composite per-pixel: no tile classification (to measure it) */
-    int taa_neighbourhood;   /* --taa-neighbourhood 3x3|cross: TAA_NEIGHBOURHOOD_* (plan.h), 0 = default */
-    int taa_history;         /* --taa-history catmull|bilinear: TAA_HISTORY_* (plan.h), 0 = default */
-    int taa_nan;             /* --taa-nan tap|set: TAA_NAN_* (plan.h), 0 = default */
-    float fade_n;            /* --fade-n, 0 = default 6 */
-    int alpha_lod;           /* --alpha-lod-max: 0 not given, 1 a level (alpha_lod_max), -1 off */
-    float alpha_lod_max;     /* --alpha-lod-max N: mip level in [0, ALPHA_LOD_MAX_LIMIT] */
+    struct {
+        taa_switch mode;          /* --taa on|off */
+        float blend;              /* --taa-blend, 0 = default 0.1 */
+        float gamma;              /* --taa-gamma, 0 = default 1 */
+        float sparse;             /* --taa-sparse S|off, 0 = default TAA_SPARSE_SLACK, negative = off */
+        int jitter_length;        /* --jitter-length, 0 = default 16 */
+        bool no_object_motion;    /* --object-motion off: TAA ignores swaying instances' own motion */
+        bool no_disocclusion;     /* --taa-disocclusion off: TAA keeps history whose surface moved away */
+        taa_neighbourhood_kind neighbourhood; /* --taa-neighbourhood 3x3|cross */
+        taa_history_kind history; /* --taa-history catmull|bilinear */
+        taa_nan_kind nan;         /* --taa-nan tap|set */
+    } taa;
     alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;
-    int supersample;         /* reference: --supersample S (S x S per pixel), 0 = default 4 */
-    int samples;             /* reference: --samples K per sub-sample (even), 0 = default 64 */
-    int reference_kind;      /* reference: --reference exact (0, default) or stochastic (1) */
-    bool reference_set;      /* --reference was given */
-    int ref_memory_mb;       /* reference: --ref-memory MB, the exact kind's list budget, 0 = default */
+    struct {                      /* fovsim bench */
+        int warmup;               /* --warmup, default 5 (compare --first-frame: frames of history) */
+        bool warmup_set;          /* --warmup was given (compare --first-frame: default all) */
+        const char *markdown;     /* --markdown FILE, append a result table */
+        bool json;                /* --format json */
+        bool accuracy;            /* --accuracy, the accuracy-vs-time matrix */
+        acc_error_kind error;     /* --accuracy --error */
+        bool error_set;
+    } bench;
+    struct {                      /* the reference: fovsim reference, compare, demo, bench --accuracy */
+        reference_kind kind;      /* --reference exact (default) or stochastic */
+        bool kind_set;            /* --reference was given */
+        int supersample;          /* --supersample S (S x S per pixel), 0 = default 4 */
+        int samples;              /* --samples K per sub-sample (even), 0 = default 64 */
+        int memory_mb;            /* --ref-memory MB, the exact kind's list budget, 0 = default */
+        const char *cache_dir;    /* --cache DIR for reference frames, NULL = the default */
+        bool no_cache;            /* --no-cache: draw references without reading or writing a cache */
+    } ref;
     const char *asset_root;  /* --asset-root DIR: glTF URIs may also name files under it */
     int max_image_mpixels;   /* --max-image-mpixels N: decoded-pixel budget per image (0 = 64) */
     int max_scene_mpixels;   /* --max-scene-mpixels N: per scene (0 = 256) */
-    const char *cache_dir;   /* --cache DIR for reference frames, NULL = the default */
-    bool no_cache;           /* --no-cache: draw references without reading or writing a cache */
-    bool accuracy;           /* bench: --accuracy, the accuracy-vs-time matrix */
-    bool export_fvvdp;       /* compare/demo: --export-fvvdp, FovVideoVDP's inputs in DIR/fvvdp/ */
-    int acc_error;           /* bench --accuracy --error: 0 flip (default), 1 alpha_rmse, 2 rmse,
-                              * 3 temporal_error */
-    bool acc_error_set;
-    bool run_fvvdp;          /* compare/demo: --fvvdp, export and run the user's FovVideoVDP */
-    const char *script;      /* view: --script FILE, scripted input events (docs/viewer.md) */
-    const char *record;      /* view: --record FILE, where gaze recordings go (default out/view/gaze-<n>.csv) */
-    alpha_mode split[2];     /* view: --split A,B, left and right alpha modes; DEFAULT = no split */
-    int first_frame;         /* compare: --first-frame F, frames before F drawn only for the TAA history */
-    bool warmup_set;         /* --warmup was given (compare --first-frame: frames of history; default all) */
+    struct {                      /* fovsim compare and demo */
+        int first_frame;          /* --first-frame F, frames before F drawn only for the TAA history */
+        bool export_fvvdp;        /* --export-fvvdp, FovVideoVDP's inputs in DIR/fvvdp/ */
+        bool run_fvvdp;           /* --fvvdp, export and run the user's FovVideoVDP */
+    } compare;
+    struct {                      /* fovsim view */
+        const char *script;       /* --script FILE, scripted input events (docs/viewer.md) */
+        const char *record;       /* --record FILE, where gaze recordings go (default out/view/gaze-<n>.csv) */
+        alpha_mode split[2];      /* --split A,B, left and right alpha modes; DEFAULT = no split */
+    } view;
     bool resume;             /* render/reference/compare/demo: --resume, keep the complete frames (run_record.h) */
     bool replace;            /* --replace: write into a folder another configuration wrote */
     int wait_lock;           /* --wait-lock S: wait up to S seconds for another run writing --out (0: refuse at once) */
+    struct {                      /* sweep, merge, check: their arguments after the command's name */
+        int argc;
+        char **argv;
+    } own;
 } run_desc;
 
 /* Parses argv; on error prints one line and returns FS_ERR_USAGE. */
 fs_status cli_parse(int argc, char **argv, run_desc *out);
+
+/* cli_parse in steps, for a run built from parts without an argv of its own (check's baseline,
+ * a sweep's task): defaults for `cmd`; then options (and the positional scene) from lists of
+ * arguments and single options (value NULL for a flag); then the checks across options and the
+ * derived defaults. Each prints one line and returns FS_ERR_USAGE on error. Strings are kept by
+ * pointer: they must outlive the run_desc. After --help (d->cmd becomes CMD_HELP) the rest is
+ * ignored. */
+void cli_begin(run_desc *d, command cmd);
+fs_status cli_parse_args(run_desc *d, int argc, char *const *args);
+fs_status cli_apply_option(run_desc *d, const char *name, const char *value);
+fs_status cli_finish(run_desc *d);
+
+/* A command's name ("compare"), "" for none. */
+const char *cli_command_name(command cmd);
+
 /* An integer option's value in [lo, hi]; else one line ("OPT: expected an integer in [lo, hi],
  * got 'V'") and false. */
 bool cli_parse_int(const char *opt, const char *v, int lo, int hi, int *out);
-/* Prints the help text of a command (CMD_NONE: overview) on stdout. */
+
+/* When `arg` ("--gpu", "--cache=DIR") names an option of the machine that runs a command
+ * (cli_options.c: OPT_MACHINE), its name ("--cache"), else NULL: fovsim check passes these to
+ * compare and never stores them in a baseline. *takes_value (may be NULL): whether the value is
+ * the next argument (an option with a value, written without '='). */
+const char *cli_machine_option(const char *arg, bool *takes_value);
+
+/* Prints the help text of a command (CMD_NONE: overview) on stdout (cli_help.c). */
 void cli_print_help(command cmd);
 
 #endif

@@ -2,8 +2,6 @@
 #include <malloc.h>
 #include <stdlib.h>
 
-#include <string.h>
-
 #include "cli.h"
 #include "commands/commands.h"
 
@@ -31,13 +29,6 @@ static void tune_allocator(void)
 int main(int argc, char **argv)
 {
     tune_allocator();
-    /* sweep, merge and check have options of their own (commands.h). */
-    if (argc > 1 && !strcmp(argv[1], "sweep"))
-        return fs_status_exit_code(cmd_sweep(argc, argv));
-    if (argc > 1 && !strcmp(argv[1], "merge"))
-        return fs_status_exit_code(cmd_merge(argc, argv));
-    if (argc > 1 && !strcmp(argv[1], "check"))
-        return fs_status_exit_code(cmd_check(argc, argv));
     run_desc d;
     fs_status st = cli_parse(argc, argv, &d);
     if (st == FS_OK)

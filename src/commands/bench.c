@@ -266,11 +266,11 @@ fs_status cmd_bench(const run_desc *d)
         if (!bench_alloc(&cfg[c], n))
             st = FS_ERR_NOMEM;
     float span = s.sc.duration;
-    progress pr = progress_begin("bench", d->warmup + n, d->quiet);
+    progress pr = progress_begin("bench", d->bench.warmup + n, d->quiet);
     /* Frames spread evenly over the camera path (and gaze trace), configs interleaved per frame so
      * both see the same machine state. */
-    for (int i = 0; i < d->warmup + n && st == FS_OK; i++) {
-        int k = i < d->warmup ? -1 : i - d->warmup;
+    for (int i = 0; i < d->bench.warmup + n && st == FS_OK; i++) {
+        int k = i < d->bench.warmup ? -1 : i - d->bench.warmup;
         int kk = k < 0 ? i : k;
         float t = n > 1 ? span * (float)kk / (float)(n - 1) : 0.0f;
         for (int c = 0; c < ncfg; c++)
@@ -336,14 +336,14 @@ fs_status cmd_bench(const run_desc *d)
     if (!report)
         st = FS_ERR_NOMEM;
 #define OUT(...) report_printf(report, &o, __VA_ARGS__)
-    if (st == FS_OK && d->json) {
+    if (st == FS_OK && d->bench.json) {
         OUT("{\n  \"scene\": \"%s\",\n  \"width\": %d,\n  \"height\": %d,\n  \"alpha_mode\": \"%s\",\n", s.sc.path,
             s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode));
         OUT("  \"rings\": \"%s\",\n  \"gaze\": \"%s\",\n  \"renderer\": \"%s\",\n  \"machine\": \"%s, %ld cores\",\n",
             rings, s.gaze.count ? s.gaze.path : "centre", gl_device_renderer(), cpu_name, sysconf(_SC_NPROCESSORS_ONLN));
         OUT("  \"ring_lod\": \"%s\",\n", lod_text);
         OUT("  \"pipeline_statistics\": %s,\n", gl_device_has_pipeline_stats() ? "true" : "false");
-        OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", n, d->warmup, px);
+        OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", n, d->bench.warmup, px);
         for (int c = 0; c < ncfg; c++) {
             char spec[256];
             fov_layout_format(&cfg[c].pl.layout, spec, sizeof spec);
@@ -413,7 +413,7 @@ fs_status cmd_bench(const run_desc *d)
         OUT("- machine: %s, %s %s (%ld cores online)\n", cpu_name, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
         OUT("- renderer: %s (OpenGL %s, %s)%s\n", gl_device_renderer(), gl_device_version(), gl_device_description(),
             gl_device_has_pipeline_stats() ? "" : "; no GL_ARB_pipeline_statistics_query: work counts n/a");
-        OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; gaze: %s\n\n", n, span, d->warmup,
+        OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; gaze: %s\n\n", n, span, d->bench.warmup,
             s.gaze.count ? s.gaze.path : "fixation at the centre");
         OUT("| configuration | measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|---|\n");
         for (int c = 0; c < ncfg; c++) {
@@ -509,13 +509,13 @@ fs_status cmd_bench(const run_desc *d)
     }
     if (st == FS_OK) {
         fputs(report, stdout);
-        if (d->markdown) {
-            FILE *f = fopen(d->markdown, "a");
+        if (d->bench.markdown) {
+            FILE *f = fopen(d->bench.markdown, "a");
             if (!f || fprintf(f, "\n%s", report) < 0 || fclose(f) != 0) {
-                log_error("%s: cannot append the bench report: %s", d->markdown, strerror(errno));
+                log_error("%s: cannot append the bench report: %s", d->bench.markdown, strerror(errno));
                 st = FS_ERR_IO;
-            } else if (!d->json) {
-                printf("appended to %s\n", d->markdown);
+            } else if (!d->bench.json) {
+                printf("appended to %s\n", d->bench.markdown);
             }
         }
     }

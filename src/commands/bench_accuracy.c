@@ -222,14 +222,14 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         dd.height = probe.display.height / ACC_DEFAULT_DIV;
         scene_free(&probe);
     }
-    if (!dd.supersample)
-        dd.supersample = DEMO_SUPERSAMPLE;
-    if (!dd.samples)
-        dd.samples = DEMO_SAMPLES;
-    if (dd.taa < 0)
-        dd.taa = 1; /* the session's plan carries TAA controls; each config sets its own */
+    if (!dd.ref.supersample)
+        dd.ref.supersample = DEMO_SUPERSAMPLE;
+    if (!dd.ref.samples)
+        dd.ref.samples = DEMO_SAMPLES;
+    if (dd.taa.mode == TAA_SWITCH_SCENE)
+        dd.taa.mode = TAA_SWITCH_ON; /* the session's plan carries TAA controls; each config sets its own */
     int n = d->frames > 0 ? d->frames : ACC_DEFAULT_FRAMES;
-    int warm = d->warmup; /* TAA history and the JIT settle before measuring */
+    int warm = d->bench.warmup; /* TAA history and the JIT settle before measuring */
     dd.frames = n + warm;
     session s;
     fs_status st = session_begin(&dd, &s, false);
@@ -424,12 +424,12 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             tx[c] = cfg[c].med;
             fx[c] = cfg[c].count_med[ACC_FS];
             const mode_run *er = &cfg[c].run; /* the error of --error, over the whole display */
-            if (d->acc_error == 3) {
+            if (d->bench.error == ACC_ERROR_TEMPORAL) {
                 ey[c] = measure_mean_or(er->te_sum[ml.count], er->te_n[ml.count], 0.0);
             } else {
-                const double *esum = d->acc_error == 0   ? er->flip_sum
-                                     : d->acc_error == 1 ? er->alpha_rmse_sum
-                                                         : er->rmse_sum;
+                const double *esum = d->bench.error == ACC_ERROR_FLIP         ? er->flip_sum
+                                     : d->bench.error == ACC_ERROR_ALPHA_RMSE ? er->alpha_rmse_sum
+                                     : er->rmse_sum;
                 ey[c] = measure_mean_or(esum[ml.count], er->err_n[ml.count], 0.0);
             }
         }
@@ -472,13 +472,13 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         }
         MD("- reference: %s\n", reference_describe(rf));
         MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
-           "Pareto front of (time, %s) (--error)\n", k_error_names[d->acc_error]);
+           "Pareto front of (time, %s) (--error)\n", k_error_names[d->bench.error]);
         MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
            "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
         MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
            "holds under %g ring texels of coverage)\n\n", METRICS_MIN_REF_TEXELS);
         MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
-           d->acc_error == 2 ? "PSNR" : k_error_names[d->acc_error]);
+           d->bench.error == ACC_ERROR_RMSE ? "PSNR" : k_error_names[d->bench.error]);
         for (int k = 0; k < ml.count; k++)
             MD(" cov. ring %d |", k);
         MD("\n|---|---|---|---|---|---|---|---|---|---|");
@@ -499,7 +499,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
                 front_fs[c]);
             MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.4f | %.2f |", alpha_mode_name(mr->mode),
                front[c] ? " *" : "", k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med,
-               cfg[c].p10, cfg[c].p90, sp, rmse, d->acc_error == 2 ? psnr : ey[c], fl, cm[ACC_CPU]);
+               cfg[c].p10, cfg[c].p90, sp, rmse, d->bench.error == ACC_ERROR_RMSE ? psnr : ey[c], fl, cm[ACC_CPU]);
             if (cm[ACC_FS] >= 0)
                 MD(" %.2f |", cm[ACC_FS] / ((double)s.pl.width * s.pl.height));
             else
@@ -536,10 +536,10 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         snprintf(path, sizeof path, "%s/accuracy.md", out);
         if (st == FS_OK)
             st = out_write_atomic(path, md);
-        if (st == FS_OK && d->markdown) {
-            FILE *f = fopen(d->markdown, "a");
+        if (st == FS_OK && d->bench.markdown) {
+            FILE *f = fopen(d->bench.markdown, "a");
             if (!f || fprintf(f, "\n%s", md) < 0 || fclose(f) != 0) {
-                log_error("%s: cannot append the accuracy table: %s", d->markdown, strerror(errno));
+                log_error("%s: cannot append the accuracy table: %s", d->bench.markdown, strerror(errno));
                 st = FS_ERR_IO;
             }
         }
@@ -547,14 +547,14 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         /* The whole-display column of the chosen error in accuracy.csv: rmse is column 8,
          * temporal_error 10; after the 17 fixed columns come N coverage ratios, alpha_rmse and its
          * N rings, flip and its N. */
-        int y_col = d->acc_error == 3   ? 10
-                    : d->acc_error == 2 ? 8
-                    : d->acc_error == 1 ? 18 + ml.count
+        int y_col = d->bench.error == ACC_ERROR_TEMPORAL     ? 10
+                    : d->bench.error == ACC_ERROR_RMSE       ? 8
+                    : d->bench.error == ACC_ERROR_ALPHA_RMSE ? 18 + ml.count
                                         : 19 + 2 * ml.count;
         if (st == FS_OK) {
             snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
                      gl_device_renderer());
-            st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->acc_error],
+            st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->bench.error],
                                tx, front, csv, row_at, nc, modes, nmodes, use_layout);
         }
         /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
@@ -564,7 +564,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
             snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s.pl.width * s.pl.height);
             st = plot_accuracy(out, "accuracy-fragments", title,
                                "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
-                               k_error_labels[d->acc_error], fx, front_fs, csv, row_at, nc, modes, nmodes,
+                               k_error_labels[d->bench.error], fx, front_fs, csv, row_at, nc, modes, nmodes,
                                use_layout);
         } else if (st == FS_OK) {
             unlink(path); /* not one from an earlier run beside this run's CSV */

@@ -240,6 +240,7 @@ static fs_status parse_options(int argc, char **argv, check_opts *o, bool *help)
         char opt[64];
         snprintf(opt, sizeof opt, "%.*s", eq ? (int)(eq - a) : (int)strlen(a), a);
         check_metric m = check_metric_of_option(opt);
+        bool takes = false;
         const char **slot = !strcmp(opt, "--record") ? &o->record : !strcmp(opt, "--baseline") ? &o->baseline
                             : !strcmp(opt, "--out") ? &o->out : !strcmp(opt, "--junit") ? &o->junit : NULL;
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
@@ -272,13 +273,10 @@ static fs_status parse_options(int argc, char **argv, check_opts *o, bool *help)
             o->tol_set[m] = true;
         } else if (!strcmp(opt, "--replace")) {
             o->replace = true;
-        } else if (!strcmp(opt, "--quiet") || !strcmp(opt, "--verbose") || !strcmp(opt, "--gl-debug") ||
-                   !strcmp(opt, "--no-cache")) {
+        } else if (cli_machine_option(a, &takes)) { /* given to compare, not stored */
             o->verbose |= !strcmp(opt, "--verbose");
             o->env[o->nenv++] = a;
-        } else if (!strcmp(opt, "--gpu") || !strcmp(opt, "--cache") || !strcmp(opt, "--wait-lock")) {
-            o->env[o->nenv++] = a;
-            if (!eq && !(o->env[o->nenv++] = value_of(argc, argv, &i, eq)))
+            if (takes && !(o->env[o->nenv++] = value_of(argc, argv, &i, eq)))
                 return FS_ERR_USAGE;
         } else if (o->npass < CHECK_MAX_ARGS) {
             o->pass[o->npass++] = a;
@@ -396,13 +394,15 @@ static void check_role(const char *dir, char *out, size_t n)
 }
 
 /* The options `fovsim check --record` never writes into compare_argv: the machine's (passed to
- * compare, not stored), check's own, and those a baseline refuses. The option's name when `arg`
- * is one ("--cache" for "--cache=DIR" too), else NULL. */
+ * compare, not stored; OPT_MACHINE in cli_options.c), check's own, and those a baseline refuses.
+ * The option's name when `arg` is one ("--cache" for "--cache=DIR" too), else NULL. */
 static const char *never_stored(const char *arg)
 {
-    static const char *const k_never[] = {"--cache", "--no-cache", "--gpu",    "--wait-lock", "--quiet",
-                                          "--verbose", "--gl-debug", "--out",   "--replace",   "--resume",
-                                          "--name",    "--help",     "--record", "--baseline", "--junit"};
+    static const char *const k_never[] = {"--out", "--replace", "--resume", "--name", "--help", "--record",
+                                          "--baseline", "--junit"};
+    const char *machine = cli_machine_option(arg, NULL);
+    if (machine)
+        return machine;
     for (size_t k = 0; k < sizeof k_never / sizeof k_never[0]; k++) {
         size_t l = strlen(k_never[k]);
         if (!strncmp(arg, k_never[k], l) && (arg[l] == '\0' || arg[l] == '='))
@@ -416,9 +416,7 @@ static const char *never_stored(const char *arg)
 
 static const char *never_stored_why(const char *opt)
 {
-    if (!strcmp(opt, "--cache") || !strcmp(opt, "--no-cache") || !strcmp(opt, "--gpu") || !strcmp(opt, "--wait-lock") ||
-        !strcmp(opt, "--quiet") ||
-        !strcmp(opt, "--verbose") || !strcmp(opt, "--gl-debug"))
+    if (cli_machine_option(opt, NULL))
         return "an option of the machine that runs the check";
     if (!strncmp(opt, "--tol-", 6))
         return "tolerances are stored under \"tolerances\"";
@@ -523,40 +521,32 @@ static cJSON *string_array(const char *const *v, int n)
 
 /* >>running compare */
 
-/* argv: "fovsim", the compare options, the environment's, --out DIR (and --replace). Parsed with the
- * CLI's own parser (messages prefixed with `context`), then run, with compare's table on stdout
- * only when `table`. */
-typedef struct compare_call {
-    const char *argv[CHECK_MAX_ARGS + 24];
-    int argc;
-    run_desc d;
-} compare_call;
-
-static fs_status compare_prepare(compare_call *c, const char *const *opts, int nopts, const check_opts *o,
+/* A compare run from the options `opts` ("compare" first), the machine's (o->env), --out `out`
+ * (and --replace), through the CLI's own table (messages prefixed with `context`). */
+static fs_status compare_prepare(run_desc *d, const char *const *opts, int nopts, const check_opts *o,
                                  const char *out, bool replace, const char *context)
 {
-    c->argc = 0;
-    c->argv[c->argc++] = "fovsim";
-    for (int i = 0; i < nopts; i++)
-        c->argv[c->argc++] = opts[i];
-    for (int i = 0; i < o->nenv; i++)
-        c->argv[c->argc++] = o->env[i];
-    c->argv[c->argc++] = "--out";
-    c->argv[c->argc++] = out;
-    if (replace)
-        c->argv[c->argc++] = "--replace";
-    c->argv[c->argc] = NULL;
     log_set_context(context);
-    fs_status st = cli_parse(c->argc, (char **)c->argv, &c->d);
+    cli_begin(d, CMD_COMPARE);
+    fs_status st = cli_parse_args(d, nopts - 1, (char *const *)opts + 1);
+    if (st == FS_OK)
+        st = cli_parse_args(d, o->nenv, (char *const *)o->env);
+    if (st == FS_OK)
+        st = cli_apply_option(d, "--out", out);
+    if (st == FS_OK && replace)
+        st = cli_apply_option(d, "--replace", NULL);
+    if (st == FS_OK)
+        st = cli_finish(d);
     log_set_context(NULL);
-    if (st == FS_OK && (c->d.cmd != CMD_COMPARE || strcmp(c->d.name, "compare") != 0 || c->d.resume)) {
+    if (st == FS_OK && (d->cmd != CMD_COMPARE || strcmp(d->name, "compare") != 0 || d->resume)) {
         log_error("%s--help, --name and --resume are not options of a baseline", context ? context : "");
         st = FS_ERR_USAGE;
     }
     return st;
 }
 
-static fs_status compare_run_quiet(const compare_call *c, bool table)
+/* Runs compare, with its table on stdout only when `table`. */
+static fs_status compare_run_quiet(const run_desc *d, bool table)
 {
     fflush(stdout);
     int saved = table ? -1 : dup(STDOUT_FILENO), devnull = saved >= 0 ? open("/dev/null", O_WRONLY) : -1;
@@ -564,7 +554,7 @@ static fs_status compare_run_quiet(const compare_call *c, bool table)
         dup2(devnull, STDOUT_FILENO);
         close(devnull);
     }
-    fs_status st = command_run(&c->d);
+    fs_status st = cmd_compare(d);
     fflush(stdout);
     if (saved >= 0) {
         dup2(saved, STDOUT_FILENO);
@@ -638,7 +628,7 @@ static fs_status record(int argc, char **argv, const check_opts *o)
     memcpy(opts + 1, o->pass, sizeof *opts * (size_t)o->npass);
     check_role(dir, role, sizeof role);
     bool replacing = !strcmp(role, "baseline"); /* recording again replaces the baseline */
-    compare_call *c = malloc(sizeof *c);
+    run_desc *c = malloc(sizeof *c);
     if (!c)
         return FS_ERR_NOMEM;
     fs_status st = compare_prepare(c, opts, o->npass + 1, o, dir, replacing || o->replace, NULL);
@@ -724,7 +714,7 @@ static fs_status check_against(const check_opts *o)
     }
     char context[PATH_MAX + 64];
     snprintf(context, sizeof context, "%s/%s: compare_argv: ", dir, CHECK_FILE);
-    compare_call *c = st == FS_OK ? malloc(sizeof *c) : NULL;
+    run_desc *c = st == FS_OK ? malloc(sizeof *c) : NULL;
     if (st == FS_OK && !c)
         st = FS_ERR_NOMEM;
     if (st == FS_OK)

@@ -8,7 +8,8 @@
  *   fovsim reference  reference.c       fovsim sweep      sweep.c (+ sweep_manifest.c)
  *   fovsim view       src/view/view.c   fovsim merge      merge.c
  *
- * dispatch.c maps a run_desc to its command; main.c hands sweep, merge and check their own argv. */
+ * dispatch.c maps a run_desc to its command (cli_parse's, or one check and sweep build with
+ * cli_begin ... cli_finish); sweep, merge and check get their own arguments (run_desc.own). */
 #ifndef FOVSIM_COMMANDS_H
 #define FOVSIM_COMMANDS_H
 
@@ -25,7 +26,7 @@ fs_status cmd_reference(const run_desc *d);
 fs_status cmd_compare(const run_desc *d);
 fs_status cmd_demo(const run_desc *d);
 
-/* These parse their own options (argv[1] is the command's name). */
+/* These parse their own options (argv[1] is the command's name; run_desc.own). */
 fs_status cmd_check(int argc, char **argv);
 fs_status cmd_sweep(int argc, char **argv);
 fs_status cmd_merge(int argc, char **argv);

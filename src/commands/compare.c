@@ -355,7 +355,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         seq_names[m] = alpha_mode_name(runs[m].mode);
     seq_names[nm] = "reference";
     fvvdp_export *fx = NULL;
-    if (st == FS_OK && d->export_fvvdp)
+    if (st == FS_OK && d->compare.export_fvvdp)
         fx = fvvdp_export_begin(out, seq_names, nm + 1, s.pl.width, s.pl.height, s.pl.hfov_deg, d->fps, &st);
     fov_layout ml = measure_layout(&s.pl);
     double *ref_err = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
@@ -375,17 +375,17 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     bool have_prev_ref = false;
     session_catch_sigint();
     rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)",
-                           (frames - (d->first_frame < frames ? d->first_frame : frames)) * passes, d->quiet);
+                           (frames - (d->compare.first_frame < frames ? d->compare.first_frame : frames)) * passes, d->quiet);
     double t0 = time_now();
     /* --first-frame F (a chunk of a sweep): frames before F are drawn for the TAA history without
      * being measured or written, from `warm` on; the one just before F also gets its reference, the
      * previous frame of F's temporal metrics. */
-    const int first = d->first_frame < frames ? d->first_frame : frames;
+    const int first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
     int warm = first > 0 ? first - 1 : 0; /* the frame before F, at least */
     if (first > 0 && s.pl.taa) {
         int history = run_history_start(&s.sc, first, d->fps, s.pl.width, s.pl.height);
-        if (d->warmup_set && first - d->warmup > history)
-            history = first - d->warmup;
+        if (d->bench.warmup_set && first - d->bench.warmup > history)
+            history = first - d->bench.warmup;
         warm = history < warm ? history : warm;
     }
     for (int i = warm; i < frames && st == FS_OK; i++) {
@@ -515,7 +515,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     double jod[ALPHA_MODE_COUNT + 1];
     bool have_jod = false;
     fs_status fvvdp_st = FS_OK; /* a failed FovVideoVDP run: the run's own results are still written */
-    if (st == FS_OK && d->run_fvvdp) {
+    if (st == FS_OK && d->compare.run_fvvdp) {
         if (!fvvdp_available()) {
             sbuf cmd = {0};
             sb_puts(&cmd, "python3 ");
@@ -582,10 +582,10 @@ fs_status cmd_demo(const run_desc *d)
         dd.width = DEMO_WIDTH;
         dd.height = DEMO_HEIGHT;
     }
-    if (!dd.supersample)
-        dd.supersample = DEMO_SUPERSAMPLE;
-    if (!dd.samples)
-        dd.samples = DEMO_SAMPLES;
+    if (!dd.ref.supersample)
+        dd.ref.supersample = DEMO_SUPERSAMPLE;
+    if (!dd.ref.samples)
+        dd.ref.samples = DEMO_SAMPLES;
     fs_status st = compare_run(&dd, &(compare_opts){.default_out = "out/demo", .demo = true});
     if (st != FS_OK)
         return st;

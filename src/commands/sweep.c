@@ -110,6 +110,23 @@ static fs_status chunk_bounds(const scene *sc, int frames, float fps, int chunk,
     return FS_OK;
 }
 
+/* Task k's compare run: its options through the CLI's table (cli.h), then --replace and --quiet
+ * when asked. `opts` (sweep_task_options, freed by the caller after the run) holds the strings. */
+static fs_status task_desc(const sweep_manifest *m, const sweep_task *k, char **opts, int *n, run_desc *d,
+                           bool replace, bool quiet)
+{
+    *n = sweep_task_options(m, k, opts, SWEEP_MAX_ARGS);
+    if (*n < 0)
+        return FS_ERR_NOMEM;
+    cli_begin(d, CMD_COMPARE);
+    fs_status st = cli_parse_args(d, *n, opts);
+    if (st == FS_OK && replace)
+        st = cli_apply_option(d, "--replace", NULL);
+    if (st == FS_OK && quiet)
+        st = cli_apply_option(d, "--quiet", NULL);
+    return st == FS_OK ? cli_finish(d) : st;
+}
+
 /* The task list: scenes x traces x ring layouts x TAA settings x chunks, in that nesting. */
 fs_status sweep_build_tasks(sweep_manifest *m)
 {
@@ -124,9 +141,9 @@ fs_status sweep_build_tasks(sweep_manifest *m)
             /* The scene's length and cuts, with the options the tasks use (asset root, size). */
             scene sc;
             run_desc d;
-            char *argv[SWEEP_MAX_ARGS];
-            int argc = sweep_task_argv(m, &(sweep_task){.scene = s}, argv, SWEEP_MAX_ARGS);
-            st = argc > 0 ? cli_parse(argc, argv, &d) : FS_ERR_NOMEM;
+            char *opts[SWEEP_MAX_ARGS];
+            int n;
+            st = task_desc(m, &(sweep_task){.scene = s}, opts, &n, &d, false, false);
             if (st == FS_OK)
                 st = session_load_scene(&d, &sc);
             if (st == FS_OK) {
@@ -135,7 +152,7 @@ fs_status sweep_build_tasks(sweep_manifest *m)
                 st = chunk_bounds(&sc, frames, d.fps, m->chunk_frames, w, h, &m->chunks[s], &m->nchunks[s]);
                 scene_free(&sc);
             }
-            sweep_task_argv_free(argv, argc > 0 ? argc : 0);
+            sweep_task_options_free(opts, n > 0 ? n : 0);
             if (st != FS_OK)
                 break;
         }
@@ -214,28 +231,21 @@ sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k)
 
 static const char *const k_state_names[] = {"todo", "incomplete", "done"};
 
-/* Every task's command line through the CLI's own checks, and its ring layout through the
- * layout parser, before anything runs: a bad option fails the sweep at once, not task by task on
- * a cluster. Messages say which task. */
+/* Every task's options through the CLI's table (its ring layout included), before anything runs:
+ * a bad option fails the sweep at once, not task by task on a cluster. Messages say which task. */
 static fs_status check_tasks(const sweep_manifest *m)
 {
     fs_status st = FS_OK;
     for (int i = 0; i < m->ntasks && st == FS_OK; i++) {
         const sweep_task *k = &m->tasks[i];
-        char context[420], err[256];
+        char context[420];
         snprintf(context, sizeof context, "%.150s: task %d (%.200s): ", m->path, i, k->name);
         log_set_context(context);
-        char *argv[SWEEP_MAX_ARGS];
-        int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
+        char *opts[SWEEP_MAX_ARGS];
+        int n;
         run_desc d;
-        st = argc > 0 ? cli_parse(argc, argv, &d) : FS_ERR_NOMEM;
-        fov_layout l;
-        display_desc dd = {1280, 720, 90.0f}; /* "auto" is resolved per scene; this checks the syntax */
-        if (st == FS_OK && d.rings && fov_layout_parse(d.rings, &dd, &l, err, sizeof err) != FS_OK) {
-            log_error("--rings %s: %s", d.rings, err);
-            st = FS_ERR_USAGE;
-        }
-        sweep_task_argv_free(argv, argc > 0 ? argc : 0);
+        st = task_desc(m, k, opts, &n, &d, false, false);
+        sweep_task_options_free(opts, n > 0 ? n : 0);
     }
     log_set_context(NULL);
     return st;
@@ -250,24 +260,20 @@ static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
         printf("task %d (%s): complete, skipped\n", index, k->name);
         return FS_OK;
     }
-    char *argv[SWEEP_MAX_ARGS];
-    int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
-    if (argc <= 0)
-        return FS_ERR_INTERNAL;
-    int owned = argc;
-    argv[argc++] = "--replace"; /* an incomplete folder of this task (a killed run): drawn anew */
-    if (quiet)
-        argv[argc++] = "--quiet";
-    argv[argc] = NULL;
     char dir[PATH_MAX + 300];
     sweep_task_dir(m, k, dir, sizeof dir);
     printf("task %d (%s) -> %s\n", index, k->name, dir);
     fflush(stdout);
+    char *opts[SWEEP_MAX_ARGS];
+    int n;
     run_desc d;
-    fs_status st = cli_parse(argc, argv, &d);
-    if (st == FS_OK)
-        st = command_run(&d);
-    sweep_task_argv_free(argv, owned);
+    /* --replace: an incomplete folder of this task (a killed run) is drawn anew */
+    fs_status st = task_desc(m, k, opts, &n, &d, true, quiet);
+    if (st == FS_OK) {
+        log_set_verbose(d.verbose);
+        st = cmd_compare(&d);
+    }
+    sweep_task_options_free(opts, n > 0 ? n : 0);
     return st;
 }
 
@@ -324,15 +330,17 @@ static fs_status list_tasks(const sweep_manifest *m)
         const sweep_task *k = &m->tasks[i];
         sweep_task_state s = sweep_task_status(m, k);
         state_count[s]++;
-        char *argv[SWEEP_MAX_ARGS];
-        int argc = sweep_task_argv(m, k, argv, SWEEP_MAX_ARGS);
+        char *opts[SWEEP_MAX_ARGS];
+        int n = sweep_task_options(m, k, opts, SWEEP_MAX_ARGS);
         sbuf cmd = {0};
-        for (int a = 0; a < argc; a++) {
-            if (a)
-                sb_puts(&cmd, " ");
-            shell_quote(&cmd, a == 0 ? "fovsim" : argv[a]);
+        shell_quote(&cmd, "fovsim");
+        sb_puts(&cmd, " ");
+        shell_quote(&cmd, "compare");
+        for (int a = 0; a < n; a++) {
+            sb_puts(&cmd, " ");
+            shell_quote(&cmd, opts[a]);
         }
-        sweep_task_argv_free(argv, argc);
+        sweep_task_options_free(opts, n > 0 ? n : 0);
         printf("%4d  %-10s %s\n      %s\n", i, k_state_names[s], k->name, cmd.p ? cmd.p : "");
         free(cmd.p);
     }

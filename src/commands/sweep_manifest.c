@@ -546,7 +546,7 @@ void sweep_manifest_free(sweep_manifest *m)
 
 /* >>a task's compare */
 
-int sweep_task_argv(const sweep_manifest *m, const sweep_task *k, char **argv, int cap)
+int sweep_task_options(const sweep_manifest *m, const sweep_task *k, char **argv, int cap)
 {
     int n = 0;
     bool oom = false;
@@ -559,8 +559,6 @@ int sweep_task_argv(const sweep_manifest *m, const sweep_task *k, char **argv, i
         else                                                                                                           \
             oom = true;                                                                                                \
     } while (0)
-    ARG("fovsim");
-    ARG("compare");
     ARG("%s", m->scenes[k->scene]);
     if (m->gaze[k->gaze]) {
         ARG("--gaze");
@@ -620,14 +618,14 @@ int sweep_task_argv(const sweep_manifest *m, const sweep_task *k, char **argv, i
 #undef ARG
     argv[n] = NULL;
     if (oom) {
-        sweep_task_argv_free(argv, n);
+        sweep_task_options_free(argv, n);
         log_error("a task's command line: out of memory, or more than %d arguments", cap - 3);
         return -1;
     }
     return n;
 }
 
-void sweep_task_argv_free(char **argv, int argc)
+void sweep_task_options_free(char **argv, int argc)
 {
     for (int i = 0; i < argc; i++)
         free(argv[i]);

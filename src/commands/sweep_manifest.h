@@ -1,4 +1,4 @@
-/* sweep_manifest.h: a sweep's manifest (JSON, docs/cluster.md "The manifest") and the argv of
+/* sweep_manifest.h: a sweep's manifest (JSON, docs/cluster.md "The manifest") and the options of
  * each task's `fovsim compare`. Paths in the manifest are relative to its folder; a loaded
  * manifest holds them absolute, and so does the copy it writes into the sweep's folder, which is
  * what the tasks read (they may run in another working directory, on another machine). */
@@ -84,9 +84,10 @@ void sweep_task_dir(const sweep_manifest *m, const sweep_task *k, char *out, siz
 typedef enum sweep_task_state { TASK_TODO, TASK_INCOMPLETE, TASK_DONE } sweep_task_state;
 sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k);
 
-/* The argv of task k's compare ("fovsim", "compare", ...), each string malloc'd, NULL-terminated
- * with room for two more arguments; returns argc, or -1 (no memory, or more than cap - 3). */
-int sweep_task_argv(const sweep_manifest *m, const sweep_task *k, char **argv, int cap);
-void sweep_task_argv_free(char **argv, int argc);
+/* Task k's options of fovsim compare (the scene first), each string malloc'd, NULL-terminated;
+ * returns their count, or -1 (no memory, or more than cap - 3). The CLI's table parses them
+ * (cli_parse_args); --list and the jobs file print them after "fovsim compare". */
+int sweep_task_options(const sweep_manifest *m, const sweep_task *k, char **opts, int cap);
+void sweep_task_options_free(char **opts, int n);
 
 #endif

@@ -24,13 +24,14 @@
 #include "frame/frame.h"
 #include "session/session.h"
 
-/* Every field of run_desc is either written into the configuration below or listed there as not
- * changing what a run writes. A new field usually changes the struct's size, which stops the build
- * here until it is sorted into one of the two (LP64 only: the size is the ABI's; a bool that fits
- * into padding slips through, so read the list when adding one). */
+/* Which options the record holds is the option table's OPT_RECORDED flag (cli_options.c): a row
+ * with it is written into the configuration below, one without it changes nothing a run writes.
+ * A new run_desc field usually changes the struct's size, which stops the build here until its
+ * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
+ * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 320, "run_desc changed: add the new field to run_record_describe (or to its list "
-                                        "of fields that change nothing written), then update this size");
+_Static_assert(sizeof(run_desc) == 464, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+                                        "or not) and write the recorded ones below, then update this size");
 #endif
 
 #define RECORD_MAX 16384
@@ -148,34 +149,31 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
             d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");
         sb_printf(&t, "a2c sharpen: %d\n", d->a2c_sharpen);
-        if (d->alpha_lod != 0) /* absent when not given: folders written before the option stay valid */
+        if (d->alpha_lod != ALPHA_LOD_CLAMP_UNSET) /* absent when not given: folders written before the option stay valid */
         {
-            if (d->alpha_lod < 0)
+            if (d->alpha_lod == ALPHA_LOD_CLAMP_OFF)
                 sb_printf(&t, "alpha lod max: off\n");
             else
                 sb_printf(&t, "alpha lod max: %.9g\n", d->alpha_lod_max);
         }
         sb_printf(&t, "taa: %d, blend %.9g, gamma %.9g, sparse %.9g, jitter %d, neighbourhood %d, history %d, nan %d\n",
-            d->taa, d->taa_blend, d->taa_gamma, d->taa_sparse, d->jitter_length, d->taa_neighbourhood, d->taa_history,
-            d->taa_nan);
+            d->taa.mode, d->taa.blend, d->taa.gamma, d->taa.sparse, d->taa.jitter_length, d->taa.neighbourhood, d->taa.history,
+            d->taa.nan);
         sb_printf(&t, "object motion: %s, ring cull: %s, composite: %s, disocclusion: %s\n",
-            d->no_object_motion ? "off" : "on", d->no_ring_cull ? "off" : "on",
-            d->composite_per_pixel ? "per-pixel" : "tiled", d->no_disocclusion ? "off" : "on");
+            d->taa.no_object_motion ? "off" : "on", d->no_ring_cull ? "off" : "on",
+            d->composite_per_pixel ? "per-pixel" : "tiled", d->taa.no_disocclusion ? "off" : "on");
     }
     if (has_ref)
-        sb_printf(&t, "reference: kind %d, supersample %d, samples %d, memory %d MB\n", d->reference_kind, d->supersample,
-            d->samples, d->ref_memory_mb);
+        sb_printf(&t, "reference: kind %d, supersample %d, samples %d, memory %d MB\n", d->ref.kind, d->ref.supersample,
+            d->ref.samples, d->ref.memory_mb);
     if (d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO)
-        sb_printf(&t, "fvvdp export: %d\n", d->export_fvvdp);
-    if (d->first_frame)
-        sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->first_frame, d->warmup_set ? d->warmup : -1);
-    /* Not recorded, because they change nothing a run writes: frames (the record's second part),
-     * out_dir (the folder itself), builtin/scene_path and asset_root (the scene's content is),
-     * gpu (the renderer is), wait_lock (when a run starts, not what it writes),
-     * warmup unless with first_frame (bench's), verbose, quiet, gl_debug, the limits max_image/scene_mpixels, the
-     * cache (a cached reference frame equals a drawn one), resume/replace, run_fvvdp (runs after
-     * the frames), and the options of other commands: markdown, json, accuracy, acc_error,
-     * script, record, split, help_for. */
+        sb_printf(&t, "fvvdp export: %d\n", d->compare.export_fvvdp);
+    if (d->compare.first_frame)
+        sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);
+    /* Not recorded (no OPT_RECORDED in cli_options.c), because they change nothing a run writes:
+     * frames (the record's second part), out_dir (the folder itself), builtin/scene_path and
+     * asset_root (the scene's content is), the machine's options (OPT_MACHINE), the limits, resume
+     * and replace, run_fvvdp (runs after the frames) and the options of other commands. */
     if (t.oom) {
         free(t.p);
         return FS_ERR_NOMEM;

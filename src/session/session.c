@@ -61,19 +61,21 @@ static alpha_params run_alpha_params(const run_desc *d)
     alpha_params a = {.hash_scale = d->hash_scale, .anisotropic = d->hash_aniso, .no_fade = d->no_fade,
                       .no_frame_offset = d->no_hash_offset, .fade_n = d->fade_n, .a2c_sharpen = d->a2c_sharpen,
                       .lod_clamp = d->alpha_lod, .lod_max = d->alpha_lod_max};
-    a.hash_kind = d->hash_kind >= 0 ? d->hash_kind : ALPHA_HASH_DEFAULT;
+    a.hash_kind = d->hash_kind != HASH_CHOICE_DEFAULT ? (int)d->hash_kind : ALPHA_HASH_DEFAULT;
     return alpha_params_defaults(&a);
 }
 
-/* The ring layout of a run: --rings, else the scene file's, else auto; checked against the display. */
+/* The ring layout of a run: --rings (parsed by the CLI), else the scene file's, else auto; "auto"
+ * resolved against the display. */
 static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, int height, fov_layout *out)
 {
-    const char *spec = d->rings ? d->rings : sc->rings[0] ? sc->rings : "auto";
     display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
                        sc->display.hfov_deg};
     char err[256];
-    if (fov_layout_parse(spec, &dd, out, err, sizeof err) != FS_OK) {
-        log_error("%s: %s", d->rings ? "--rings" : sc->path, err);
+    if (d->rings) {
+        *out = d->rings_layout.kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : d->rings_layout;
+    } else if (fov_layout_parse(sc->rings[0] ? sc->rings : "auto", &dd, out, err, sizeof err) != FS_OK) {
+        log_error("%s: %s", sc->path, err);
         return FS_ERR_USAGE;
     }
     /* An auto layout that would shade as many pixels as the display (small or coarse displays,
@@ -104,17 +106,17 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
     *out = (plan_options){.alpha_mode = d->alpha, .width = d->width, .height = d->height,
                           .frames = session_frame_count(d, sc), .overlay = d->overlay,
                           .debug_channels = d->debug_channels, .alpha = run_alpha_params(d),
-                          .taa = d->taa >= 0 ? d->taa == 1 : !sc->taa.off,
-                          .taa_controls = {.blend = d->taa_blend > 0 ? d->taa_blend : sc->taa.blend,
-                                           .gamma = d->taa_gamma > 0 ? d->taa_gamma : sc->taa.gamma,
-                                           .sparse = d->taa_sparse != 0 ? d->taa_sparse : sc->taa.sparse,
-                                           .jitter_length = d->jitter_length > 0 ? d->jitter_length
+                          .taa = d->taa.mode != TAA_SWITCH_SCENE ? d->taa.mode == TAA_SWITCH_ON : !sc->taa.off,
+                          .taa_controls = {.blend = d->taa.blend > 0 ? d->taa.blend : sc->taa.blend,
+                                           .gamma = d->taa.gamma > 0 ? d->taa.gamma : sc->taa.gamma,
+                                           .sparse = d->taa.sparse != 0 ? d->taa.sparse : sc->taa.sparse,
+                                           .jitter_length = d->taa.jitter_length > 0 ? d->taa.jitter_length
                                                                                  : sc->taa.jitter_length,
-                                           .no_object_motion = d->no_object_motion,
-                                           .no_disocclusion = d->no_disocclusion,
-                                           .neighbourhood = (taa_neighbourhood_kind)d->taa_neighbourhood,
-                                           .history = (taa_history_kind)d->taa_history,
-                                           .nan_check = (taa_nan_kind)d->taa_nan},
+                                           .no_object_motion = d->taa.no_object_motion,
+                                           .no_disocclusion = d->taa.no_disocclusion,
+                                           .neighbourhood = d->taa.neighbourhood,
+                                           .history = d->taa.history,
+                                           .nan_check = d->taa.nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
     fs_status st = resolve_layout(d, sc, d->width, d->height, &out->layout);
     return st == FS_OK ? resolve_ring_lod(d, sc, &out->layout, &out->ring_lod) : st;
@@ -249,10 +251,10 @@ double stats_quantile(const double *v, int n, double q)
 /* The reference cache of a run: --cache, else the default; NULL with --no-cache. */
 const char *session_cache_dir(const run_desc *d, char *buf, int size)
 {
-    if (d->no_cache)
+    if (d->ref.no_cache)
         return NULL;
-    if (d->cache_dir)
-        return d->cache_dir;
+    if (d->ref.cache_dir)
+        return d->ref.cache_dir;
     reference_default_cache_dir(buf, size);
     return buf;
 }
@@ -268,9 +270,9 @@ static void on_ref_pass(void *user, int done, int total)
 reference *session_reference(const run_desc *d, const session *s, ref_progress *rp, fs_status *st)
 {
     char buf[1024];
-    reference_desc rd = {.width = s->pl.width, .height = s->pl.height, .supersample = d->supersample,
-                         .kind = d->reference_kind ? REFERENCE_STOCHASTIC : REFERENCE_EXACT,
-                         .samples = d->samples, .list_mb = d->ref_memory_mb,
+    reference_desc rd = {.width = s->pl.width, .height = s->pl.height, .supersample = d->ref.supersample,
+                         .kind = d->ref.kind,
+                         .samples = d->ref.samples, .list_mb = d->ref.memory_mb,
                          .cache_dir = session_cache_dir(d, buf, sizeof buf),
                          .on_pass = on_ref_pass, .user = rp};
     return reference_create(&s->sc, &rd, st);

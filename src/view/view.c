@@ -120,14 +120,14 @@ static void dir_of(const char *path, char *out, size_t n)
  * out/view/gaze-<n>.csv with the first n not taken. */
 static void next_record_path(const viewer *v, char *out, size_t n)
 {
-    if (v->d->record) {
+    if (v->d->view.record) {
         if (v->rec_index == 0) {
-            snprintf(out, n, "%s", v->d->record);
+            snprintf(out, n, "%s", v->d->view.record);
             return;
         }
         char stem[1024];
-        strip_ext(v->d->record, stem, sizeof stem);
-        const char *ext = v->d->record + strlen(stem);
+        strip_ext(v->d->view.record, stem, sizeof stem);
+        const char *ext = v->d->view.record + strlen(stem);
         snprintf(out, n, "%.900s-%d%.32s", stem, v->rec_index + 1, ext);
         return;
     }
@@ -575,9 +575,9 @@ static fs_status setup(viewer *v, const run_desc *d)
     v->width = probe.width;
     v->height = probe.height;
     v->fps = d->fps;
-    v->set.mode[0] = d->split[0] ? d->split[0] : d->alpha;
-    v->set.mode[1] = d->split[1];
-    v->set.split = d->split[0] != ALPHA_MODE_DEFAULT;
+    v->set.mode[0] = d->view.split[0] ? d->view.split[0] : d->alpha;
+    v->set.mode[1] = d->view.split[1];
+    v->set.split = d->view.split[0] != ALPHA_MODE_DEFAULT;
     v->set.taa = probe.taa;
     v->set.overlay = d->overlay;
     v->set.ring_lod = v->base.ring_lod.kind != RING_LOD_OFF;
@@ -586,10 +586,10 @@ static fs_status setup(viewer *v, const run_desc *d)
     v->set.last_on = v->layouts[LAYOUT_RUN].kind == FOV_LAYOUT_OFF ? LAYOUT_AUTO : LAYOUT_RUN;
     if (st == FS_OK && d->gaze_path)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &v->gaze);
-    if (st == FS_OK && d->script)
-        st = view_script_load(d->script, &v->script);
-    if (d->record)
-        strip_ext(d->record, v->capture_base, sizeof v->capture_base);
+    if (st == FS_OK && d->view.script)
+        st = view_script_load(d->view.script, &v->script);
+    if (d->view.record)
+        strip_ext(d->view.record, v->capture_base, sizeof v->capture_base);
     else
         snprintf(v->capture_base, sizeof v->capture_base, "out/view/view");
     v->gx = v->gy = 0.5f;

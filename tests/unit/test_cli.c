@@ -1,8 +1,13 @@
 /* Command-line parsing: defaults, every option, and the errors a user will make. */
 #include <string.h>
 
+#include <stdlib.h>
+
 #include "cli.h"
+#include "cli_internal.h"
 #include "core/log.h"
+#include "session/run_record.h"
+#include "session/session.h"
 #include "test.h"
 
 static fs_status parse(run_desc *d, const char *line)
@@ -43,7 +48,7 @@ TEST(options)
     CHECK(parse(&d, "fovsim render fence --wait-lock 30 --replace --fps 0.001") == FS_OK);
     CHECK(d.wait_lock == 30 && d.replace && d.fps == 0.001f);
     CHECK(parse(&d, "fovsim bench --builtin fence --warmup 2 --markdown x.md") == FS_OK);
-    CHECK(d.warmup == 2 && strcmp(d.markdown, "x.md") == 0 && strcmp(d.builtin, "fence") == 0);
+    CHECK(d.bench.warmup == 2 && strcmp(d.bench.markdown, "x.md") == 0 && strcmp(d.builtin, "fence") == 0);
     /* A positional scene: a path, or a built-in name. */
     CHECK(parse(&d, "fovsim plan scenes/x.json") == FS_OK && strcmp(d.scene_path, "scenes/x.json") == 0 && !d.builtin);
     CHECK(parse(&d, "fovsim plan plant.glb --alpha traditional") == FS_OK && strcmp(d.scene_path, "plant.glb") == 0);
@@ -107,11 +112,11 @@ TEST(view_cli)
 {
     run_desc d;
     CHECK(parse(&d, "fovsim view") == FS_OK && d.cmd == CMD_VIEW && !strcmp(d.builtin, "forest"));
-    CHECK(d.script == NULL && d.record == NULL && d.split[0] == ALPHA_MODE_DEFAULT);
+    CHECK(d.view.script == NULL && d.view.record == NULL && d.view.split[0] == ALPHA_MODE_DEFAULT);
     CHECK(parse(&d, "fovsim view fence --script s.txt --record out/r.csv --split traditional,hashed --taa off "
                         "--rings off --width 160 --height 90 --gaze builtin:pursuit") == FS_OK);
-    CHECK(!strcmp(d.builtin, "fence") && !strcmp(d.script, "s.txt") && !strcmp(d.record, "out/r.csv"));
-    CHECK(d.split[0] == ALPHA_MODE_TRADITIONAL && d.split[1] == ALPHA_MODE_HASHED && d.taa == 0);
+    CHECK(!strcmp(d.builtin, "fence") && !strcmp(d.view.script, "s.txt") && !strcmp(d.view.record, "out/r.csv"));
+    CHECK(d.view.split[0] == ALPHA_MODE_TRADITIONAL && d.view.split[1] == ALPHA_MODE_HASHED && d.taa.mode == 0);
     CHECK(parse(&d, "fovsim view --help") == FS_OK && d.cmd == CMD_HELP && d.help_for == CMD_VIEW);
     CHECK(parse(&d, "fovsim help view") == FS_OK && d.help_for == CMD_VIEW);
     log_set_quiet_errors(true);
@@ -135,10 +140,10 @@ TEST(reference_and_compare_options)
     run_desc d;
     log_set_quiet_errors(true);
     CHECK(parse(&d, "fovsim compare fence --modes traditional,castano --samples 8 --supersample 2 --cache /tmp/c") == FS_OK);
-    CHECK(d.cmd == CMD_COMPARE && d.bench_mode_count == 2 && d.samples == 8 && d.supersample == 2);
-    CHECK(!strcmp(d.cache_dir, "/tmp/c") && !strcmp(d.name, "compare"));
-    CHECK(parse(&d, "fovsim reference forest --no-cache") == FS_OK && d.no_cache && !strcmp(d.name, "reference"));
-    CHECK(parse(&d, "fovsim bench forest --accuracy --samples 4") == FS_OK && d.accuracy && d.samples == 4);
+    CHECK(d.cmd == CMD_COMPARE && d.bench_mode_count == 2 && d.ref.samples == 8 && d.ref.supersample == 2);
+    CHECK(!strcmp(d.ref.cache_dir, "/tmp/c") && !strcmp(d.name, "compare"));
+    CHECK(parse(&d, "fovsim reference forest --no-cache") == FS_OK && d.ref.no_cache && !strcmp(d.name, "reference"));
+    CHECK(parse(&d, "fovsim bench forest --accuracy --samples 4") == FS_OK && d.bench.accuracy && d.ref.samples == 4);
     CHECK(parse(&d, "fovsim reference --samples 3") == FS_ERR_USAGE);      /* odd: no two halves */
     CHECK(parse(&d, "fovsim reference --samples 0") == FS_ERR_USAGE);
     CHECK(parse(&d, "fovsim reference --supersample 17") == FS_ERR_USAGE);
@@ -152,8 +157,105 @@ TEST(reference_and_compare_options)
     log_set_quiet_errors(false);
 }
 
+
+/* A value of option o that differs from its default in `def`, as text for cli_apply_option. */
+static const char *other_value(const cli_option *o, const run_desc *def, char *buf, size_t n)
+{
+    static const struct {
+        const char *name, *value;
+    } k_custom[] = {{"--builtin", "fence"}, {"--name", "n"}, {"--asset-root", "dir"}, {"--alpha", "hashed"},
+                    {"--alpha-lod-max", "2"}, {"--taa-sparse", "0.5"}, {"--rings", "off"}, {"--samples", "8"},
+                    {"--gaze-format", "csv"}, {"--split", "traditional,hashed"}, {"--modes", "hashed"}};
+    const char *field = (const char *)def + o->field;
+    switch (o->arg) {
+    case ARG_FLAG: return NULL;
+    case ARG_STRING: return "x";
+    case ARG_INT: snprintf(buf, n, "%d", (int)o->hi); return buf;
+    case ARG_FLOAT: snprintf(buf, n, "%g", o->hi); return buf;
+    case ARG_CHOICE:
+        for (const cli_choice *c = o->choices; c->name; c++)
+            if (c->value != (o->size == sizeof(bool) ? (int)*(const bool *)field : *(const int *)field))
+                return c->name;
+        return "?";
+    case ARG_CUSTOM:
+        for (size_t k = 0; k < sizeof k_custom / sizeof k_custom[0]; k++)
+            if (!strcmp(o->name, k_custom[k].name))
+                return k_custom[k].value;
+        return "?";
+    }
+    return "?";
+}
+
+/* The option table's OPT_RECORDED flag is what the run record holds: every recorded option
+ * changes the record's configuration, every other option leaves it as it is. */
+TEST(recorded_options_are_the_run_records)
+{
+    session s;
+    memset(&s, 0, sizeof s);
+    CHECK(scene_load_builtin("fence", &s.sc) == FS_OK);
+    gaze_sample one = {.x = 0.5f, .y = 0.5f, .valid = true};
+    s.gaze.samples = &one;
+    s.gaze.count = 1;
+    snprintf(s.gaze.path, sizeof s.gaze.path, "g.csv");
+    s.pl.width = 64;
+    s.pl.height = 64;
+    run_desc base;
+    cli_begin(&base, CMD_COMPARE);
+    base.name = "compare";
+    base.compare.first_frame = 1; /* --warmup is recorded with it */
+    char *ref = NULL;
+    CHECK(run_record_describe(&base, &s, &ref) == FS_OK);
+    for (size_t i = 0; ref && i < k_cli_option_count; i++) {
+        const cli_option *o = &k_cli_options[i];
+        /* Help-only rows set nothing; --width and --height reach the record as the plan's size. */
+        if ((o->flags & OPT_HELP_ONLY) || !strcmp(o->name, "--width") || !strcmp(o->name, "--height"))
+            continue;
+        run_desc d = base;
+        char buf[32], *text = NULL;
+        CHECK(cli_apply_option(&d, o->name, other_value(o, &base, buf, sizeof buf)) == FS_OK);
+        CHECK(run_record_describe(&d, &s, &text) == FS_OK);
+        bool changed = text && strcmp(text, ref) != 0, recorded = (o->flags & OPT_RECORDED) != 0;
+        if (changed != recorded)
+            fprintf(stderr, "%s: %s in cli_options.c, but %s the run record\n", o->name,
+                    recorded ? "OPT_RECORDED" : "not OPT_RECORDED", changed ? "changes" : "does not change");
+        CHECK(changed == recorded);
+        free(text);
+    }
+    free(ref);
+    scene_free(&s.sc);
+}
+
+/* A run built from parts, as fovsim check and sweep build compare's: the same table and checks. */
+TEST(run_from_parts)
+{
+    run_desc d;
+    char *opts[] = {"fence", "--modes", "traditional,hashed", "--rings=10:1:0,*:1/4:0", "--taa", "off"};
+    cli_begin(&d, CMD_COMPARE);
+    CHECK(cli_parse_args(&d, 6, opts) == FS_OK);
+    CHECK(cli_apply_option(&d, "--out", "/tmp/fovsim-parts") == FS_OK);
+    CHECK(cli_apply_option(&d, "--replace", NULL) == FS_OK);
+    CHECK(cli_finish(&d) == FS_OK);
+    CHECK(d.cmd == CMD_COMPARE && !strcmp(d.builtin, "fence") && d.bench_mode_count == 2 && d.replace);
+    CHECK(d.taa.mode == TAA_SWITCH_OFF && !strcmp(d.name, "compare") && !strcmp(d.out_dir, "/tmp/fovsim-parts"));
+    CHECK(d.rings_layout.kind == FOV_LAYOUT_EXPLICIT && d.rings_layout.count == 2);
+    CHECK(!strcmp(cli_command_name(CMD_COMPARE), "compare"));
+    bool takes = false;
+    CHECK(cli_machine_option("--gpu", &takes) && takes && !strcmp(cli_machine_option("--cache=x", &takes), "--cache"));
+    CHECK(!takes && !cli_machine_option("--rings", NULL) && cli_machine_option("--quiet", NULL));
+    log_set_quiet_errors(true);
+    cli_begin(&d, CMD_COMPARE);
+    CHECK(cli_apply_option(&d, "--replace", "1") == FS_ERR_USAGE);      /* a flag takes no value */
+    CHECK(cli_apply_option(&d, "--out", NULL) == FS_ERR_USAGE);         /* expected a value */
+    CHECK(cli_apply_option(&d, "--nope", "1") == FS_ERR_USAGE);
+    CHECK(cli_apply_option(&d, "--rings", "10:1:0,5:1/2:0,*:1/4:0") == FS_ERR_USAGE); /* checked when given */
+    CHECK(cli_apply_option(&d, "--alpha", "hashed") == FS_OK && cli_finish(&d) == FS_ERR_USAGE); /* compare: --modes */
+    log_set_quiet_errors(false);
+}
+
 int main(void)
 {
+    RUN(run_from_parts);
+    RUN(recorded_options_are_the_run_records);
     RUN(view_cli);
     RUN(reference_and_compare_options);
     RUN(defaults);
