@@ -187,25 +187,11 @@ static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
                  (double)l->rings[k].outer_deg);
 }
 
-/* Prints the table and writes summary.json (atomically). */
-static fs_status report(const report_desc *r)
+/* The run's headline and the table of each mode's metrics per ring and of its frame time. */
+static void report_table(const report_desc *r, const double *med, const char *rings, const char *mrings)
 {
     const session *s = r->s;
     int nm = r->mode_count, nr = r->layout->count;
-    double med[ALPHA_MODE_COUNT];
-    for (int m = 0; m < nm; m++) {
-        double *v = malloc(sizeof(double) * (size_t)r->frames);
-        if (!v)
-            return FS_ERR_NOMEM;
-        memcpy(v, r->runs[m].frame_ms + r->first, sizeof(double) * (size_t)r->frames);
-        qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
-        med[m] = stats_quantile(v, r->frames, 0.5);
-        free(v);
-    }
-    qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
-    char rings[256], mrings[256];
-    fov_layout_format(&s->pl.layout, rings, sizeof rings);
-    fov_layout_format(r->layout, mrings, sizeof mrings);
     printf("\ncompared %d modes over %d frames (%dx%d, rings %s, TAA %s) in %.1f s; frames in %s/\n", nm, r->frames,
            s->pl.width, s->pl.height, rings, s->pl.taa ? "on" : "off", r->seconds, r->out);
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
@@ -242,7 +228,13 @@ static fs_status report(const report_desc *r)
             printf("  %16.4f", r->jod[m]);
         printf("\n");
     }
+}
 
+/* summary.json (written to a temporary name, then renamed into place). */
+static fs_status report_json(const report_desc *r, const double *med, const char *rings, const char *mrings)
+{
+    const session *s = r->s;
+    int nm = r->mode_count, nr = r->layout->count;
     char tmp[1300];
     FILE *f = out_path_temp_name(r->json_path, tmp, sizeof tmp) ? fopen(tmp, "w") : NULL;
     if (!f) {
@@ -288,6 +280,32 @@ static fs_status report(const report_desc *r)
         unlink(tmp);
         return FS_ERR_IO;
     }
+    return FS_OK;
+}
+
+/* Prints the table and writes summary.json (atomically). */
+static fs_status report(const report_desc *r)
+{
+    const session *s = r->s;
+    int nm = r->mode_count;
+    double med[ALPHA_MODE_COUNT];
+    for (int m = 0; m < nm; m++) {
+        double *v = malloc(sizeof(double) * (size_t)r->frames);
+        if (!v)
+            return FS_ERR_NOMEM;
+        memcpy(v, r->runs[m].frame_ms + r->first, sizeof(double) * (size_t)r->frames);
+        qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
+        med[m] = stats_quantile(v, r->frames, 0.5);
+        free(v);
+    }
+    qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
+    char rings[256], mrings[256];
+    fov_layout_format(&s->pl.layout, rings, sizeof rings);
+    fov_layout_format(r->layout, mrings, sizeof mrings);
+    report_table(r, med, rings, mrings);
+    fs_status st = report_json(r, med, rings, mrings);
+    if (st != FS_OK)
+        return st;
     printf("\nmetrics per frame, ring and mode: %s/metrics.csv; summary: %s\n", r->out, r->json_path);
     return FS_OK;
 }
