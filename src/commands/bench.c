@@ -210,38 +210,68 @@ static int stage_ring(const char *name)
     return sscanf(name, "ring %d (%n", &ring, &at) == 1 && at > 0 ? ring : -1;
 }
 
-fs_status cmd_bench(const run_desc *d)
-{
+/* >>phases: cmd_bench runs them in order, sharing one bench_run. */
+
+enum { BENCH_MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) };
+
+/* What the bench measured, summarised per configuration (c) over the n frames: per stage (p),
+ * per pipeline statistic (q) and per ring (i). */
+typedef struct bench_summaries {
+    summary wall[BENCH_MAX_CFG], shaded[BENCH_MAX_CFG], cpu[BENCH_MAX_CFG], faults[BENCH_MAX_CFG];
+    summary count[BENCH_MAX_CFG][BENCH_COUNTS];
+    summary stage_wall[BENCH_MAX_CFG][RENDERER_STATS_MAX], stage_gl[BENCH_MAX_CFG][RENDERER_STATS_MAX];
+    summary stage_count[BENCH_MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
+    summary instances[BENCH_MAX_CFG][MAX_FOV_RINGS];
+    /* sums over the frames, -1 = unknown */
+    double count_all[BENCH_MAX_CFG][BENCH_COUNTS], stage_count_all[BENCH_MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
+    /* each configuration's median frame time / traditional's in the same layout (0: not measured) */
+    double rel[BENCH_MAX_CFG];
+    /* foveation's speedup (the first mode, full resolution vs foveated) and its ideal */
+    double speedup, ideal;
+    bool has_fov;
+} bench_summaries;
+
+/* One bench run: the session, its configurations, their summaries and the report's text. */
+typedef struct bench_run {
+    const run_desc *d;
     session s;
-    fs_status st = session_begin(d, &s, false); /* every configuration gets its own renderer */
-    if (st != FS_OK)
-        return st;
-    int n = d->frames > 0 ? d->frames : 30;
-    /* Configurations: for each alpha mode asked for (--modes, default the run's), full resolution
-     * and, when the run has rings, foveated; plus traditional through the MSAA targets when an A2C
-     * mode is measured, so the MSAA cost can be told from the A2C test's own. */
+    int n; /* measured frames */
+    bench_config cfg[BENCH_MAX_CFG];
+    int ncfg, nlayouts, per_layout;
+    bool lod;   /* a ring LOD configuration per mode (BENCH_RINGS_LOD) */
+    float span; /* seconds of camera path the frames spread over */
+    double px;  /* display pixels */
+    char rings[256], lod_text[200];
+    bench_summaries sum;
+    char *report;
+    int o; /* bytes of report asked for (report_printf) */
+} bench_run;
+
+/* The configurations: for each alpha mode asked for (--modes, default the run's), full resolution
+ * and, when the run has rings, foveated (and foveated with ring LOD); plus traditional through the
+ * MSAA targets when an A2C mode is measured, so the MSAA cost can be told from the A2C test's own. */
+static void bench_list_configs(bench_run *b)
+{
+    const run_desc *d = b->d;
     alpha_mode modes[ALPHA_MODE_COUNT];
     int nmodes = 0;
     bool want_msaa = false;
     for (int m = 0; m < d->bench_mode_count; m++)
         modes[nmodes++] = d->bench_modes[m];
     if (nmodes == 0)
-        modes[nmodes++] = s.pl.global_mode;
+        modes[nmodes++] = b->s.pl.global_mode;
     for (int m = 0; m < nmodes; m++)
         want_msaa |= modes[m] == ALPHA_MODE_A2C || modes[m] == ALPHA_MODE_HASHED_A2C;
-    enum { MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) };
-    bench_config cfg[MAX_CFG];
-    memset(cfg, 0, sizeof cfg);
-    int ncfg = 0;
     /* Ring LOD (docs/ring-lod.md) is measured against the same rings without it: the plain rings
      * configuration is drawn without it, whatever --ring-lod or the scene say. */
-    bool lod = s.pl.rings && s.pl.ring_lod;
-    if (!lod && (s.pl.ring_lod || s.pl.ring_lod_why[0]))
-        log_warn("bench: ring LOD not measured (%s)", s.pl.ring_lod ? "no rings" : s.pl.ring_lod_why);
-    int nlayouts = lod ? 3 : s.pl.rings ? 2 : 1;
-    for (int lay = 0; lay < nlayouts; lay++)
+    const plan *pl = &b->s.pl;
+    b->lod = pl->rings && pl->ring_lod;
+    if (!b->lod && (pl->ring_lod || pl->ring_lod_why[0]))
+        log_warn("bench: ring LOD not measured (%s)", pl->ring_lod ? "no rings" : pl->ring_lod_why);
+    b->nlayouts = b->lod ? 3 : pl->rings ? 2 : 1;
+    for (int lay = 0; lay < b->nlayouts; lay++)
         for (int m = 0; m < nmodes + (want_msaa ? 1 : 0); m++) {
-            bench_config *c = &cfg[ncfg++];
+            bench_config *c = &b->cfg[b->ncfg++];
             c->layout = lay;
             c->foveated = lay != BENCH_FULL;
             c->msaa_only = m == nmodes;
@@ -249,281 +279,372 @@ fs_status cmd_bench(const run_desc *d)
             snprintf(c->name, sizeof c->name, "%s%s, %s", alpha_mode_name(c->mode), c->msaa_only ? "+MSAA" : "",
                      k_layout_names[lay]);
         }
-    for (int c = 0; c < ncfg && st == FS_OK; c++) {
-        plan_options po = {.alpha_mode = cfg[c].mode, .width = d->width, .height = d->height, .frames = n,
-                           .alpha = s.pl.alpha, .force_msaa = cfg[c].msaa_only, .taa = s.pl.taa,
-                           .taa_controls = s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
+    b->per_layout = b->ncfg / b->nlayouts;
+}
+
+/* Each configuration's plan, renderer (with timers) and sample arrays. */
+static fs_status bench_build_configs(bench_run *b)
+{
+    const run_desc *d = b->d;
+    fs_status st = FS_OK;
+    for (int c = 0; c < b->ncfg && st == FS_OK; c++) {
+        bench_config *cf = &b->cfg[c];
+        plan_options po = {.alpha_mode = cf->mode, .width = d->width, .height = d->height, .frames = b->n,
+                           .alpha = b->s.pl.alpha, .force_msaa = cf->msaa_only, .taa = b->s.pl.taa,
+                           .taa_controls = b->s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
                            .composite_per_pixel = d->composite_per_pixel};
-        if (cfg[c].foveated)
-            po.layout = s.pl.layout;
-        if (cfg[c].layout == BENCH_RINGS_LOD)
-            po.ring_lod = s.pl.ring_lod_spec;
-        st = plan_build(&s.sc, &po, &cfg[c].pl);
+        if (cf->foveated)
+            po.layout = b->s.pl.layout;
+        if (cf->layout == BENCH_RINGS_LOD)
+            po.ring_lod = b->s.pl.ring_lod_spec;
+        st = plan_build(&b->s.sc, &po, &cf->pl);
         if (st == FS_OK)
-            cfg[c].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &cfg[c].pl, .timers = true}, &st);
+            cf->r = renderer_create(&(renderer_desc){.scene = &b->s.sc, .plan = &cf->pl, .timers = true}, &st);
     }
-    for (int c = 0; c < ncfg && st == FS_OK; c++)
-        if (!bench_alloc(&cfg[c], n))
+    for (int c = 0; c < b->ncfg && st == FS_OK; c++)
+        if (!bench_alloc(&b->cfg[c], b->n))
             st = FS_ERR_NOMEM;
-    float span = s.sc.duration;
+    return st;
+}
+
+/* The warm-up and measured frames, spread evenly over the camera path (and gaze trace), the
+ * configurations interleaved per frame so all see the same machine state. Draws nothing when st
+ * (the setup's status) is not FS_OK; the progress line is begun and ended either way. */
+static fs_status bench_measure(bench_run *b, fs_status st)
+{
+    const run_desc *d = b->d;
+    int n = b->n;
+    b->span = b->s.sc.duration;
     progress pr = progress_begin("bench", d->bench.warmup + n, d->quiet);
-    /* Frames spread evenly over the camera path (and gaze trace), configs interleaved per frame so
-     * both see the same machine state. */
     for (int i = 0; i < d->bench.warmup + n && st == FS_OK; i++) {
         int k = i < d->bench.warmup ? -1 : i - d->bench.warmup;
         int kk = k < 0 ? i : k;
-        float t = n > 1 ? span * (float)kk / (float)(n - 1) : 0.0f;
-        for (int c = 0; c < ncfg; c++)
-            bench_frame(&s, &cfg[c], k, t, n);
+        float t = n > 1 ? b->span * (float)kk / (float)(n - 1) : 0.0f;
+        for (int c = 0; c < b->ncfg; c++)
+            bench_frame(&b->s, &b->cfg[c], k, t, n);
         progress_update(&pr, i + 1);
     }
     progress_end(&pr);
+    return st;
+}
 
-    char cpu_name[256];
-    session_cpu_name(cpu_name, sizeof cpu_name);
-    struct utsname un;
-    uname(&un);
-    double px = (double)s.pl.width * s.pl.height;
-    char rings[256], lod_text[200] = "off";
-    fov_layout_format(&s.pl.layout, rings, sizeof rings);
-    if (lod) { /* "simplify (u = 1,1,0.25,0.0625)" */
-        char u[160];
-        ring_lod_format(&s.pl.ring_lod_spec, lod_text, sizeof lod_text);
-        ring_lod_format_u(&s.pl.ring_lod_spec, &s.pl.layout, u, sizeof u);
-        snprintf(lod_text + strlen(lod_text), sizeof lod_text - strlen(lod_text), " (u = %s)", u);
-    }
-    summary wall[MAX_CFG], shaded[MAX_CFG], cpu[MAX_CFG], faults[MAX_CFG], count[MAX_CFG][BENCH_COUNTS];
-    summary stage_wall[MAX_CFG][RENDERER_STATS_MAX], stage_gl[MAX_CFG][RENDERER_STATS_MAX];
-    summary stage_count[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
-    summary instances[MAX_CFG][MAX_FOV_RINGS];
-    double count_all[MAX_CFG][BENCH_COUNTS], stage_count_all[MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
-    for (int c = 0; c < ncfg && st == FS_OK; c++) {
-        wall[c] = summarise(cfg[c].wall, n);
-        shaded[c] = summarise(cfg[c].shaded, n);
-        cpu[c] = summarise(cfg[c].cpu, n);
-        faults[c] = summarise(cfg[c].faults, n);
-        for (int i = 0; i < cfg[c].pl.layout.count; i++)
-            instances[c][i] = summarise(&cfg[c].instances[(size_t)i * (size_t)n], n);
+/* Summarises every configuration's samples (sorting them), and the speedups. */
+static void bench_summarise(bench_run *b)
+{
+    bench_summaries *u = &b->sum;
+    int n = b->n;
+    for (int c = 0; c < b->ncfg; c++) {
+        bench_config *cf = &b->cfg[c];
+        u->wall[c] = summarise(cf->wall, n);
+        u->shaded[c] = summarise(cf->shaded, n);
+        u->cpu[c] = summarise(cf->cpu, n);
+        u->faults[c] = summarise(cf->faults, n);
+        for (int i = 0; i < cf->pl.layout.count; i++)
+            u->instances[c][i] = summarise(&cf->instances[(size_t)i * (size_t)n], n);
         for (int q = 0; q < BENCH_COUNTS; q++) {
-            count_all[c][q] = sum_known(cfg[c].count[q], n);
-            count[c][q] = summarise(cfg[c].count[q], n);
+            u->count_all[c][q] = sum_known(cf->count[q], n);
+            u->count[c][q] = summarise(cf->count[q], n);
         }
-        for (int p = 0; p < cfg[c].names.pass_count; p++) {
-            stage_wall[c][p] = summarise(&cfg[c].stage_wall[(size_t)p * (size_t)n], n);
-            stage_gl[c][p] = summarise(&cfg[c].stage_gl[(size_t)p * (size_t)n], n);
+        for (int p = 0; p < cf->names.pass_count; p++) {
+            u->stage_wall[c][p] = summarise(&cf->stage_wall[(size_t)p * (size_t)n], n);
+            u->stage_gl[c][p] = summarise(&cf->stage_gl[(size_t)p * (size_t)n], n);
             for (int q = 0; q < BENCH_COUNTS; q++) {
-                double *v = &cfg[c].stage_count[q][(size_t)p * (size_t)n];
-                stage_count_all[c][p][q] = sum_known(v, n);
-                stage_count[c][p][q] = summarise(v, n);
+                double *v = &cf->stage_count[q][(size_t)p * (size_t)n];
+                u->stage_count_all[c][p][q] = sum_known(v, n);
+                u->stage_count[c][p][q] = summarise(v, n);
             }
         }
     }
     /* Foveation's speedup: the first mode, full resolution vs foveated. */
-    int per_layout = ncfg / nlayouts;
-    bool has_fov = s.pl.rings && st == FS_OK;
-    double speedup = has_fov ? wall[0].median / wall[per_layout].median : 1.0;
-    double ideal = has_fov ? px / shaded[per_layout].median : 1.0;
-
+    u->has_fov = b->s.pl.rings;
+    u->speedup = u->has_fov ? u->wall[0].median / u->wall[b->per_layout].median : 1.0;
+    u->ideal = u->has_fov ? b->px / u->shaded[b->per_layout].median : 1.0;
     /* Each configuration's frame time relative to traditional in the same layout (seed 000
      * Table 1's comparison); 0 when traditional was not measured. */
-    double rel[MAX_CFG] = {0};
-    for (int c = 0; c < ncfg && st == FS_OK; c++)
-        for (int b = 0; b < ncfg; b++)
-            if (cfg[b].mode == ALPHA_MODE_TRADITIONAL && !cfg[b].msaa_only && cfg[b].layout == cfg[c].layout)
-                rel[c] = wall[c].median / wall[b].median;
-    char *report = malloc(BENCH_REPORT_CAP);
-    int o = 0;
-    if (!report)
-        st = FS_ERR_NOMEM;
-#define OUT(...) report_printf(report, &o, __VA_ARGS__)
-    if (st == FS_OK && d->bench.json) {
-        OUT("{\n  \"scene\": \"%s\",\n  \"width\": %d,\n  \"height\": %d,\n  \"alpha_mode\": \"%s\",\n", s.sc.path,
-            s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode));
-        OUT("  \"rings\": \"%s\",\n  \"gaze\": \"%s\",\n  \"renderer\": \"%s\",\n  \"machine\": \"%s, %ld cores\",\n",
-            rings, s.gaze.count ? s.gaze.path : "centre", gl_device_renderer(), cpu_name, sysconf(_SC_NPROCESSORS_ONLN));
-        OUT("  \"ring_lod\": \"%s\",\n", lod_text);
-        OUT("  \"pipeline_statistics\": %s,\n", gl_device_has_pipeline_stats() ? "true" : "false");
-        OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", n, d->bench.warmup, px);
-        for (int c = 0; c < ncfg; c++) {
-            char spec[256];
-            fov_layout_format(&cfg[c].pl.layout, spec, sizeof spec);
-            char u[160] = "off";
-            if (cfg[c].pl.ring_lod)
-                ring_lod_format_u(&cfg[c].pl.ring_lod_spec, &cfg[c].pl.layout, u, sizeof u);
-            OUT("    {\"name\": \"%s\", \"alpha_mode\": \"%s\", \"msaa_only\": %s, \"rings\": \"%s\", "
-                "\"ring_lod_u\": \"%s\", \"shaded_pixels\": %.0f, \"relative_to_traditional\": %.4f,\n",
-                cfg[c].name, alpha_mode_name(cfg[c].mode), cfg[c].msaa_only ? "true" : "false", spec, u,
-                shaded[c].median, rel[c]);
-            OUT("     \"frame_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
-                wall[c].median, wall[c].p10, wall[c].p90, wall[c].min, wall[c].max);
-            OUT("     \"cpu_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
-                cpu[c].median, cpu[c].p10, cpu[c].p90, cpu[c].min, cpu[c].max);
-            OUT("     \"minor_faults\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f},\n",
-                faults[c].median, faults[c].p10, faults[c].p90, faults[c].min, faults[c].max);
+    for (int c = 0; c < b->ncfg; c++)
+        for (int t = 0; t < b->ncfg; t++)
+            if (b->cfg[t].mode == ALPHA_MODE_TRADITIONAL && !b->cfg[t].msaa_only && b->cfg[t].layout == b->cfg[c].layout)
+                u->rel[c] = u->wall[c].median / u->wall[t].median;
+}
+
+#define OUT(...) report_printf(b->report, &b->o, __VA_ARGS__)
+
+/* --json: one configuration's object. */
+static void bench_json_config(bench_run *b, int c)
+{
+    const bench_config *cf = &b->cfg[c];
+    const bench_summaries *u = &b->sum;
+    char spec[256];
+    fov_layout_format(&cf->pl.layout, spec, sizeof spec);
+    char lu[160] = "off";
+    if (cf->pl.ring_lod)
+        ring_lod_format_u(&cf->pl.ring_lod_spec, &cf->pl.layout, lu, sizeof lu);
+    OUT("    {\"name\": \"%s\", \"alpha_mode\": \"%s\", \"msaa_only\": %s, \"rings\": \"%s\", "
+        "\"ring_lod_u\": \"%s\", \"shaded_pixels\": %.0f, \"relative_to_traditional\": %.4f,\n",
+        cf->name, alpha_mode_name(cf->mode), cf->msaa_only ? "true" : "false", spec, lu, u->shaded[c].median,
+        u->rel[c]);
+    OUT("     \"frame_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
+        u->wall[c].median, u->wall[c].p10, u->wall[c].p90, u->wall[c].min, u->wall[c].max);
+    OUT("     \"cpu_ms\": {\"median\": %.3f, \"p10\": %.3f, \"p90\": %.3f, \"min\": %.3f, \"max\": %.3f},\n",
+        u->cpu[c].median, u->cpu[c].p10, u->cpu[c].p90, u->cpu[c].min, u->cpu[c].max);
+    OUT("     \"minor_faults\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f},\n",
+        u->faults[c].median, u->faults[c].p10, u->faults[c].p90, u->faults[c].min, u->faults[c].max);
+    for (int q = 0; q < BENCH_COUNTS; q++)
+        OUT("     \"%s\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f, "
+            "\"all_frames\": %.0f},\n", k_count_keys[q], u->count[c][q].median, u->count[c][q].p10,
+            u->count[c][q].p90, u->count[c][q].min, u->count[c][q].max, u->count_all[c][q]);
+    OUT("     \"ring_instances_median\": [");
+    for (int i = 0; i < cf->pl.layout.count; i++)
+        OUT("%s%.0f", i ? ", " : "", u->instances[c][i].median);
+    OUT("],\n");
+    double frags = u->count[c][2].median;
+    OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags >= 0 ? frags / b->px : -1.0);
+    for (int p = 0; p < cf->names.pass_count; p++) {
+        OUT("%s\n       {\"name\": \"%s\", \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f", p ? "," : "",
+            cf->names.pass_names[p], u->stage_wall[c][p].median, u->stage_gl[c][p].median);
+        for (int q = 0; q < BENCH_COUNTS; q++)
+            OUT(",\n        \"%s_median\": %.0f, \"%s_all_frames\": %.0f", k_count_keys[q],
+                u->stage_count[c][p][q].median, k_count_keys[q], u->stage_count_all[c][p][q]);
+        OUT("}");
+    }
+    OUT("]}%s\n", c + 1 < b->ncfg ? "," : "");
+}
+
+/* --json: each mode's ring LOD configuration against its plain rings: time ratios of medians,
+ * count ratios of the totals over the same frames; -1 = unknown. */
+static void bench_json_ring_lod(bench_run *b)
+{
+    const bench_summaries *u = &b->sum;
+    int per_layout = b->per_layout;
+    OUT("  \"ring_lod_vs_rings\": [");
+    for (int c = 2 * per_layout; c < b->ncfg; c++) {
+        int w = c - per_layout;
+        const bench_config *cf = &b->cfg[c];
+        OUT("%s\n    {\"name\": \"%s\", \"without\": \"%s\", \"frame_ms_ratio\": %.4f, \"cpu_ms_ratio\": %.4f",
+            c > 2 * per_layout ? "," : "", cf->name, b->cfg[w].name, ratio_known(u->wall[c].median, u->wall[w].median),
+            ratio_known(u->cpu[c].median, u->cpu[w].median));
+        for (int q = 0; q < BENCH_COUNTS; q++)
+            OUT(", \"%s_ratio\": %.4f", k_count_keys[q], ratio_known(u->count_all[c][q], u->count_all[w][q]));
+        OUT(",\n     \"stages\": [");
+        for (int p = 0; p < cf->names.pass_count; p++) {
+            OUT("%s\n       {\"name\": \"%s\", \"wall_ms_ratio\": %.4f", p ? "," : "", cf->names.pass_names[p],
+                ratio_known(u->stage_wall[c][p].median, u->stage_wall[w][p].median));
             for (int q = 0; q < BENCH_COUNTS; q++)
-                OUT("     \"%s\": {\"median\": %.0f, \"p10\": %.0f, \"p90\": %.0f, \"min\": %.0f, \"max\": %.0f, "
-                    "\"all_frames\": %.0f},\n", k_count_keys[q], count[c][q].median, count[c][q].p10, count[c][q].p90,
-                    count[c][q].min, count[c][q].max, count_all[c][q]);
-            OUT("     \"ring_instances_median\": [");
-            for (int i = 0; i < cfg[c].pl.layout.count; i++)
-                OUT("%s%.0f", i ? ", " : "", instances[c][i].median);
-            OUT("],\n");
-            double frags = count[c][2].median;
-            OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags >= 0 ? frags / px : -1.0);
-            for (int p = 0; p < cfg[c].names.pass_count; p++) {
-                OUT("%s\n       {\"name\": \"%s\", \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f", p ? "," : "",
-                    cfg[c].names.pass_names[p], stage_wall[c][p].median, stage_gl[c][p].median);
-                for (int q = 0; q < BENCH_COUNTS; q++)
-                    OUT(",\n        \"%s_median\": %.0f, \"%s_all_frames\": %.0f", k_count_keys[q],
-                        stage_count[c][p][q].median, k_count_keys[q], stage_count_all[c][p][q]);
-                OUT("}");
-            }
-            OUT("]}%s\n", c + 1 < ncfg ? "," : "");
+                OUT(", \"%s_ratio\": %.4f", k_count_keys[q],
+                    ratio_known(u->stage_count_all[c][p][q], u->stage_count_all[w][p][q]));
+            OUT("}");
         }
-        OUT("  ],\n");
-        if (lod) {
-            /* Each mode's ring LOD configuration against its plain rings: time ratios of medians,
-             * count ratios of the totals over the same frames; -1 = unknown. */
-            OUT("  \"ring_lod_vs_rings\": [");
-            for (int c = 2 * per_layout; c < ncfg; c++) {
-                int b = c - per_layout;
-                OUT("%s\n    {\"name\": \"%s\", \"without\": \"%s\", \"frame_ms_ratio\": %.4f, \"cpu_ms_ratio\": %.4f",
-                    c > 2 * per_layout ? "," : "", cfg[c].name, cfg[b].name, ratio_known(wall[c].median, wall[b].median),
-                    ratio_known(cpu[c].median, cpu[b].median));
-                for (int q = 0; q < BENCH_COUNTS; q++)
-                    OUT(", \"%s_ratio\": %.4f", k_count_keys[q], ratio_known(count_all[c][q], count_all[b][q]));
-                OUT(",\n     \"stages\": [");
-                for (int p = 0; p < cfg[c].names.pass_count; p++) {
-                    OUT("%s\n       {\"name\": \"%s\", \"wall_ms_ratio\": %.4f", p ? "," : "", cfg[c].names.pass_names[p],
-                        ratio_known(stage_wall[c][p].median, stage_wall[b][p].median));
-                    for (int q = 0; q < BENCH_COUNTS; q++)
-                        OUT(", \"%s_ratio\": %.4f", k_count_keys[q],
-                            ratio_known(stage_count_all[c][p][q], stage_count_all[b][p][q]));
-                    OUT("}");
-                }
-                OUT("]}");
-            }
-            OUT("\n  ],\n");
+        OUT("]}");
+    }
+    OUT("\n  ],\n");
+}
+
+/* The --json report. */
+static void bench_report_json(bench_run *b, const char *cpu_name)
+{
+    const session *s = &b->s;
+    const bench_summaries *u = &b->sum;
+    OUT("{\n  \"scene\": \"%s\",\n  \"width\": %d,\n  \"height\": %d,\n  \"alpha_mode\": \"%s\",\n", s->sc.path,
+        s->pl.width, s->pl.height, alpha_mode_name(s->pl.global_mode));
+    OUT("  \"rings\": \"%s\",\n  \"gaze\": \"%s\",\n  \"renderer\": \"%s\",\n  \"machine\": \"%s, %ld cores\",\n",
+        b->rings, s->gaze.count ? s->gaze.path : "centre", gl_device_renderer(), cpu_name,
+        sysconf(_SC_NPROCESSORS_ONLN));
+    OUT("  \"ring_lod\": \"%s\",\n", b->lod_text);
+    OUT("  \"pipeline_statistics\": %s,\n", gl_device_has_pipeline_stats() ? "true" : "false");
+    OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", b->n,
+        b->d->bench.warmup, b->px);
+    for (int c = 0; c < b->ncfg; c++)
+        bench_json_config(b, c);
+    OUT("  ],\n");
+    if (b->lod)
+        bench_json_ring_lod(b);
+    OUT("  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", u->speedup,
+        u->ideal, u->speedup / u->ideal);
+}
+
+/* The text report's first table: every measure of configuration c, one row each. */
+static void bench_text_measures(bench_run *b, int c)
+{
+    const bench_config *cf = &b->cfg[c];
+    const bench_summaries *u = &b->sum;
+    const char *cn = cf->name;
+    bench_row(b->report, &b->o, cn, "frame, wall clock incl. finish (ms)", u->wall[c], 1.0, 2);
+    bench_row(b->report, &b->o, cn, "frame, process CPU time, all threads (ms)", u->cpu[c], 1.0, 2);
+    bench_row(b->report, &b->o, cn, "frame, minor page faults", u->faults[c], 1.0, 0);
+    for (int i = 0; i < cf->pl.layout.count; i++) {
+        char m[96];
+        snprintf(m, sizeof m, "ring %d, instances drawn", i);
+        bench_row(b->report, &b->o, cn, cf->pl.layout.count > 1 ? m : "instances drawn", u->instances[c][i], 1.0, 0);
+    }
+    for (int p = 0; p < cf->names.pass_count; p++) {
+        char m[96];
+        snprintf(m, sizeof m, "%s, wall clock with glFinish (ms)", cf->names.pass_names[p]);
+        bench_row(b->report, &b->o, cn, m, u->stage_wall[c][p], 1.0, 2);
+    }
+    for (int p = 0; p < cf->names.pass_count; p++) {
+        char m[96];
+        snprintf(m, sizeof m, "%s, GL timer query (ms)", cf->names.pass_names[p]);
+        bench_row(b->report, &b->o, cn, m, u->stage_gl[c][p], 1.0, 2);
+    }
+    bench_row(b->report, &b->o, cn, "shaded pixels / display pixels", u->shaded[c], b->px, 3);
+    for (int q = 0; q < BENCH_COUNTS; q++) {
+        char m[96];
+        snprintf(m, sizeof m, "frame, %s", k_count_names[q]);
+        bench_row(b->report, &b->o, cn, m, u->count[c][q], 1.0, 0);
+    }
+    bench_row(b->report, &b->o, cn, "fragment shader invocations / display pixel", u->count[c][2], b->px, 2);
+}
+
+/* The text report's ring LOD table: configuration c (with ring LOD) against w, the same rings
+ * without it, per stage and for the frame. */
+static void bench_text_ring_lod(bench_run *b, int c, int w)
+{
+    const bench_config *cf = &b->cfg[c];
+    const bench_summaries *u = &b->sum;
+    for (int p = 0; p <= cf->names.pass_count; p++) {
+        bool frame = p == cf->names.pass_count;
+        summary tb = frame ? u->wall[w] : u->stage_wall[w][p], tc = frame ? u->wall[c] : u->stage_wall[c][p];
+        OUT("| %s | %s | %.2f | %.2f | %.2fx |", cf->name, frame ? "**frame**" : cf->names.pass_names[p], tb.median,
+            tc.median, ratio_known(tc.median, tb.median));
+        for (int q = 2; q > 0; q--) { /* fragments, then primitives */
+            double vb = frame ? u->count_all[w][q] : u->stage_count_all[w][p][q];
+            double vc = frame ? u->count_all[c][q] : u->stage_count_all[c][p][q];
+            out_count(b->report, &b->o, vb < 0 ? -1.0 : vb / b->n);
+            out_count(b->report, &b->o, vc < 0 ? -1.0 : vc / b->n);
+            double r = ratio_known(vc, vb);
+            if (r < 0)
+                OUT(" n/a |");
+            else
+                OUT(" %.3fx |", r);
         }
-        OUT("  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", speedup,
-            ideal, speedup / ideal);
-    } else if (st == FS_OK) {
-        OUT("### %s, %dx%d, alpha %s, rings %s%s%s\n\n", s.sc.path, s.pl.width, s.pl.height,
-            alpha_mode_name(s.pl.global_mode), rings, lod ? ", ring LOD " : "", lod ? lod_text : "");
-        OUT("- machine: %s, %s %s (%ld cores online)\n", cpu_name, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
-        OUT("- renderer: %s (OpenGL %s, %s)%s\n", gl_device_renderer(), gl_device_version(), gl_device_description(),
-            gl_device_has_pipeline_stats() ? "" : "; no GL_ARB_pipeline_statistics_query: work counts n/a");
-        OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; gaze: %s\n\n", n, span, d->bench.warmup,
-            s.gaze.count ? s.gaze.path : "fixation at the centre");
-        OUT("| configuration | measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|---|\n");
-        for (int c = 0; c < ncfg; c++) {
-            const char *cn = cfg[c].name;
-            bench_row(report, &o, cn, "frame, wall clock incl. finish (ms)", wall[c], 1.0, 2);
-            bench_row(report, &o, cn, "frame, process CPU time, all threads (ms)", cpu[c], 1.0, 2);
-            bench_row(report, &o, cn, "frame, minor page faults", faults[c], 1.0, 0);
-            for (int i = 0; i < cfg[c].pl.layout.count; i++) {
-                char m[96];
-                snprintf(m, sizeof m, "ring %d, instances drawn", i);
-                bench_row(report, &o, cn, cfg[c].pl.layout.count > 1 ? m : "instances drawn", instances[c][i], 1.0, 0);
-            }
-            for (int p = 0; p < cfg[c].names.pass_count; p++) {
-                char m[96];
-                snprintf(m, sizeof m, "%s, wall clock with glFinish (ms)", cfg[c].names.pass_names[p]);
-                bench_row(report, &o, cn, m, stage_wall[c][p], 1.0, 2);
-            }
-            for (int p = 0; p < cfg[c].names.pass_count; p++) {
-                char m[96];
-                snprintf(m, sizeof m, "%s, GL timer query (ms)", cfg[c].names.pass_names[p]);
-                bench_row(report, &o, cn, m, stage_gl[c][p], 1.0, 2);
-            }
-            bench_row(report, &o, cn, "shaded pixels / display pixels", shaded[c], px, 3);
-            for (int q = 0; q < BENCH_COUNTS; q++) {
-                char m[96];
-                snprintf(m, sizeof m, "frame, %s", k_count_names[q]);
-                bench_row(report, &o, cn, m, count[c][q], 1.0, 0);
-            }
-            bench_row(report, &o, cn, "fragment shader invocations / display pixel", count[c][2], px, 2);
-        }
-        OUT("\nWork per stage (medians over the frames; the frame row is the median of the per-frame totals):\n\n"
-            "| configuration | stage | vertex shader invocations | primitives submitted | fragment shader "
-            "invocations |\n|---|---|---|---|---|\n");
-        for (int c = 0; c < ncfg; c++) {
-            for (int p = 0; p < cfg[c].names.pass_count; p++) {
-                OUT("| %s | %s |", cfg[c].name, cfg[c].names.pass_names[p]);
-                for (int q = 0; q < BENCH_COUNTS; q++)
-                    out_count(report, &o, stage_count[c][p][q].median);
-                OUT("\n");
-            }
-            OUT("| %s | **frame** |", cfg[c].name);
+        int ring = frame ? -1 : stage_ring(cf->names.pass_names[p]);
+        if (ring >= 0)
+            OUT(" %.0f | %.0f |\n", u->instances[w][ring].median, u->instances[c][ring].median);
+        else
+            OUT(" | |\n");
+    }
+    OUT("| %s | **frame, process CPU time** | %.2f | %.2f | %.2fx | | | | | | | | |\n", cf->name, u->cpu[w].median,
+        u->cpu[c].median, ratio_known(u->cpu[c].median, u->cpu[w].median));
+}
+
+/* The Markdown report (without --json). */
+static void bench_report_text(bench_run *b, const char *cpu_name)
+{
+    const session *s = &b->s;
+    const bench_summaries *u = &b->sum;
+    struct utsname un;
+    uname(&un);
+    OUT("### %s, %dx%d, alpha %s, rings %s%s%s\n\n", s->sc.path, s->pl.width, s->pl.height,
+        alpha_mode_name(s->pl.global_mode), b->rings, b->lod ? ", ring LOD " : "", b->lod ? b->lod_text : "");
+    OUT("- machine: %s, %s %s (%ld cores online)\n", cpu_name, un.sysname, un.machine, sysconf(_SC_NPROCESSORS_ONLN));
+    OUT("- renderer: %s (OpenGL %s, %s)%s\n", gl_device_renderer(), gl_device_version(), gl_device_description(),
+        gl_device_has_pipeline_stats() ? "" : "; no GL_ARB_pipeline_statistics_query: work counts n/a");
+    OUT("- %d frames spread over the %.2f s camera path after %d warm-up frames; gaze: %s\n\n", b->n, b->span,
+        b->d->bench.warmup, s->gaze.count ? s->gaze.path : "fixation at the centre");
+    OUT("| configuration | measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|---|\n");
+    for (int c = 0; c < b->ncfg; c++)
+        bench_text_measures(b, c);
+    OUT("\nWork per stage (medians over the frames; the frame row is the median of the per-frame totals):\n\n"
+        "| configuration | stage | vertex shader invocations | primitives submitted | fragment shader "
+        "invocations |\n|---|---|---|---|---|\n");
+    for (int c = 0; c < b->ncfg; c++) {
+        for (int p = 0; p < b->cfg[c].names.pass_count; p++) {
+            OUT("| %s | %s |", b->cfg[c].name, b->cfg[c].names.pass_names[p]);
             for (int q = 0; q < BENCH_COUNTS; q++)
-                out_count(report, &o, count[c][q].median);
+                out_count(b->report, &b->o, u->stage_count[c][p][q].median);
             OUT("\n");
         }
-        if (ncfg > 1) {
-            OUT("\n| configuration | frame (ms, median) | relative to traditional |\n|---|---|---|\n");
-            for (int c = 0; c < ncfg; c++)
-                OUT("| %s | %.2f | %.2fx |\n", cfg[c].name, wall[c].median, rel[c]);
-        }
-        if (lod) {
-            OUT("\nRing LOD against the same rings without it (%s): times are medians, counts are means per frame "
-                "over the same frames; ratio = with / without:\n\n| configuration | stage | ms without | ms with | "
-                "ratio | fragment shader invocations without | with | ratio | primitives without | with | ratio | "
-                "instances without | with |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n", lod_text);
-            for (int c = 2 * per_layout; c < ncfg; c++) {
-                int b = c - per_layout;
-                for (int p = 0; p <= cfg[c].names.pass_count; p++) {
-                    bool frame = p == cfg[c].names.pass_count;
-                    summary tb = frame ? wall[b] : stage_wall[b][p], tc = frame ? wall[c] : stage_wall[c][p];
-                    OUT("| %s | %s | %.2f | %.2f | %.2fx |", cfg[c].name, frame ? "**frame**" : cfg[c].names.pass_names[p],
-                        tb.median, tc.median, ratio_known(tc.median, tb.median));
-                    for (int q = 2; q > 0; q--) { /* fragments, then primitives */
-                        double vb = frame ? count_all[b][q] : stage_count_all[b][p][q];
-                        double vc = frame ? count_all[c][q] : stage_count_all[c][p][q];
-                        out_count(report, &o, vb < 0 ? -1.0 : vb / n);
-                        out_count(report, &o, vc < 0 ? -1.0 : vc / n);
-                        double r = ratio_known(vc, vb);
-                        if (r < 0)
-                            OUT(" n/a |");
-                        else
-                            OUT(" %.3fx |", r);
-                    }
-                    int ring = frame ? -1 : stage_ring(cfg[c].names.pass_names[p]);
-                    if (ring >= 0)
-                        OUT(" %.0f | %.0f |\n", instances[b][ring].median, instances[c][ring].median);
-                    else
-                        OUT(" | |\n");
-                }
-                OUT("| %s | **frame, process CPU time** | %.2f | %.2f | %.2fx | | | | | | | | |\n", cfg[c].name,
-                    cpu[b].median, cpu[c].median, ratio_known(cpu[c].median, cpu[b].median));
-            }
-        }
-        if (has_fov)
-            OUT("\nfoveated vs full resolution (%s): speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
-                "shaded pixels), achieved %.0f %% of ideal\n", alpha_mode_name(cfg[0].mode), speedup, ideal,
-                100.0 * speedup / ideal);
+        OUT("| %s | **frame** |", b->cfg[c].name);
+        for (int q = 0; q < BENCH_COUNTS; q++)
+            out_count(b->report, &b->o, u->count[c][q].median);
+        OUT("\n");
     }
+    if (b->ncfg > 1) {
+        OUT("\n| configuration | frame (ms, median) | relative to traditional |\n|---|---|---|\n");
+        for (int c = 0; c < b->ncfg; c++)
+            OUT("| %s | %.2f | %.2fx |\n", b->cfg[c].name, u->wall[c].median, u->rel[c]);
+    }
+    if (b->lod) {
+        OUT("\nRing LOD against the same rings without it (%s): times are medians, counts are means per frame "
+            "over the same frames; ratio = with / without:\n\n| configuration | stage | ms without | ms with | "
+            "ratio | fragment shader invocations without | with | ratio | primitives without | with | ratio | "
+            "instances without | with |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n", b->lod_text);
+        for (int c = 2 * b->per_layout; c < b->ncfg; c++)
+            bench_text_ring_lod(b, c, c - b->per_layout);
+    }
+    if (u->has_fov)
+        OUT("\nfoveated vs full resolution (%s): speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
+            "shaded pixels), achieved %.0f %% of ideal\n", alpha_mode_name(b->cfg[0].mode), u->speedup, u->ideal,
+            100.0 * u->speedup / u->ideal);
+}
+
 #undef OUT
-    if (st == FS_OK && o >= BENCH_REPORT_CAP) {
-        log_error("bench: the report outgrew its %d-byte buffer", BENCH_REPORT_CAP);
-        st = FS_ERR_INTERNAL;
+
+/* Writes the report (JSON or Markdown) into b->report and prints it; --markdown appends it to
+ * that file too. */
+static fs_status bench_report(bench_run *b)
+{
+    const run_desc *d = b->d;
+    char cpu_name[256];
+    session_cpu_name(cpu_name, sizeof cpu_name);
+    b->px = (double)b->s.pl.width * b->s.pl.height;
+    fov_layout_format(&b->s.pl.layout, b->rings, sizeof b->rings);
+    snprintf(b->lod_text, sizeof b->lod_text, "off");
+    if (b->lod) { /* "simplify (u = 1,1,0.25,0.0625)" */
+        char u[160];
+        ring_lod_format(&b->s.pl.ring_lod_spec, b->lod_text, sizeof b->lod_text);
+        ring_lod_format_u(&b->s.pl.ring_lod_spec, &b->s.pl.layout, u, sizeof u);
+        snprintf(b->lod_text + strlen(b->lod_text), sizeof b->lod_text - strlen(b->lod_text), " (u = %s)", u);
     }
-    if (st == FS_OK) {
-        fputs(report, stdout);
-        if (d->bench.markdown) {
-            FILE *f = fopen(d->bench.markdown, "a");
-            if (!f || fprintf(f, "\n%s", report) < 0 || fclose(f) != 0) {
-                log_error("%s: cannot append the bench report: %s", d->bench.markdown, strerror(errno));
-                st = FS_ERR_IO;
-            } else if (!d->bench.json) {
-                printf("appended to %s\n", d->bench.markdown);
-            }
+    bench_summarise(b);
+    b->report = malloc(BENCH_REPORT_CAP);
+    b->o = 0;
+    if (!b->report)
+        return FS_ERR_NOMEM;
+    if (d->bench.json)
+        bench_report_json(b, cpu_name);
+    else
+        bench_report_text(b, cpu_name);
+    if (b->o >= BENCH_REPORT_CAP) {
+        log_error("bench: the report outgrew its %d-byte buffer", BENCH_REPORT_CAP);
+        return FS_ERR_INTERNAL;
+    }
+    fputs(b->report, stdout);
+    if (d->bench.markdown) {
+        FILE *f = fopen(d->bench.markdown, "a");
+        if (!f || fprintf(f, "\n%s", b->report) < 0 || fclose(f) != 0) {
+            log_error("%s: cannot append the bench report: %s", d->bench.markdown, strerror(errno));
+            return FS_ERR_IO;
+        } else if (!d->bench.json) {
+            printf("appended to %s\n", d->bench.markdown);
         }
     }
-    free(report);
-    for (int c = 0; c < ncfg; c++) {
-        bench_free(&cfg[c]);
-        renderer_destroy(cfg[c].r);
+    return FS_OK;
+}
+
+fs_status cmd_bench(const run_desc *d)
+{
+    bench_run *b = calloc(1, sizeof *b);
+    if (!b)
+        return FS_ERR_NOMEM;
+    b->d = d;
+    fs_status st = session_begin(d, &b->s, false); /* every configuration gets its own renderer */
+    if (st != FS_OK) {
+        free(b);
+        return st;
     }
-    session_end(&s);
+    b->n = d->frames > 0 ? d->frames : 30;
+    bench_list_configs(b);
+    st = bench_build_configs(b);
+    st = bench_measure(b, st);
+    if (st == FS_OK)
+        st = bench_report(b);
+    free(b->report);
+    for (int c = 0; c < b->ncfg; c++) {
+        bench_free(&b->cfg[c]);
+        renderer_destroy(b->cfg[c].r);
+    }
+    session_end(&b->s);
+    free(b);
     return st;
 }

@@ -206,399 +206,560 @@ static fs_status acc_ring_lod(const run_desc *d, const session *s, const fov_lay
     return st;
 }
 
-fs_status cmd_bench_accuracy(const run_desc *d)
+/* >>phases: cmd_bench_accuracy runs them in order, sharing one acc_run. */
+
+enum { ACC_REPORT_CAP = 1 << 16 }; /* bytes of accuracy.csv and of accuracy.md */
+
+typedef struct acc_run {
+    const run_desc *d;
+    run_desc dd; /* the run's, with the matrix's defaults (size, supersampling, TAA) */
+    session s;
+    int n, warm; /* measured frames, warm-up frames before them */
+    alpha_mode modes[ALPHA_MODE_COUNT];
+    int nmodes;
+    fov_layout layouts[ACC_LAYOUTS];
+    fov_layout ml; /* the measurement rings (the default layout) */
+    bool use_layout[ACC_LAYOUTS];
+    ring_lod_spec lod; /* default+lod's */
+    char lod_u[160];
+    acc_config *cfg;
+    int nc;
+    ref_progress rp;
+    reference *rf;
+    const char *out; /* the output folder */
+    progress pr;
+    /* >>measurement: what the frames share */
+    exr_image ref, prev_ref;
+    /* The band-limited reference of the frame for each ring layout (metrics_band_limit): R, G, B,
+     * coverage planes; made once per frame and layout, shared by that layout's configurations. */
+    size_t band_n;
+    float *band_buf;
+    metrics_view bands[3];
+    float *flip_map; /* each configuration's FLIP map */
+    temporal te;
+    double prev_err; /* the previous measured frame's reference error estimate */
+    bool have_prev_ref;
+    /* >>report */
+    char *csv, *md;
+    int oc, om; /* their lengths (as asked for: >= ACC_REPORT_CAP means too long) */
+    double *tx, *ey, *fx; /* per configuration: median time, the --error error, fragment work */
+    bool *front, *front_fs; /* on the Pareto front of (time, error), of (fragments, error) */
+    int *row_at;            /* where configuration c's row starts in csv (nc + 1 entries) */
+    int base;               /* the configuration the speedups are relative to */
+    bool have_fs;           /* fragment counts known for every configuration */
+} acc_run;
+
+/* One frame of the matrix, as every configuration sees it. */
+typedef struct acc_frame {
+    int i;
+    bool measured; /* past the warm-up */
+    frame_record base;
+    display_desc disp;
+    reference_info ri;
+    ring_mask mask;
+    bool band_done[3]; /* per k_band_slot */
+    metrics_view vr, vpr; /* the reference, the previous frame's */
+} acc_frame;
+
+/* The run's options with the matrix's defaults, and its session. */
+static fs_status acc_begin(acc_run *a)
 {
-    if (!gnuplot_available()) {
-        log_error("gnuplot: not found; bench --accuracy plots with it (Debian package gnuplot-nox)");
-        return FS_ERR_IO;
-    }
-    run_desc dd = *d;
-    if (!dd.width) { /* resolved against the scene below */
+    const run_desc *d = a->d;
+    a->dd = *d;
+    if (!a->dd.width) { /* resolved against the scene below */
         scene probe;
         fs_status st = session_load_scene(d, &probe);
         if (st != FS_OK)
             return st;
-        dd.width = probe.display.width / ACC_DEFAULT_DIV;
-        dd.height = probe.display.height / ACC_DEFAULT_DIV;
+        a->dd.width = probe.display.width / ACC_DEFAULT_DIV;
+        a->dd.height = probe.display.height / ACC_DEFAULT_DIV;
         scene_free(&probe);
     }
-    if (!dd.ref.supersample)
-        dd.ref.supersample = DEMO_SUPERSAMPLE;
-    if (!dd.ref.samples)
-        dd.ref.samples = DEMO_SAMPLES;
-    if (dd.taa.mode == TAA_SWITCH_SCENE)
-        dd.taa.mode = TAA_SWITCH_ON; /* the session's plan carries TAA controls; each config sets its own */
-    int n = d->frames > 0 ? d->frames : ACC_DEFAULT_FRAMES;
-    int warm = d->bench.warmup; /* TAA history and the JIT settle before measuring */
-    dd.frames = n + warm;
-    session s;
-    fs_status st = session_begin(&dd, &s, false);
-    if (st != FS_OK)
-        return st;
-    alpha_mode modes[ALPHA_MODE_COUNT];
-    int nmodes = 0;
+    if (!a->dd.ref.supersample)
+        a->dd.ref.supersample = DEMO_SUPERSAMPLE;
+    if (!a->dd.ref.samples)
+        a->dd.ref.samples = DEMO_SAMPLES;
+    if (a->dd.taa.mode == TAA_SWITCH_SCENE)
+        a->dd.taa.mode = TAA_SWITCH_ON; /* the session's plan carries TAA controls; each config sets its own */
+    a->n = d->frames > 0 ? d->frames : ACC_DEFAULT_FRAMES;
+    a->warm = d->bench.warmup; /* TAA history and the JIT settle before measuring */
+    a->dd.frames = a->n + a->warm;
+    return session_begin(&a->dd, &a->s, false);
+}
+
+/* The matrix's rows: alpha modes (--modes, else all), ring layouts (default+lod only with ring LOD
+ * that changes something). */
+static fs_status acc_choose_layouts(acc_run *a)
+{
+    const run_desc *d = a->d;
     for (int m = 0; m < d->bench_mode_count; m++)
-        modes[nmodes++] = d->bench_modes[m];
-    if (nmodes == 0)
+        a->modes[a->nmodes++] = d->bench_modes[m];
+    if (a->nmodes == 0)
         for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++)
-            modes[nmodes++] = (alpha_mode)m;
+            a->modes[a->nmodes++] = (alpha_mode)m;
     /* The default rings are the run's own (auto unless --rings/the scene say otherwise); when the
      * display is too small for them to save pixels, the acuity model's anyway: a matrix whose
      * "default" column equals "off" would measure nothing. */
-    fov_layout layouts[ACC_LAYOUTS] = {fov_layout_off(), s.pl.layout, s.pl.layout, aggressive_layout(&s.pl)};
-    if (!s.pl.rings)
-        layouts[ACC_DEFAULT] = layouts[ACC_DEFAULT_LOD] = measure_layout(&s.pl);
-    fov_layout ml = layouts[ACC_DEFAULT];
+    const plan *pl = &a->s.pl;
+    fov_layout *layouts = a->layouts;
+    layouts[ACC_OFF] = fov_layout_off();
+    layouts[ACC_DEFAULT] = layouts[ACC_DEFAULT_LOD] = pl->layout;
+    layouts[ACC_AGGRESSIVE] = aggressive_layout(pl);
+    if (!pl->rings)
+        layouts[ACC_DEFAULT] = layouts[ACC_DEFAULT_LOD] = measure_layout(pl);
+    a->ml = layouts[ACC_DEFAULT];
     /* Ring LOD (--ring-lod or the scene's): measured as its own layout, default+lod; every other
      * configuration is drawn without it. */
-    bool use_layout[ACC_LAYOUTS] = {true, true, false, true};
-    ring_lod_spec lod = {0};
-    char lod_u[160] = "";
-    if (st == FS_OK)
-        st = acc_ring_lod(&dd, &s, &layouts[ACC_DEFAULT_LOD], &lod, &use_layout[ACC_DEFAULT_LOD]);
-    if (use_layout[ACC_DEFAULT_LOD])
-        ring_lod_format_u(&lod, &layouts[ACC_DEFAULT_LOD], lod_u, sizeof lod_u);
-    acc_config *cfg = calloc(ACC_MAX_CONFIGS, sizeof *cfg);
-    int nc = 0;
-    if (!cfg)
+    a->use_layout[ACC_OFF] = a->use_layout[ACC_DEFAULT] = a->use_layout[ACC_AGGRESSIVE] = true;
+    fs_status st = acc_ring_lod(&a->dd, &a->s, &layouts[ACC_DEFAULT_LOD], &a->lod, &a->use_layout[ACC_DEFAULT_LOD]);
+    if (a->use_layout[ACC_DEFAULT_LOD])
+        ring_lod_format_u(&a->lod, &layouts[ACC_DEFAULT_LOD], a->lod_u, sizeof a->lod_u);
+    return st;
+}
+
+/* Each configuration's plan, renderer (with timers: the pipeline statistics queries come with
+ * them) and per-frame arrays. */
+static fs_status acc_build_configs(acc_run *a)
+{
+    const run_desc *d = a->d;
+    int n = a->n;
+    fs_status st = FS_OK;
+    a->cfg = calloc(ACC_MAX_CONFIGS, sizeof *a->cfg);
+    if (!a->cfg)
         st = FS_ERR_NOMEM;
-    for (int m = 0; m < nmodes && st == FS_OK; m++)
+    for (int m = 0; m < a->nmodes && st == FS_OK; m++)
         for (int l = 0; l < ACC_LAYOUTS && st == FS_OK; l++)
-            for (int t = 0; t < 2 && st == FS_OK && use_layout[l]; t++) {
-                acc_config *c = &cfg[nc++];
-                c->run.mode = modes[m];
+            for (int t = 0; t < 2 && st == FS_OK && a->use_layout[l]; t++) {
+                acc_config *c = &a->cfg[a->nc++];
+                c->run.mode = a->modes[m];
                 c->layout = l;
                 c->taa = t == 1;
-                plan_options po = {.alpha_mode = modes[m], .width = s.pl.width, .height = s.pl.height,
-                                   .frames = n + warm, .layout = layouts[l], .alpha = s.pl.alpha, .taa = c->taa,
-                                   .taa_controls = s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
-                                   .composite_per_pixel = d->composite_per_pixel,
-                                   .ring_lod = l == ACC_DEFAULT_LOD ? lod : (ring_lod_spec){0}};
-                st = plan_build(&s.sc, &po, &c->run.pl);
-                /* timers: the pipeline statistics queries come with them */
+                plan_options po = {.alpha_mode = a->modes[m], .width = a->s.pl.width, .height = a->s.pl.height,
+                                   .frames = n + a->warm, .layout = a->layouts[l], .alpha = a->s.pl.alpha,
+                                   .taa = c->taa, .taa_controls = a->s.pl.taa_controls,
+                                   .no_ring_cull = d->no_ring_cull, .composite_per_pixel = d->composite_per_pixel,
+                                   .ring_lod = l == ACC_DEFAULT_LOD ? a->lod : (ring_lod_spec){0}};
+                st = plan_build(&a->s.sc, &po, &c->run.pl);
                 if (st == FS_OK)
-                    c->run.r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &c->run.pl, .timers = true},
-                                               &st);
+                    c->run.r = renderer_create(
+                        &(renderer_desc){.scene = &a->s.sc, .plan = &c->run.pl, .timers = true}, &st);
                 if (st == FS_OK && !(c->run.frame_ms = calloc((size_t)n, sizeof(double))))
                     st = FS_ERR_NOMEM;
                 for (int q = 0; q < ACC_COUNTS && st == FS_OK; q++)
                     if (!(c->counts[q] = calloc((size_t)n, sizeof(double))))
                         st = FS_ERR_NOMEM;
             }
-    ref_progress rp = {0};
-    reference *rf = st == FS_OK ? session_reference(&dd, &s, &rp, &st) : NULL;
-    const char *out = d->out_dir ? d->out_dir : "out/bench";
+    return st;
+}
+
+/* The reference, the output folder, the progress line and the measurement's buffers. Given the
+ * setup's status st: with st not FS_OK, only the progress line is begun (and SIGINT caught). */
+static fs_status acc_begin_measuring(acc_run *a, fs_status st)
+{
+    const run_desc *d = a->d;
+    a->rf = st == FS_OK ? session_reference(&a->dd, &a->s, &a->rp, &st) : NULL;
+    a->out = d->out_dir ? d->out_dir : "out/bench";
     if (st == FS_OK)
-        st = file_make_dirs(out);
+        st = file_make_dirs(a->out);
     if (st == FS_OK)
-        out_dir_remove_stale_temps(out);
+        out_dir_remove_stale_temps(a->out);
     session_catch_sigint();
-    progress pr = progress_begin("accuracy frame", n + warm, d->quiet);
-    rp.pr.enabled = false; /* one progress line: frames */
-    exr_image ref = {0}, prev_ref = {0};
-    /* The band-limited reference of the frame for each ring layout (metrics_band_limit): R, G, B,
-     * coverage planes; made once per frame and layout, shared by that layout's configurations. */
-    size_t band_n = (size_t)s.pl.width * (size_t)s.pl.height;
-    float *band_buf = st == FS_OK ? malloc(sizeof(float) * 12 * band_n) : NULL;
-    if (st == FS_OK && !band_buf)
+    a->pr = progress_begin("accuracy frame", a->n + a->warm, d->quiet);
+    a->rp.pr.enabled = false; /* one progress line: frames */
+    a->band_n = (size_t)a->s.pl.width * (size_t)a->s.pl.height;
+    a->band_buf = st == FS_OK ? malloc(sizeof(float) * 12 * a->band_n) : NULL;
+    if (st == FS_OK && !a->band_buf)
         st = FS_ERR_NOMEM;
-    metrics_view bands[3] = {{0}};
-    float *flip_map = st == FS_OK ? malloc(sizeof(float) * band_n) : NULL; /* each configuration's FLIP map */
-    if (st == FS_OK && !flip_map)
+    a->flip_map = st == FS_OK ? malloc(sizeof(float) * a->band_n) : NULL;
+    if (st == FS_OK && !a->flip_map)
         st = FS_ERR_NOMEM;
-    temporal te = {0};
-    double prev_err = 0.0; /* the previous measured frame's reference error estimate */
     if (st == FS_OK)
-        st = temporal_begin(&te, &s);
-    bool have_prev_ref = false;
-    for (int i = 0; i < n + warm && st == FS_OK; i++) {
+        st = temporal_begin(&a->te, &a->s);
+    return st;
+}
+
+/* Configuration c's draw of frame f: timed (wall clock, process CPU time, page faults, pipeline
+ * statistics) and, once measured, read back and measured against the reference. */
+static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
+{
+    acc_config *cf = &a->cfg[c];
+    mode_run *mr = &cf->run;
+    int i = f->i, warm = a->warm;
+    frame_record fr = f->base;
+    frame_record_set_gaze(&fr, &mr->pl.layout, &f->disp, f->base.gaze[0], f->base.gaze[1]);
+    renderer_finish(mr->r);
+    proc_stats p0 = proc_stats_now();
+    double t0 = time_now();
+    fs_status st = renderer_draw(mr->r, &fr);
+    renderer_finish(mr->r);
+    double ms = (time_now() - t0) * 1e3;
+    proc_stats pd = proc_stats_since(p0);
+    renderer_stats rs = renderer_last_stats(mr->r); /* also when not measured: the queries are done */
+    if (!f->measured || st != FS_OK)
+        return st;
+    mr->frame_ms[i - warm] = ms;
+    const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,
+                                       (double)rs.primitives, (double)rs.fragments};
+    for (int q = 0; q < ACC_COUNTS; q++)
+        cf->counts[q][i - warm] = counts[q];
+    st = renderer_read(mr->r, &mr->img);
+    ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
+    metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
+    bool prev = mr->have_prev && a->have_prev_ref && !fr.cut;
+    int l = k_band_slot[cf->layout];
+    if (st == FS_OK && !f->band_done[l]) {
+        float *b = a->band_buf + (size_t)(4 * l) * a->band_n;
+        float *const planes[4] = {b, b + a->band_n, b + 2 * a->band_n, b + 3 * a->band_n};
+        st = metrics_band_limit(&f->vr, &f->disp, &mr->pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], planes,
+                                &a->bands[l]);
+        f->band_done[l] = true;
+    }
+    metrics_view vb = a->bands[l];
+    if (st == FS_OK)
+        st = measure_flip(&vi, &f->vr, &f->disp, a->flip_map);
+    if (st == FS_OK)
+        st = metrics_compute(&vi, &f->vr, &vb, a->flip_map, prev ? &f->vpr : NULL, &f->mask, rm);
+    bool still = temporal_still(&a->te, &f->base);
+    if (st == FS_OK)
+        st = temporal_measure(&a->te, &vi, prev ? &vp : NULL, &f->vr, &f->mask,
+                              temporal_reference_noise2(a->rf, still, f->ri.error, a->prev_err), rm);
+    measure_accumulate(mr, rm, a->ml.count, f->measured && still);
+    exr_image_free(&mr->prev);
+    mr->prev = mr->img;
+    memset(&mr->img, 0, sizeof mr->img);
+    mr->have_prev = true;
+    return st;
+}
+
+/* Frame i: its reference (once measured), then every configuration's draw. */
+static fs_status acc_run_frame(acc_run *a, int i)
+{
+    const run_desc *d = a->d;
+    acc_frame f = {.i = i, .measured = i >= a->warm};
+    f.base = session_frame(&a->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+    f.disp = (display_desc){a->s.pl.width, a->s.pl.height, f.base.hfov_deg};
+    fs_status st = FS_OK;
+    if (f.measured) {
+        st = reference_frame(a->rf, &f.base, &a->ref, &f.ri);
+        if (st == FS_OK)
+            st = ring_mask_build(&f.disp, &a->ml, f.base.gaze_px[0], f.base.gaze_px[1], &f.mask);
+    }
+    f.vr = measure_view(&a->ref);
+    f.vpr = measure_view(&a->prev_ref);
+    if (f.measured && st == FS_OK) /* this frame's depth and the previous reference warped into it */
+        st = temporal_frame(&a->te, &f.base, a->have_prev_ref && !f.base.cut ? &f.vpr : NULL);
+    for (int c = 0; c < a->nc && st == FS_OK; c++)
+        st = acc_run_config(a, &f, c);
+    ring_mask_free(&f.mask);
+    if (f.measured) {
+        temporal_next(&a->te, &f.base);
+        a->prev_err = f.ri.error;
+        exr_image_free(&a->prev_ref);
+        a->prev_ref = a->ref;
+        memset(&a->ref, 0, sizeof a->ref);
+        a->have_prev_ref = true;
+    }
+    return st;
+}
+
+/* The frames: every configuration drawn over the same consecutive frames, interleaved per frame. */
+static fs_status acc_run_frames(acc_run *a, fs_status st)
+{
+    for (int i = 0; i < a->n + a->warm && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
-        bool measured = i >= warm;
-        frame_record base = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
-        display_desc disp = {s.pl.width, s.pl.height, base.hfov_deg};
-        reference_info ri;
-        ring_mask mask = {0};
-        bool band_done[3] = {false, false, false}; /* per k_band_slot */
-        if (measured) {
-            st = reference_frame(rf, &base, &ref, &ri);
-            if (st == FS_OK)
-                st = ring_mask_build(&disp, &ml, base.gaze_px[0], base.gaze_px[1], &mask);
-        }
-        metrics_view vr = measure_view(&ref), vpr = measure_view(&prev_ref);
-        if (measured && st == FS_OK) /* this frame's depth and the previous reference warped into it */
-            st = temporal_frame(&te, &base, have_prev_ref && !base.cut ? &vpr : NULL);
-        for (int c = 0; c < nc && st == FS_OK; c++) {
-            mode_run *mr = &cfg[c].run;
-            frame_record fr = base;
-            frame_record_set_gaze(&fr, &mr->pl.layout, &disp, base.gaze[0], base.gaze[1]);
-            renderer_finish(mr->r);
-            proc_stats p0 = proc_stats_now();
-            double a = time_now();
-            st = renderer_draw(mr->r, &fr);
-            renderer_finish(mr->r);
-            double ms = (time_now() - a) * 1e3;
-            proc_stats pd = proc_stats_since(p0);
-            renderer_stats rs = renderer_last_stats(mr->r); /* also when not measured: the queries are done */
-            if (!measured || st != FS_OK)
-                continue;
-            mr->frame_ms[i - warm] = ms;
-            const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,
-                                               (double)rs.primitives, (double)rs.fragments};
-            for (int q = 0; q < ACC_COUNTS; q++)
-                cfg[c].counts[q][i - warm] = counts[q];
-            st = renderer_read(mr->r, &mr->img);
-            ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
-            metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
-            bool prev = mr->have_prev && have_prev_ref && !fr.cut;
-            int l = k_band_slot[cfg[c].layout];
-            if (st == FS_OK && !band_done[l]) {
-                float *b = band_buf + (size_t)(4 * l) * band_n;
-                float *const planes[4] = {b, b + band_n, b + 2 * band_n, b + 3 * band_n};
-                st = metrics_band_limit(&vr, &disp, &mr->pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], planes,
-                                        &bands[l]);
-                band_done[l] = true;
-            }
-            metrics_view vb = bands[l];
-            if (st == FS_OK)
-                st = measure_flip(&vi, &vr, &disp, flip_map);
-            if (st == FS_OK)
-                st = metrics_compute(&vi, &vr, &vb, flip_map, prev ? &vp : NULL, &mask, rm);
-            if (st == FS_OK)
-                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask,
-                                      temporal_reference_noise2(rf, temporal_still(&te, &base), ri.error, prev_err), rm);
-            measure_accumulate(mr, rm, ml.count, measured && temporal_still(&te, &base));
-            exr_image_free(&mr->prev);
-            mr->prev = mr->img;
-            memset(&mr->img, 0, sizeof mr->img);
-            mr->have_prev = true;
-        }
-        ring_mask_free(&mask);
-        if (measured) {
-            temporal_next(&te, &base);
-            prev_err = ri.error;
-            exr_image_free(&prev_ref);
-            prev_ref = ref;
-            memset(&ref, 0, sizeof ref);
-            have_prev_ref = true;
-        }
-        progress_update(&pr, i + 1);
+        st = acc_run_frame(a, i);
+        progress_update(&a->pr, i + 1);
     }
-    progress_end(&pr);
+    progress_end(&a->pr);
+    return st;
+}
 
-    /* Report: CSV, Markdown, gnuplot. Base of the speedups: full-resolution traditional, TAA off
-     * (else the first configuration). */
-    char *csv = NULL, *md = NULL;
-    double *tx = NULL, *ey = NULL, *fx = NULL;
-    bool *front = NULL, *front_fs = NULL;
-    int *row_at = NULL; /* where configuration c's row starts in csv (nc + 1 entries) */
-    if (st == FS_OK) {
-        row_at = calloc((size_t)nc + 1, sizeof *row_at);
-        csv = malloc(1 << 16);
-        md = malloc(1 << 16);
-        tx = calloc((size_t)nc, sizeof *tx);
-        ey = calloc((size_t)nc, sizeof *ey);
-        fx = calloc((size_t)nc, sizeof *fx);
-        front = calloc((size_t)nc, sizeof *front);
-        front_fs = calloc((size_t)nc, sizeof *front_fs);
-        if (!csv || !md || !tx || !ey || !fx || !front || !front_fs || !row_at)
-            st = FS_ERR_NOMEM;
+/* Medians and quantiles per configuration, the error --error plots, and the Pareto fronts. Base of
+ * the speedups: full-resolution traditional, TAA off (else the first configuration). */
+static fs_status acc_summarise(acc_run *a)
+{
+    int nc = a->nc, n = a->n;
+    const run_desc *d = a->d;
+    a->row_at = calloc((size_t)nc + 1, sizeof *a->row_at);
+    a->csv = malloc(ACC_REPORT_CAP);
+    a->md = malloc(ACC_REPORT_CAP);
+    a->tx = calloc((size_t)nc, sizeof *a->tx);
+    a->ey = calloc((size_t)nc, sizeof *a->ey);
+    a->fx = calloc((size_t)nc, sizeof *a->fx);
+    a->front = calloc((size_t)nc, sizeof *a->front);
+    a->front_fs = calloc((size_t)nc, sizeof *a->front_fs);
+    if (!a->csv || !a->md || !a->tx || !a->ey || !a->fx || !a->front || !a->front_fs || !a->row_at)
+        return FS_ERR_NOMEM;
+    a->base = 0;
+    for (int c = 0; c < nc; c++) {
+        acc_config *cf = &a->cfg[c];
+        double *v = cf->run.frame_ms;
+        qsort(v, (size_t)n, sizeof *v, stats_cmp_double);
+        cf->med = stats_quantile(v, n, 0.5);
+        cf->p10 = stats_quantile(v, n, 0.1);
+        cf->p90 = stats_quantile(v, n, 0.9);
+        if (cf->run.mode == ALPHA_MODE_TRADITIONAL && cf->layout == ACC_OFF && !cf->taa)
+            a->base = c;
+        for (int q = 0; q < ACC_COUNTS; q++) {
+            double *u = cf->counts[q];
+            qsort(u, (size_t)n, sizeof *u, stats_cmp_double);
+            cf->count_med[q] = u[0] < 0 ? -1.0 : stats_quantile(u, n, 0.5); /* -1: unknown */
+        }
+        a->tx[c] = cf->med;
+        a->fx[c] = cf->count_med[ACC_FS];
+        const mode_run *er = &cf->run; /* the error of --error, over the whole display */
+        int all = a->ml.count;
+        if (d->bench.error == ACC_ERROR_TEMPORAL) {
+            a->ey[c] = measure_mean_or(er->te_sum[all], er->te_n[all], 0.0);
+        } else {
+            const double *esum = d->bench.error == ACC_ERROR_FLIP   ? er->flip_sum
+                                 : d->bench.error == ACC_ERROR_ALPHA_RMSE ? er->alpha_rmse_sum
+                                                     : er->rmse_sum;
+            a->ey[c] = measure_mean_or(esum[all], er->err_n[all], 0.0);
+        }
     }
-    if (st == FS_OK) {
-        int base = 0;
-        for (int c = 0; c < nc; c++) {
-            double *v = cfg[c].run.frame_ms;
-            qsort(v, (size_t)n, sizeof *v, stats_cmp_double);
-            cfg[c].med = stats_quantile(v, n, 0.5);
-            cfg[c].p10 = stats_quantile(v, n, 0.1);
-            cfg[c].p90 = stats_quantile(v, n, 0.9);
-            if (cfg[c].run.mode == ALPHA_MODE_TRADITIONAL && cfg[c].layout == ACC_OFF && !cfg[c].taa)
-                base = c;
-            for (int q = 0; q < ACC_COUNTS; q++) {
-                double *u = cfg[c].counts[q];
-                qsort(u, (size_t)n, sizeof *u, stats_cmp_double);
-                cfg[c].count_med[q] = u[0] < 0 ? -1.0 : stats_quantile(u, n, 0.5); /* -1: unknown */
-            }
-            tx[c] = cfg[c].med;
-            fx[c] = cfg[c].count_med[ACC_FS];
-            const mode_run *er = &cfg[c].run; /* the error of --error, over the whole display */
-            if (d->bench.error == ACC_ERROR_TEMPORAL) {
-                ey[c] = measure_mean_or(er->te_sum[ml.count], er->te_n[ml.count], 0.0);
-            } else {
-                const double *esum = d->bench.error == ACC_ERROR_FLIP         ? er->flip_sum
-                                     : d->bench.error == ACC_ERROR_ALPHA_RMSE ? er->alpha_rmse_sum
-                                     : er->rmse_sum;
-                ey[c] = measure_mean_or(esum[ml.count], er->err_n[ml.count], 0.0);
-            }
-        }
-        pareto(tx, ey, nc, front);
-        bool have_fs = nc > 0;
-        for (int c = 0; c < nc; c++)
-            have_fs = have_fs && fx[c] >= 0;
-        if (have_fs)
-            pareto(fx, ey, nc, front_fs);
-        char cpu[256], rings[256], aggr[256];
-        session_cpu_name(cpu, sizeof cpu);
-        fov_layout_format(&layouts[ACC_DEFAULT], rings, sizeof rings);
-        fov_layout_format(&layouts[ACC_AGGRESSIVE], aggr, sizeof aggr);
-        int oc = 0, om = 0;
-#define CSV(...) oc += snprintf(csv + oc, (1 << 16) - (size_t)oc, __VA_ARGS__)
-#define MD(...) om += snprintf(md + om, (1 << 16) - (size_t)om, __VA_ARGS__)
-        CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,temporal_error,pareto");
-        for (int q = 0; q < ACC_COUNTS; q++)
-            CSV(",%s", k_acc_count_columns[q]);
-        CSV(",pareto_fragments");
-        for (int k = 0; k < ml.count; k++)
-            CSV(",coverage_ratio_ring%d", k);
-        CSV(",alpha_rmse");
-        for (int k = 0; k < ml.count; k++)
-            CSV(",alpha_rmse_ring%d", k);
-        CSV(",flip");
-        for (int k = 0; k < ml.count; k++)
-            CSV(",flip_ring%d", k);
-        CSV("\n");
-        MD("### Accuracy vs time: %s, %dx%d\n\n", s.sc.path, s.pl.width, s.pl.height);
-        MD("- machine: %s (%ld cores online); renderer: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN), gl_device_renderer());
-        MD("- %d frames measured after %d warm-up frames (consecutive, %g fps); gaze: %s\n", n, warm, d->fps,
-           s.gaze.count ? s.gaze.path : "fixation at the centre");
-        MD("- rings: default %s; aggressive %s; measured in the default rings\n", rings, aggr);
-        if (use_layout[ACC_DEFAULT_LOD]) {
-            char spec[160];
-            ring_lod_format(&lod, spec, sizeof spec);
-            MD("- default+lod: the default rings with ring LOD %s, keep fraction u = %s per ring (the other rows "
-               "without ring LOD; the reference never simplified)\n", spec, lod_u);
-        }
-        MD("- reference: %s\n", reference_describe(rf));
-        MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
-           "Pareto front of (time, %s) (--error)\n", k_error_names[d->bench.error]);
-        MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
-           "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
-        MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
-           "holds under %g ring texels of coverage)\n\n", METRICS_MIN_REF_TEXELS);
-        MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
-           d->bench.error == ACC_ERROR_RMSE ? "PSNR" : k_error_names[d->bench.error]);
-        for (int k = 0; k < ml.count; k++)
-            MD(" cov. ring %d |", k);
-        MD("\n|---|---|---|---|---|---|---|---|---|---|");
-        for (int k = 0; k < ml.count; k++)
-            MD("---|");
-        MD("\n");
-        for (int c = 0; c < nc; c++) {
-            const mode_run *mr = &cfg[c].run;
-            int all = ml.count;
-            double rmse = measure_mean_or(mr->rmse_sum[all], mr->err_n[all], 0.0), psnr = measure_mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
-                   fl = measure_mean_or(mr->te_sum[all], mr->te_n[all], -1.0), sp = cfg[base].med / cfg[c].med;
-            const double *cm = cfg[c].count_med;
-            row_at[c] = oc;
-            CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.6f,%d", alpha_mode_name(mr->mode),
-                k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med, cfg[c].p10, cfg[c].p90, sp,
-                rmse, psnr, fl, front[c]);
-            CSV(",%.4f,%.0f,%.0f,%.0f,%.0f,%d", cm[ACC_CPU], cm[ACC_FAULTS], cm[ACC_VS], cm[ACC_PRIMS], cm[ACC_FS],
-                front_fs[c]);
-            MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.4f | %.2f |", alpha_mode_name(mr->mode),
-               front[c] ? " *" : "", k_layout_names[cfg[c].layout], cfg[c].taa ? "on" : "off", cfg[c].med,
-               cfg[c].p10, cfg[c].p90, sp, rmse, d->bench.error == ACC_ERROR_RMSE ? psnr : ey[c], fl, cm[ACC_CPU]);
-            if (cm[ACC_FS] >= 0)
-                MD(" %.2f |", cm[ACC_FS] / ((double)s.pl.width * s.pl.height));
-            else
-                MD(" n/a |");
-            for (int k = 0; k < ml.count; k++) {
-                /* The ratio of the coverage summed over frames, -1 (n/a) where the reference holds
-                 * too little in the ring (measure_coverage_ratio). The texels are the measurement
-                 * rings' (the default layout's) for every row: the reference is the same for all. */
-                double r = measure_coverage_ratio(mr, k, measure_block(&ml, k));
-                CSV(",%.4f", r);
-                if (r < 0.0)
-                    MD(" n/a |");
-                else
-                    MD(" %.2f |", r);
-            }
-            for (int k = 0; k <= ml.count; k++) /* the whole display, then each ring */
-                CSV(",%.6f", measure_mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
-            for (int k = 0; k <= ml.count; k++)
-                CSV(",%.6f", measure_mean_or(mr->flip_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
-            CSV("\n");
-            MD("\n");
-        }
-        row_at[nc] = oc;
-        if (oc >= 1 << 16) {
-            log_error("%s/accuracy.csv: longer than the %d bytes it may take (too many modes?)", out, 1 << 16);
-            st = FS_ERR_INTERNAL;
-        }
+    pareto(a->tx, a->ey, nc, a->front);
+    a->have_fs = nc > 0;
+    for (int c = 0; c < nc; c++)
+        a->have_fs = a->have_fs && a->fx[c] >= 0;
+    if (a->have_fs)
+        pareto(a->fx, a->ey, nc, a->front_fs);
+    return FS_OK;
+}
+
+#define CSV(...) a->oc += snprintf(a->csv + a->oc, ACC_REPORT_CAP - (size_t)a->oc, __VA_ARGS__)
+#define MD(...) a->om += snprintf(a->md + a->om, ACC_REPORT_CAP - (size_t)a->om, __VA_ARGS__)
+
+/* accuracy.csv's header line. */
+static void acc_csv_header(acc_run *a)
+{
+    int rings = a->ml.count;
+    CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,temporal_error,pareto");
+    for (int q = 0; q < ACC_COUNTS; q++)
+        CSV(",%s", k_acc_count_columns[q]);
+    CSV(",pareto_fragments");
+    for (int k = 0; k < rings; k++)
+        CSV(",coverage_ratio_ring%d", k);
+    CSV(",alpha_rmse");
+    for (int k = 0; k < rings; k++)
+        CSV(",alpha_rmse_ring%d", k);
+    CSV(",flip");
+    for (int k = 0; k < rings; k++)
+        CSV(",flip_ring%d", k);
+    CSV("\n");
+}
+
+/* accuracy.md's heading, what was measured how, and the table's header. */
+static void acc_md_header(acc_run *a)
+{
+    const run_desc *d = a->d;
+    const session *s = &a->s;
+    char cpu[256], rings[256], aggr[256];
+    session_cpu_name(cpu, sizeof cpu);
+    fov_layout_format(&a->layouts[ACC_DEFAULT], rings, sizeof rings);
+    fov_layout_format(&a->layouts[ACC_AGGRESSIVE], aggr, sizeof aggr);
+    MD("### Accuracy vs time: %s, %dx%d\n\n", s->sc.path, s->pl.width, s->pl.height);
+    MD("- machine: %s (%ld cores online); renderer: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN), gl_device_renderer());
+    MD("- %d frames measured after %d warm-up frames (consecutive, %g fps); gaze: %s\n", a->n, a->warm, d->fps,
+       s->gaze.count ? s->gaze.path : "fixation at the centre");
+    MD("- rings: default %s; aggressive %s; measured in the default rings\n", rings, aggr);
+    if (a->use_layout[ACC_DEFAULT_LOD]) {
+        char spec[160];
+        ring_lod_format(&a->lod, spec, sizeof spec);
+        MD("- default+lod: the default rings with ring LOD %s, keep fraction u = %s per ring (the other rows "
+           "without ring LOD; the reference never simplified)\n", spec, a->lod_u);
+    }
+    MD("- reference: %s\n", reference_describe(a->rf));
+    MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
+       "Pareto front of (time, %s) (--error)\n", k_error_names[d->bench.error]);
+    MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
+       "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
+    MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
+       "holds under %g ring texels of coverage)\n\n", METRICS_MIN_REF_TEXELS);
+    MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
+       d->bench.error == ACC_ERROR_RMSE ? "PSNR" : k_error_names[d->bench.error]);
+    for (int k = 0; k < a->ml.count; k++)
+        MD(" cov. ring %d |", k);
+    MD("\n|---|---|---|---|---|---|---|---|---|---|");
+    for (int k = 0; k < a->ml.count; k++)
+        MD("---|");
+    MD("\n");
+}
+
+/* Configuration c's row of accuracy.csv and of the Markdown table. */
+static void acc_row(acc_run *a, int c)
+{
+    const acc_config *cf = &a->cfg[c];
+    const mode_run *mr = &cf->run;
+    int all = a->ml.count;
+    double rmse = measure_mean_or(mr->rmse_sum[all], mr->err_n[all], 0.0),
+           psnr = measure_mean_or(mr->psnr_sum[all], mr->err_n[all], 0.0),
+           fl = measure_mean_or(mr->te_sum[all], mr->te_n[all], -1.0), sp = a->cfg[a->base].med / cf->med;
+    const double *cm = cf->count_med;
+    a->row_at[c] = a->oc;
+    CSV("%s,%s,%s,%.4f,%.4f,%.4f,%.4f,%.6f,%.3f,%.6f,%d", alpha_mode_name(mr->mode), k_layout_names[cf->layout],
+        cf->taa ? "on" : "off", cf->med, cf->p10, cf->p90, sp, rmse, psnr, fl, a->front[c]);
+    CSV(",%.4f,%.0f,%.0f,%.0f,%.0f,%d", cm[ACC_CPU], cm[ACC_FAULTS], cm[ACC_VS], cm[ACC_PRIMS], cm[ACC_FS],
+        a->front_fs[c]);
+    MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.4f | %.2f |", alpha_mode_name(mr->mode),
+       a->front[c] ? " *" : "", k_layout_names[cf->layout], cf->taa ? "on" : "off", cf->med, cf->p10, cf->p90, sp,
+       rmse, a->d->bench.error == ACC_ERROR_RMSE ? psnr : a->ey[c], fl, cm[ACC_CPU]);
+    if (cm[ACC_FS] >= 0)
+        MD(" %.2f |", cm[ACC_FS] / ((double)a->s.pl.width * a->s.pl.height));
+    else
+        MD(" n/a |");
+    for (int k = 0; k < a->ml.count; k++) {
+        /* The ratio of the coverage summed over frames, -1 (n/a) where the reference holds
+         * too little in the ring (measure_coverage_ratio). The texels are the measurement
+         * rings' (the default layout's) for every row: the reference is the same for all. */
+        double r = measure_coverage_ratio(mr, k, measure_block(&a->ml, k));
+        CSV(",%.4f", r);
+        if (r < 0.0)
+            MD(" n/a |");
+        else
+            MD(" %.2f |", r);
+    }
+    for (int k = 0; k <= a->ml.count; k++) /* the whole display, then each ring */
+        CSV(",%.6f", measure_mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
+    for (int k = 0; k <= a->ml.count; k++)
+        CSV(",%.6f", measure_mean_or(mr->flip_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
+    CSV("\n");
+    MD("\n");
+}
+
 #undef CSV
 #undef MD
-        char path[1200];
-        snprintf(path, sizeof path, "%s/accuracy.csv", out);
-        if (st == FS_OK)
-            st = out_write_atomic(path, csv);
-        snprintf(path, sizeof path, "%s/accuracy.md", out);
-        if (st == FS_OK)
-            st = out_write_atomic(path, md);
-        if (st == FS_OK && d->bench.markdown) {
-            FILE *f = fopen(d->bench.markdown, "a");
-            if (!f || fprintf(f, "\n%s", md) < 0 || fclose(f) != 0) {
-                log_error("%s: cannot append the accuracy table: %s", d->bench.markdown, strerror(errno));
-                st = FS_ERR_IO;
-            }
-        }
-        char title[600], x_expr[64];
-        /* The whole-display column of the chosen error in accuracy.csv: rmse is column 8,
-         * temporal_error 10; after the 17 fixed columns come N coverage ratios, alpha_rmse and its
-         * N rings, flip and its N. */
-        int y_col = d->bench.error == ACC_ERROR_TEMPORAL     ? 10
-                    : d->bench.error == ACC_ERROR_RMSE       ? 8
-                    : d->bench.error == ACC_ERROR_ALPHA_RMSE ? 18 + ml.count
-                                        : 19 + 2 * ml.count;
-        if (st == FS_OK) {
-            snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s.sc.path, s.pl.width, s.pl.height,
-                     gl_device_renderer());
-            st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->bench.error],
-                               tx, front, csv, row_at, nc, modes, nmodes, use_layout);
-        }
-        /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
-        snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
-        if (st == FS_OK && have_fs) {
-            snprintf(title, sizeof title, "accuracy vs fragment work: %s %dx%d", s.sc.path, s.pl.width, s.pl.height);
-            snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s.pl.width * s.pl.height);
-            st = plot_accuracy(out, "accuracy-fragments", title,
-                               "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
-                               k_error_labels[d->bench.error], fx, front_fs, csv, row_at, nc, modes, nmodes,
-                               use_layout);
-        } else if (st == FS_OK) {
-            unlink(path); /* not one from an earlier run beside this run's CSV */
-            log_warn("no GL_ARB_pipeline_statistics_query: fragment counts unknown, %s not drawn", path);
-        }
-        if (st == FS_OK) {
-            fputs(md, stdout);
-            printf("\nwrote %s/accuracy.csv, accuracy.md, accuracy.png%s\n", out,
-                   have_fs ? " and accuracy-fragments.png" : "");
+
+/* accuracy.csv and accuracy.md's text, in a->csv and a->md. */
+static fs_status acc_tabulate(acc_run *a)
+{
+    a->oc = a->om = 0;
+    acc_csv_header(a);
+    acc_md_header(a);
+    for (int c = 0; c < a->nc; c++)
+        acc_row(a, c);
+    a->row_at[a->nc] = a->oc;
+    if (a->oc >= ACC_REPORT_CAP) {
+        log_error("%s/accuracy.csv: longer than the %d bytes it may take (too many modes?)", a->out, ACC_REPORT_CAP);
+        return FS_ERR_INTERNAL;
+    }
+    return FS_OK;
+}
+
+/* Writes accuracy.csv and accuracy.md (and appends the table to --markdown), draws the plots and
+ * prints the table. */
+static fs_status acc_write(acc_run *a)
+{
+    const run_desc *d = a->d;
+    const session *s = &a->s;
+    const char *out = a->out;
+    fs_status st = acc_tabulate(a);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/accuracy.csv", out);
+    if (st == FS_OK)
+        st = out_write_atomic(path, a->csv);
+    snprintf(path, sizeof path, "%s/accuracy.md", out);
+    if (st == FS_OK)
+        st = out_write_atomic(path, a->md);
+    if (st == FS_OK && d->bench.markdown) {
+        FILE *f = fopen(d->bench.markdown, "a");
+        if (!f || fprintf(f, "\n%s", a->md) < 0 || fclose(f) != 0) {
+            log_error("%s: cannot append the accuracy table: %s", d->bench.markdown, strerror(errno));
+            st = FS_ERR_IO;
         }
     }
-    free(csv);
-    free(md);
-    free(tx);
-    free(ey);
-    free(fx);
-    free(front);
-    free(front_fs);
-    free(row_at);
-    exr_image_free(&ref);
-    exr_image_free(&prev_ref);
-    free(band_buf);
-    free(flip_map);
-    temporal_end(&te);
-    for (int c = 0; c < nc; c++) {
-        exr_image_free(&cfg[c].run.img);
-        exr_image_free(&cfg[c].run.prev);
-        free(cfg[c].run.frame_ms);
+    char title[600], x_expr[64];
+    /* The whole-display column of the chosen error in accuracy.csv: rmse is column 8,
+     * temporal_error 10; after the 17 fixed columns come N coverage ratios, alpha_rmse and its
+     * N rings, flip and its N. */
+    int y_col = d->bench.error == ACC_ERROR_TEMPORAL   ? 10
+                : d->bench.error == ACC_ERROR_RMSE ? 8
+                : d->bench.error == ACC_ERROR_ALPHA_RMSE ? 18 + a->ml.count
+                                    : 19 + 2 * a->ml.count;
+    if (st == FS_OK) {
+        snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s->sc.path, s->pl.width, s->pl.height,
+                 gl_device_renderer());
+        st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->bench.error],
+                           a->tx, a->front, a->csv, a->row_at, a->nc, a->modes, a->nmodes, a->use_layout);
+    }
+    /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
+    snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
+    if (st == FS_OK && a->have_fs) {
+        snprintf(title, sizeof title, "accuracy vs fragment work: %s %dx%d", s->sc.path, s->pl.width, s->pl.height);
+        snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s->pl.width * s->pl.height);
+        st = plot_accuracy(out, "accuracy-fragments", title,
+                           "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
+                           k_error_labels[d->bench.error], a->fx, a->front_fs, a->csv, a->row_at, a->nc, a->modes,
+                           a->nmodes, a->use_layout);
+    } else if (st == FS_OK) {
+        unlink(path); /* not one from an earlier run beside this run's CSV */
+        log_warn("no GL_ARB_pipeline_statistics_query: fragment counts unknown, %s not drawn", path);
+    }
+    if (st == FS_OK) {
+        fputs(a->md, stdout);
+        printf("\nwrote %s/accuracy.csv, accuracy.md, accuracy.png%s\n", out,
+               a->have_fs ? " and accuracy-fragments.png" : "");
+    }
+    return st;
+}
+
+static void acc_free(acc_run *a)
+{
+    free(a->csv);
+    free(a->md);
+    free(a->tx);
+    free(a->ey);
+    free(a->fx);
+    free(a->front);
+    free(a->front_fs);
+    free(a->row_at);
+    exr_image_free(&a->ref);
+    exr_image_free(&a->prev_ref);
+    free(a->band_buf);
+    free(a->flip_map);
+    temporal_end(&a->te);
+    for (int c = 0; c < a->nc; c++) {
+        acc_config *cf = &a->cfg[c];
+        exr_image_free(&cf->run.img);
+        exr_image_free(&cf->run.prev);
+        free(cf->run.frame_ms);
         for (int q = 0; q < ACC_COUNTS; q++)
-            free(cfg[c].counts[q]);
-        renderer_destroy(cfg[c].run.r);
+            free(cf->counts[q]);
+        renderer_destroy(cf->run.r);
     }
-    free(cfg);
-    reference_destroy(rf);
-    session_end(&s);
+    free(a->cfg);
+    reference_destroy(a->rf);
+    session_end(&a->s);
+}
+
+fs_status cmd_bench_accuracy(const run_desc *d)
+{
+    if (!gnuplot_available()) {
+        log_error("gnuplot: not found; bench --accuracy plots with it (Debian package gnuplot-nox)");
+        return FS_ERR_IO;
+    }
+    acc_run *a = calloc(1, sizeof *a);
+    if (!a)
+        return FS_ERR_NOMEM;
+    a->d = d;
+    fs_status st = acc_begin(a);
+    if (st != FS_OK) {
+        free(a);
+        return st;
+    }
+    st = acc_choose_layouts(a);
+    if (st == FS_OK)
+        st = acc_build_configs(a);
+    st = acc_begin_measuring(a, st);
+    st = acc_run_frames(a, st);
+    if (st == FS_OK)
+        st = acc_summarise(a);
+    if (st == FS_OK)
+        st = acc_write(a);
+    acc_free(a);
+    free(a);
     return st;
 }

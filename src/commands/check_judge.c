@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/file_read.h"
+#include "core/grow.h"
 #include "core/log.h"
 #include "core/strbuf.h"
 #include "metrics/image_diff.h"
@@ -72,14 +73,9 @@ static fs_status read_rows(const char *dir, rows *out)
     out->n = 0;
     for (char *p = strchr(text, '\n'); p && p[1] && st == FS_OK; p = strchr(p + 1, '\n')) {
         line++;
-        if (out->n == cap) {
-            cap = cap ? 2 * cap : 256;
-            row *g = realloc(out->v, sizeof *g * (size_t)cap);
-            if (!g) {
-                st = FS_ERR_NOMEM;
-                break;
-            }
-            out->v = g;
+        if (!FS_GROW_INT(out->v, cap, out->n + 1)) {
+            st = FS_ERR_NOMEM;
+            break;
         }
         row *r = &out->v[out->n];
         memset(r, 0, sizeof *r);
@@ -168,14 +164,8 @@ static bool *case_of(judge *j, int frame, const char *image)
 
 static fs_status add_failure(judge *j, const failure *f)
 {
-    if (j->nf == j->capf) {
-        int cap = j->capf ? 2 * j->capf : 64;
-        failure *g = realloc(j->f, sizeof *g * (size_t)cap);
-        if (!g)
-            return FS_ERR_NOMEM;
-        j->f = g;
-        j->capf = cap;
-    }
+    if (!FS_GROW_INT(j->f, j->capf, j->nf + 1))
+        return FS_ERR_NOMEM;
     j->f[j->nf++] = *f;
     if (f->frame >= 0 && !f->image[0]) /* the whole frame's: every image's case */
         for (int i = 0; i < j->nimages; i++)

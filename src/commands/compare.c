@@ -187,25 +187,11 @@ static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
                  (double)l->rings[k].outer_deg);
 }
 
-/* Prints the table and writes summary.json (atomically). */
-static fs_status report(const report_desc *r)
+/* The run's headline and the table of each mode's metrics per ring and of its frame time. */
+static void report_table(const report_desc *r, const double *med, const char *rings, const char *mrings)
 {
     const session *s = r->s;
     int nm = r->mode_count, nr = r->layout->count;
-    double med[ALPHA_MODE_COUNT];
-    for (int m = 0; m < nm; m++) {
-        double *v = malloc(sizeof(double) * (size_t)r->frames);
-        if (!v)
-            return FS_ERR_NOMEM;
-        memcpy(v, r->runs[m].frame_ms + r->first, sizeof(double) * (size_t)r->frames);
-        qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
-        med[m] = stats_quantile(v, r->frames, 0.5);
-        free(v);
-    }
-    qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
-    char rings[256], mrings[256];
-    fov_layout_format(&s->pl.layout, rings, sizeof rings);
-    fov_layout_format(r->layout, mrings, sizeof mrings);
     printf("\ncompared %d modes over %d frames (%dx%d, rings %s, TAA %s) in %.1f s; frames in %s/\n", nm, r->frames,
            s->pl.width, s->pl.height, rings, s->pl.taa ? "on" : "off", r->seconds, r->out);
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
@@ -242,7 +228,13 @@ static fs_status report(const report_desc *r)
             printf("  %16.4f", r->jod[m]);
         printf("\n");
     }
+}
 
+/* summary.json (written to a temporary name, then renamed into place). */
+static fs_status report_json(const report_desc *r, const double *med, const char *rings, const char *mrings)
+{
+    const session *s = r->s;
+    int nm = r->mode_count, nr = r->layout->count;
     char tmp[1300];
     FILE *f = out_path_temp_name(r->json_path, tmp, sizeof tmp) ? fopen(tmp, "w") : NULL;
     if (!f) {
@@ -288,6 +280,32 @@ static fs_status report(const report_desc *r)
         unlink(tmp);
         return FS_ERR_IO;
     }
+    return FS_OK;
+}
+
+/* Prints the table and writes summary.json (atomically). */
+static fs_status report(const report_desc *r)
+{
+    const session *s = r->s;
+    int nm = r->mode_count;
+    double med[ALPHA_MODE_COUNT];
+    for (int m = 0; m < nm; m++) {
+        double *v = malloc(sizeof(double) * (size_t)r->frames);
+        if (!v)
+            return FS_ERR_NOMEM;
+        memcpy(v, r->runs[m].frame_ms + r->first, sizeof(double) * (size_t)r->frames);
+        qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
+        med[m] = stats_quantile(v, r->frames, 0.5);
+        free(v);
+    }
+    qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
+    char rings[256], mrings[256];
+    fov_layout_format(&s->pl.layout, rings, sizeof rings);
+    fov_layout_format(r->layout, mrings, sizeof mrings);
+    report_table(r, med, rings, mrings);
+    fs_status st = report_json(r, med, rings, mrings);
+    if (st != FS_OK)
+        return st;
     printf("\nmetrics per frame, ring and mode: %s/metrics.csv; summary: %s\n", r->out, r->json_path);
     return FS_OK;
 }
@@ -299,268 +317,410 @@ typedef struct compare_opts {
     bool demo;
 } compare_opts;
 
-static fs_status compare_run(const run_desc *d, const compare_opts *co)
-{
+/* One compare run: what its phases share (compare_run runs them in order). */
+typedef struct cmp_run {
+    const run_desc *d;
+    const compare_opts *co;
     session s;
-    fs_status st = session_begin(d, &s, false);
-    if (st != FS_OK)
-        return st;
     mode_run runs[ALPHA_MODE_COUNT];
-    memset(runs, 0, sizeof runs);
-    int nm = 0;
-    for (int m = 0; m < d->bench_mode_count; m++)
-        runs[nm++].mode = d->bench_modes[m];
-    if (nm == 0) {
-        runs[nm++].mode = ALPHA_MODE_TRADITIONAL;
-        runs[nm++].mode = ALPHA_MODE_HASHED;
-    }
-    int frames = session_frame_count(d, &s.sc);
-    for (int m = 0; m < nm && st == FS_OK; m++) {
-        run_desc dm = *d;
-        dm.alpha = runs[m].mode;
-        st = session_build_plan(&dm, &s.sc, &runs[m].pl);
-        if (st == FS_OK)
-            runs[m].r = renderer_create(&(renderer_desc){.scene = &s.sc, .plan = &runs[m].pl}, &st);
-        if (st == FS_OK && !(runs[m].frame_ms = calloc((size_t)frames, sizeof(double))))
-            st = FS_ERR_NOMEM;
-        if (st == FS_OK && !(runs[m].flip = malloc(sizeof(float) * (size_t)runs[m].pl.width * (size_t)runs[m].pl.height)))
-            st = FS_ERR_NOMEM;
-    }
-    ref_progress rp = {0};
-    reference *rf = st == FS_OK ? session_reference(d, &s, &rp, &st) : NULL;
-    const char *out = d->out_dir ? d->out_dir : co->default_out;
+    int nm;     /* modes */
+    int frames; /* the scene's frames */
+    /* --first-frame F (a chunk of a sweep): frames before F are drawn for the TAA history without
+     * being measured or written, from `warm` on. */
+    int first, warm;
+    ref_progress rp;
+    reference *rf;
+    const char *out; /* the output folder */
     char csv_path[1200], csv_tmp[1300], json_path[1200];
-    snprintf(csv_path, sizeof csv_path, "%s/metrics.csv", out);
-    bool csv_tmp_ok = out_path_temp_name(csv_path, csv_tmp, sizeof csv_tmp);
-    snprintf(json_path, sizeof json_path, "%s/summary.json", out);
-    run_folder fo = {0};
+    bool csv_tmp_ok;
+    run_folder fo;
+    FILE *csv;
+    exr_writer *w;
+    const char *seq_names[ALPHA_MODE_COUNT + 1]; /* the modes', then "reference" */
+    fvvdp_export *fx;                            /* --export-fvvdp */
+    fov_layout ml;                               /* the measurement rings */
+    double *ref_err;                             /* per frame: the reference's error estimate */
+    int passes, done, ref_cached;                /* reference passes a frame; frames written; cached */
+    exr_image ref, prev_ref;
+    /* The band-limited reference of the frame (metrics_band_limit): R, G, B, coverage planes. */
+    size_t band_n;
+    float *band_buf;
+    temporal te;
+    bool have_prev_ref;
+    double t0; /* when the frames began */
+} cmp_run;
+
+/* One measured (or history-end) frame as every mode sees it. */
+typedef struct cmp_frame {
+    int i;
+    bool measured; /* i >= first: measured and written */
+    frame_record fr;
+    display_desc dd;
+    reference_info ri;
+    ring_mask mask;
+    metrics_view vr, vpr, vb; /* the reference, the previous one, the band-limited one */
+    bool still;               /* the camera did not move since the previous frame */
+} cmp_frame;
+
+/* The modes (--modes, default traditional and hashed), each with its plan, renderer and arrays. */
+static fs_status compare_build_modes(cmp_run *c)
+{
+    const run_desc *d = c->d;
+    fs_status st = FS_OK;
+    for (int m = 0; m < d->bench_mode_count; m++)
+        c->runs[c->nm++].mode = d->bench_modes[m];
+    if (c->nm == 0) {
+        c->runs[c->nm++].mode = ALPHA_MODE_TRADITIONAL;
+        c->runs[c->nm++].mode = ALPHA_MODE_HASHED;
+    }
+    c->frames = session_frame_count(d, &c->s.sc);
+    for (int m = 0; m < c->nm && st == FS_OK; m++) {
+        mode_run *mr = &c->runs[m];
+        run_desc dm = *d;
+        dm.alpha = mr->mode;
+        st = session_build_plan(&dm, &c->s.sc, &mr->pl);
+        if (st == FS_OK)
+            mr->r = renderer_create(&(renderer_desc){.scene = &c->s.sc, .plan = &mr->pl}, &st);
+        if (st == FS_OK && !(mr->frame_ms = calloc((size_t)c->frames, sizeof(double))))
+            st = FS_ERR_NOMEM;
+        if (st == FS_OK && !(mr->flip = malloc(sizeof(float) * (size_t)mr->pl.width * (size_t)mr->pl.height)))
+            st = FS_ERR_NOMEM;
+    }
+    return st;
+}
+
+/* The reference and the outputs: the run folder, metrics.csv (written to a temporary name), the
+ * EXR writer and, with --export-fvvdp, the sequences' export. */
+static fs_status compare_open_outputs(cmp_run *c, fs_status st)
+{
+    const run_desc *d = c->d;
+    c->rf = st == FS_OK ? session_reference(d, &c->s, &c->rp, &st) : NULL;
+    c->out = d->out_dir ? d->out_dir : c->co->default_out;
+    snprintf(c->csv_path, sizeof c->csv_path, "%s/metrics.csv", c->out);
+    c->csv_tmp_ok = out_path_temp_name(c->csv_path, c->csv_tmp, sizeof c->csv_tmp);
+    snprintf(c->json_path, sizeof c->json_path, "%s/summary.json", c->out);
     /* A killed run's litter, another configuration's output, --resume (README "Output folders"): the metrics need
      * every frame's images, so a resumed compare draws every frame again and writes only the
      * frames it lacks; the reference of the frames drawn before comes from the cache. */
     if (st == FS_OK)
-        st = run_folder_open(&fo, out, d, &s, frames);
-    FILE *csv = NULL;
-    if (st == FS_OK && !(csv = csv_tmp_ok ? fopen(csv_tmp, "w") : NULL)) {
-        log_error("%s: cannot create: %s", csv_tmp, strerror(errno));
+        st = run_folder_open(&c->fo, c->out, d, &c->s, c->frames);
+    if (st == FS_OK && !(c->csv = c->csv_tmp_ok ? fopen(c->csv_tmp, "w") : NULL)) {
+        log_error("%s: cannot create: %s", c->csv_tmp, strerror(errno));
         st = FS_ERR_IO;
     }
-    exr_writer *w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
-    if (st == FS_OK && !w)
+    c->w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
+    if (st == FS_OK && !c->w)
         st = FS_ERR_NOMEM;
-    if (csv)
-        metrics_csv_header(csv);
+    if (c->csv)
+        metrics_csv_header(c->csv);
     /* --export-fvvdp: every mode's sequence and the reference's, for the user's FovVideoVDP. */
-    const char *seq_names[ALPHA_MODE_COUNT + 1];
-    for (int m = 0; m < nm; m++)
-        seq_names[m] = alpha_mode_name(runs[m].mode);
-    seq_names[nm] = "reference";
-    fvvdp_export *fx = NULL;
+    for (int m = 0; m < c->nm; m++)
+        c->seq_names[m] = alpha_mode_name(c->runs[m].mode);
+    c->seq_names[c->nm] = "reference";
     if (st == FS_OK && d->compare.export_fvvdp)
-        fx = fvvdp_export_begin(out, seq_names, nm + 1, s.pl.width, s.pl.height, s.pl.hfov_deg, d->fps, &st);
-    fov_layout ml = measure_layout(&s.pl);
-    double *ref_err = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
-    if (st == FS_OK && !ref_err)
+        c->fx = fvvdp_export_begin(c->out, c->seq_names, c->nm + 1, c->s.pl.width, c->s.pl.height, c->s.pl.hfov_deg,
+                                   d->fps, &st);
+    return st;
+}
+
+/* The measurement's buffers, the progress line (begun whatever st is), and the frames drawn: the
+ * first measured one, and from where the TAA history starts. */
+static fs_status compare_begin_frames(cmp_run *c, fs_status st)
+{
+    const run_desc *d = c->d;
+    const session *s = &c->s;
+    int frames = c->frames;
+    c->ml = measure_layout(&s->pl);
+    c->ref_err = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
+    if (st == FS_OK && !c->ref_err)
         st = FS_ERR_NOMEM;
-    int passes = rf ? reference_pass_count(rf) : 0, done = 0, ref_cached = 0;
-    exr_image ref = {0}, prev_ref = {0};
-    /* The band-limited reference of the frame (metrics_band_limit): R, G, B, coverage planes. */
-    size_t band_n = (size_t)s.pl.width * (size_t)s.pl.height;
-    float *band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * band_n) : NULL;
-    if (st == FS_OK && !band_buf)
+    c->passes = c->rf ? reference_pass_count(c->rf) : 0;
+    c->band_n = (size_t)s->pl.width * (size_t)s->pl.height;
+    c->band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * c->band_n) : NULL;
+    if (st == FS_OK && !c->band_buf)
         st = FS_ERR_NOMEM;
-    float *const band[4] = {band_buf, band_buf + band_n, band_buf + 2 * band_n, band_buf + 3 * band_n};
-    temporal te = {0};
     if (st == FS_OK)
-        st = temporal_begin(&te, &s);
-    bool have_prev_ref = false;
+        st = temporal_begin(&c->te, s);
     session_catch_sigint();
-    rp.pr = progress_begin(co->demo ? "demo (reference passes)" : "compare (reference passes)",
-                           (frames - (d->compare.first_frame < frames ? d->compare.first_frame : frames)) * passes, d->quiet);
-    double t0 = time_now();
-    /* --first-frame F (a chunk of a sweep): frames before F are drawn for the TAA history without
-     * being measured or written, from `warm` on; the one just before F also gets its reference, the
-     * previous frame of F's temporal metrics. */
-    const int first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
-    int warm = first > 0 ? first - 1 : 0; /* the frame before F, at least */
-    if (first > 0 && s.pl.taa) {
-        int history = run_history_start(&s.sc, first, d->fps, s.pl.width, s.pl.height);
-        if (d->bench.warmup_set && first - d->bench.warmup > history)
-            history = first - d->bench.warmup;
-        warm = history < warm ? history : warm;
+    c->rp.pr = progress_begin(c->co->demo ? "demo (reference passes)" : "compare (reference passes)",
+                              (frames - (d->compare.first_frame < frames ? d->compare.first_frame : frames)) * c->passes, d->quiet);
+    c->t0 = time_now();
+    /* The frame just before F also gets its reference, the previous frame of F's temporal metrics. */
+    c->first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
+    c->warm = c->first > 0 ? c->first - 1 : 0; /* the frame before F, at least */
+    if (c->first > 0 && s->pl.taa) {
+        int history = run_history_start(&s->sc, c->first, d->fps, s->pl.width, s->pl.height);
+        if (d->bench.warmup_set && c->first - d->bench.warmup > history)
+            history = c->first - d->bench.warmup;
+        c->warm = history < c->warm ? history : c->warm;
     }
-    for (int i = warm; i < frames && st == FS_OK; i++) {
+    return st;
+}
+
+/* Every mode measured against the frame's reference; measured frames go into metrics.csv and the
+ * modes' sums. */
+static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f)
+{
+    fs_status st = FS_OK;
+    int i = f->i;
+    for (int m = 0; m < c->nm && st == FS_OK; m++) {
+        mode_run *mr = &c->runs[m];
+        ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
+        metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
+        bool prev = mr->have_prev && c->have_prev_ref;
+        st = measure_flip(&vi, &f->vr, &f->dd, mr->flip);
+        if (st == FS_OK)
+            st = metrics_compute(&vi, &f->vr, &f->vb, mr->flip, prev ? &vp : NULL, &f->mask, rm);
+        if (st == FS_OK)
+            st = temporal_measure(&c->te, &vi, prev ? &vp : NULL, &f->vr, &f->mask,
+                                  temporal_reference_noise2(c->rf, f->still, f->ri.error, i > 0 ? c->ref_err[i - 1] : 0.0),
+                                  rm);
+        if (!f->measured)
+            continue;
+        measure_accumulate(mr, rm, c->ml.count, f->still);
+        measure_gate_ratios(rm, c->ml.count, c->s.pl.rings ? &c->ml : NULL); /* metrics.csv: -1 where too little reference */
+        for (int k = 0; k <= c->ml.count && st == FS_OK; k++)
+            if (!metrics_csv_row(c->csv, i, f->fr.time, alpha_mode_name(mr->mode), k < c->ml.count ? k : -1, &rm[k],
+                                 f->still, mr->frame_ms[i])) {
+                log_error("%s: cannot write: %s", c->csv_tmp, strerror(errno));
+                st = FS_ERR_IO;
+            }
+    }
+    return st;
+}
+
+/* The measured frame's outputs: the FovVideoVDP export and the two-part EXR (unless --resume kept
+ * it). Frees the ring mask. */
+static fs_status compare_write_frame(cmp_run *c, cmp_frame *f, fs_status st)
+{
+    int i = f->i;
+    if (st == FS_OK && c->fx && f->measured) {
+        const exr_image *seq[ALPHA_MODE_COUNT + 1];
+        for (int m = 0; m < c->nm; m++)
+            seq[m] = &c->runs[m].img;
+        seq[c->nm] = &c->ref;
+        st = fvvdp_export_frame(c->fx, i, &f->fr, seq);
+    }
+    exr_image frame;
+    if (st == FS_OK)
+        st = build_frame(c->runs, c->nm, &c->ref, &f->mask, &frame);
+    ring_mask_free(&f->mask);
+    if (st != FS_OK)
+        return st;
+    if (c->fo.kept[i] || !f->measured) {
+        exr_image_free(&frame);
+    } else {
+        frame_attrs(&frame, &c->s, &f->fr, c->runs, c->nm, c->rf, &f->ri);
+        char path[1200];
+        snprintf(path, sizeof path, "%s/%s.%04d.exr", c->out, c->d->name, i);
+        st = exr_writer_submit(c->w, path, &frame);
+        c->done += st == FS_OK;
+    }
+    return st;
+}
+
+/* This frame becomes the previous one (the modes' images, the reference, the temporal state). */
+static void compare_next_frame(cmp_run *c, const cmp_frame *f)
+{
+    for (int m = 0; m < c->nm; m++) {
+        mode_run *mr = &c->runs[m];
+        exr_image_free(&mr->prev);
+        mr->prev = mr->img;
+        memset(&mr->img, 0, sizeof mr->img);
+        mr->have_prev = true;
+    }
+    exr_image_free(&c->prev_ref);
+    c->prev_ref = c->ref;
+    memset(&c->ref, 0, sizeof c->ref);
+    c->have_prev_ref = true;
+    temporal_next(&c->te, &f->fr);
+}
+
+/* Frame i: drawn by every mode (only that, for the TAA history before first - 1), its reference,
+ * the measurements and the outputs. */
+static fs_status compare_frame(cmp_run *c, int i)
+{
+    const run_desc *d = c->d;
+    fs_status st = FS_OK;
+    int nm = c->nm;
+    c->rp.base = (i < c->first ? 0 : i - c->first) * c->passes;
+    cmp_frame f = {.i = i, .measured = i >= c->first};
+    f.fr = session_frame(&c->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+    if (i < c->first - 1) { /* history only */
+        for (int m = 0; m < nm && st == FS_OK; m++)
+            st = renderer_draw(c->runs[m].r, &f.fr);
+        return st;
+    }
+    if (f.fr.cut) /* no frame-to-frame change across a cut */
+        for (int m = 0; m < nm; m++)
+            c->runs[m].have_prev = false;
+    c->have_prev_ref = c->have_prev_ref && !f.fr.cut;
+    for (int m = 0; m < nm && st == FS_OK; m++) {
+        mode_run *mr = &c->runs[m];
+        renderer_finish(mr->r);
+        double a = time_now();
+        st = renderer_draw(mr->r, &f.fr);
+        renderer_finish(mr->r);
+        mr->frame_ms[i] = (time_now() - a) * 1e3;
+        if (st == FS_OK)
+            st = renderer_read(mr->r, &mr->img);
+    }
+    if (st == FS_OK)
+        st = reference_frame(c->rf, &f.fr, &c->ref, &f.ri);
+    if (st != FS_OK)
+        return st;
+    c->ref_err[i] = f.ri.error;
+    c->ref_cached += f.measured && f.ri.cached;
+    f.dd = (display_desc){c->s.pl.width, c->s.pl.height, f.fr.hfov_deg};
+    st = ring_mask_build(&f.dd, &c->ml, f.fr.gaze_px[0], f.fr.gaze_px[1], &f.mask);
+    f.vr = measure_view(&c->ref);
+    f.vpr = measure_view(&c->prev_ref);
+    /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
+    float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
+                            c->band_buf + 3 * c->band_n};
+    if (st == FS_OK)
+        st = metrics_band_limit(&f.vr, &f.dd, &c->s.pl.layout, f.fr.ring_rect, f.fr.gaze_px[0], f.fr.gaze_px[1], band,
+                                &f.vb);
+    /* This frame's depth, and the previous reference warped into this frame (one warp for all). */
+    if (st == FS_OK)
+        st = temporal_frame(&c->te, &f.fr, c->have_prev_ref ? &f.vpr : NULL);
+    f.still = temporal_still(&c->te, &f.fr);
+    if (st == FS_OK)
+        st = compare_measure_modes(c, &f);
+    st = compare_write_frame(c, &f, st);
+    if (st != FS_OK)
+        return st;
+    compare_next_frame(c, &f);
+    progress_update(&c->rp.pr, (i + 1 - c->first) * c->passes);
+    return st;
+}
+
+/* Ends the frames' outputs: the EXR writer's queue, metrics.csv (renamed into place, or removed
+ * when the run failed) and the FovVideoVDP export. */
+static fs_status compare_close_outputs(cmp_run *c, fs_status st)
+{
+    if (c->w) {
+        fs_status wst = exr_writer_finish(c->w);
+        if (st == FS_OK)
+            st = wst;
+    }
+    bool csv_bad = c->csv && ferror(c->csv);
+    if (c->csv && (fclose(c->csv) != 0 || csv_bad) && st == FS_OK) {
+        log_error("%s: cannot write: %s", c->csv_tmp, strerror(errno));
+        st = FS_ERR_IO;
+    }
+    if (c->csv && st == FS_OK && rename(c->csv_tmp, c->csv_path) != 0) {
+        log_error("%s: cannot rename to %s: %s", c->csv_tmp, c->csv_path, strerror(errno));
+        st = FS_ERR_IO;
+    }
+    if (c->csv && st != FS_OK)
+        unlink(c->csv_tmp);
+    return st;
+}
+
+/* --fvvdp: FovVideoVDP's JOD per sequence into jod (*have set), or how to run it later when
+ * pyfvvdp is not installed. A failed run is returned; the run's own results are still written. */
+static fs_status compare_run_fvvdp(cmp_run *c, double *jod, bool *have)
+{
+    *have = false;
+    if (!fvvdp_available()) {
+        sbuf cmd = {0};
+        sb_puts(&cmd, "python3 ");
+        char script[PATH_MAX + 32];
+        snprintf(script, sizeof script, "%s/fvvdp/run_fvvdp.py", c->out);
+        shell_quote(&cmd, script);
+        printf("FovVideoVDP: pyfvvdp is not installed for the python3 on PATH (pip install pyfvvdp); its inputs "
+               "are in %s/fvvdp/, run %s once it is\n", c->out, cmd.p ? cmd.p : "");
+        free(cmd.p);
+        return FS_OK;
+    }
+    fs_status st = fvvdp_run(c->out, c->seq_names, c->nm + 1, jod);
+    *have = st == FS_OK;
+    return st;
+}
+
+/* The table and summary.json, the run folder's record, and the closing line. */
+static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
+{
+    const run_desc *d = c->d;
+    double jod[ALPHA_MODE_COUNT + 1];
+    bool have_jod = false;
+    fs_status fvvdp_st = FS_OK; /* a failed FovVideoVDP run: the run's own results are still written */
+    if (st == FS_OK && d->compare.run_fvvdp)
+        fvvdp_st = compare_run_fvvdp(c, jod, &have_jod);
+    if (st == FS_OK)
+        st = report(&(report_desc){.s = &c->s, .runs = c->runs, .mode_count = c->nm, .frames = c->frames - c->first,
+                                   .first = c->first, .layout = &c->ml, .blocks = c->s.pl.rings ? &c->ml : NULL,
+                                   .ref = c->rf, .ref_err = c->ref_err + c->first, .ref_cached = c->ref_cached,
+                                   .out = c->out, .json_path = c->json_path, .seconds = seconds,
+                                   .jod = have_jod ? jod : NULL});
+    if (st == FS_OK)
+        st = run_folder_complete(&c->fo);
+    if (st == FS_OK)
+        st = fvvdp_st;
+    if (st == FS_OK && c->fo.kept_count)
+        printf("resumed: kept %d complete frame%s of the earlier run; every frame was drawn again for the metrics "
+               "and the TAA history, and only the missing ones written\n", c->fo.kept_count,
+               c->fo.kept_count == 1 ? "" : "s");
+    else if (st == FS_ERR_INTERRUPTED)
+        log_error("interrupted after %d complete frames in %s (no partial frame was left; metrics.csv was not written; "
+                  "--resume continues)", c->done + c->fo.kept_count, c->out);
+    return st;
+}
+
+static void compare_free(cmp_run *c)
+{
+    run_folder_close(&c->fo);
+    exr_image_free(&c->ref);
+    exr_image_free(&c->prev_ref);
+    free(c->band_buf);
+    for (int m = 0; m < c->nm; m++) {
+        mode_run *mr = &c->runs[m];
+        exr_image_free(&mr->img);
+        exr_image_free(&mr->prev);
+        free(mr->frame_ms);
+        free(mr->flip);
+        renderer_destroy(mr->r);
+    }
+    temporal_end(&c->te);
+    free(c->ref_err);
+    reference_destroy(c->rf);
+    session_end(&c->s);
+}
+
+static fs_status compare_run(const run_desc *d, const compare_opts *co)
+{
+    cmp_run *c = calloc(1, sizeof *c);
+    if (!c)
+        return FS_ERR_NOMEM;
+    c->d = d;
+    c->co = co;
+    fs_status st = session_begin(d, &c->s, false);
+    if (st != FS_OK) {
+        free(c);
+        return st;
+    }
+    st = compare_build_modes(c);
+    st = compare_open_outputs(c, st);
+    st = compare_begin_frames(c, st);
+    for (int i = c->warm; i < c->frames && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
             break;
         }
-        rp.base = (i < first ? 0 : i - first) * passes;
-        frame_record fr = session_frame(&s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
-        if (i < first - 1) { /* history only */
-            for (int m = 0; m < nm && st == FS_OK; m++)
-                st = renderer_draw(runs[m].r, &fr);
-            continue;
-        }
-        const bool measured = i >= first;
-        if (fr.cut) /* no frame-to-frame change across a cut */
-            for (int m = 0; m < nm; m++)
-                runs[m].have_prev = false;
-        have_prev_ref = have_prev_ref && !fr.cut;
-        for (int m = 0; m < nm && st == FS_OK; m++) {
-            renderer_finish(runs[m].r);
-            double a = time_now();
-            st = renderer_draw(runs[m].r, &fr);
-            renderer_finish(runs[m].r);
-            runs[m].frame_ms[i] = (time_now() - a) * 1e3;
-            if (st == FS_OK)
-                st = renderer_read(runs[m].r, &runs[m].img);
-        }
-        reference_info ri;
-        if (st == FS_OK)
-            st = reference_frame(rf, &fr, &ref, &ri);
-        if (st != FS_OK)
-            break;
-        ref_err[i] = ri.error;
-        ref_cached += measured && ri.cached;
-        display_desc dd = {s.pl.width, s.pl.height, fr.hfov_deg};
-        ring_mask mask;
-        st = ring_mask_build(&dd, &ml, fr.gaze_px[0], fr.gaze_px[1], &mask);
-        metrics_view vr = measure_view(&ref), vpr = measure_view(&prev_ref), vb;
-        /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
-        if (st == FS_OK)
-            st = metrics_band_limit(&vr, &dd, &s.pl.layout, fr.ring_rect, fr.gaze_px[0], fr.gaze_px[1], band, &vb);
-        /* This frame's depth, and the previous reference warped into this frame (one warp for all). */
-        if (st == FS_OK)
-            st = temporal_frame(&te, &fr, have_prev_ref ? &vpr : NULL);
-        bool still = temporal_still(&te, &fr);
-        for (int m = 0; m < nm && st == FS_OK; m++) {
-            ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
-            metrics_view vi = measure_view(&runs[m].img), vp = measure_view(&runs[m].prev);
-            bool prev = runs[m].have_prev && have_prev_ref;
-            st = measure_flip(&vi, &vr, &dd, runs[m].flip);
-            if (st == FS_OK)
-                st = metrics_compute(&vi, &vr, &vb, runs[m].flip, prev ? &vp : NULL, &mask, rm);
-            if (st == FS_OK)
-                st = temporal_measure(&te, &vi, prev ? &vp : NULL, &vr, &mask,
-                                      temporal_reference_noise2(rf, still, ri.error, i > 0 ? ref_err[i - 1] : 0.0), rm);
-            if (!measured)
-                continue;
-            measure_accumulate(&runs[m], rm, ml.count, still);
-            measure_gate_ratios(rm, ml.count, s.pl.rings ? &ml : NULL); /* metrics.csv: -1 where too little reference */
-            for (int k = 0; k <= ml.count && st == FS_OK; k++)
-                if (!metrics_csv_row(csv, i, fr.time, alpha_mode_name(runs[m].mode), k < ml.count ? k : -1, &rm[k],
-                                     still, runs[m].frame_ms[i])) {
-                    log_error("%s: cannot write: %s", csv_tmp, strerror(errno));
-                    st = FS_ERR_IO;
-                }
-        }
-        if (st == FS_OK && fx && measured) {
-            const exr_image *seq[ALPHA_MODE_COUNT + 1];
-            for (int m = 0; m < nm; m++)
-                seq[m] = &runs[m].img;
-            seq[nm] = &ref;
-            st = fvvdp_export_frame(fx, i, &fr, seq);
-        }
-        exr_image frame;
-        if (st == FS_OK)
-            st = build_frame(runs, nm, &ref, &mask, &frame);
-        ring_mask_free(&mask);
-        if (st != FS_OK)
-            break;
-        if (fo.kept[i] || !measured) {
-            exr_image_free(&frame);
-        } else {
-            frame_attrs(&frame, &s, &fr, runs, nm, rf, &ri);
-            char path[1200];
-            snprintf(path, sizeof path, "%s/%s.%04d.exr", out, d->name, i);
-            st = exr_writer_submit(w, path, &frame);
-            done += st == FS_OK;
-        }
-        /* This frame becomes the previous one. */
-        for (int m = 0; m < nm; m++) {
-            exr_image_free(&runs[m].prev);
-            runs[m].prev = runs[m].img;
-            memset(&runs[m].img, 0, sizeof runs[m].img);
-            runs[m].have_prev = true;
-        }
-        exr_image_free(&prev_ref);
-        prev_ref = ref;
-        memset(&ref, 0, sizeof ref);
-        have_prev_ref = true;
-        temporal_next(&te, &fr);
-        progress_update(&rp.pr, (i + 1 - first) * passes);
+        st = compare_frame(c, i);
     }
-    progress_end(&rp.pr);
-    if (w) {
-        fs_status wst = exr_writer_finish(w);
-        if (st == FS_OK)
-            st = wst;
-    }
-    bool csv_bad = csv && ferror(csv);
-    if (csv && (fclose(csv) != 0 || csv_bad) && st == FS_OK) {
-        log_error("%s: cannot write: %s", csv_tmp, strerror(errno));
-        st = FS_ERR_IO;
-    }
-    if (csv && st == FS_OK && rename(csv_tmp, csv_path) != 0) {
-        log_error("%s: cannot rename to %s: %s", csv_tmp, csv_path, strerror(errno));
-        st = FS_ERR_IO;
-    }
-    if (csv && st != FS_OK)
-        unlink(csv_tmp);
-    double el = time_now() - t0;
-    if (fx) {
-        fs_status fst = fvvdp_export_end(fx);
+    progress_end(&c->rp.pr);
+    st = compare_close_outputs(c, st);
+    double el = time_now() - c->t0;
+    if (c->fx) {
+        fs_status fst = fvvdp_export_end(c->fx);
         if (st == FS_OK)
             st = fst;
     }
-    double jod[ALPHA_MODE_COUNT + 1];
-    bool have_jod = false;
-    fs_status fvvdp_st = FS_OK; /* a failed FovVideoVDP run: the run's own results are still written */
-    if (st == FS_OK && d->compare.run_fvvdp) {
-        if (!fvvdp_available()) {
-            sbuf cmd = {0};
-            sb_puts(&cmd, "python3 ");
-            char script[PATH_MAX + 32];
-            snprintf(script, sizeof script, "%s/fvvdp/run_fvvdp.py", out);
-            shell_quote(&cmd, script);
-            printf("FovVideoVDP: pyfvvdp is not installed for the python3 on PATH (pip install pyfvvdp); its inputs "
-                   "are in %s/fvvdp/, run %s once it is\n", out, cmd.p ? cmd.p : "");
-            free(cmd.p);
-        } else {
-            fvvdp_st = fvvdp_run(out, seq_names, nm + 1, jod);
-            have_jod = fvvdp_st == FS_OK;
-        }
-    }
-    if (st == FS_OK)
-        st = report(&(report_desc){.s = &s, .runs = runs, .mode_count = nm, .frames = frames - first,
-                                   .first = first, .layout = &ml, .blocks = s.pl.rings ? &ml : NULL, .ref = rf, .ref_err = ref_err + first,
-                                   .ref_cached = ref_cached, .out = out,
-                                   .json_path = json_path, .seconds = el, .jod = have_jod ? jod : NULL});
-    if (st == FS_OK)
-        st = run_folder_complete(&fo);
-    if (st == FS_OK)
-        st = fvvdp_st;
-    if (st == FS_OK && fo.kept_count)
-        printf("resumed: kept %d complete frame%s of the earlier run; every frame was drawn again for the metrics "
-               "and the TAA history, and only the missing ones written\n", fo.kept_count,
-               fo.kept_count == 1 ? "" : "s");
-    else if (st == FS_ERR_INTERRUPTED)
-        log_error("interrupted after %d complete frames in %s (no partial frame was left; metrics.csv was not written; "
-                  "--resume continues)", done + fo.kept_count, out);
-    run_folder_close(&fo);
-    exr_image_free(&ref);
-    exr_image_free(&prev_ref);
-    free(band_buf);
-    for (int m = 0; m < nm; m++) {
-        exr_image_free(&runs[m].img);
-        exr_image_free(&runs[m].prev);
-        free(runs[m].frame_ms);
-        free(runs[m].flip);
-        renderer_destroy(runs[m].r);
-    }
-    temporal_end(&te);
-    free(ref_err);
-    reference_destroy(rf);
-    session_end(&s);
+    st = compare_report(c, st, el);
+    compare_free(c);
+    free(c);
     return st;
 }
 

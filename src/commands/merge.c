@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/file_read.h"
+#include "core/grow.h"
 #include "core/log.h"
 #include "output/gnuplot.h"
 #include "output/out_path.h"
@@ -42,14 +43,8 @@ static point *point_of(points *ps, int config, const char *mode)
     for (int i = 0; i < ps->n; i++)
         if (ps->v[i].config == config && !strcmp(ps->v[i].mode, mode))
             return &ps->v[i];
-    if (ps->n == ps->cap) {
-        int cap = ps->cap ? 2 * ps->cap : 16;
-        point *v = realloc(ps->v, sizeof *v * (size_t)cap);
-        if (!v)
-            return NULL;
-        ps->v = v;
-        ps->cap = cap;
-    }
+    if (!FS_GROW_INT(ps->v, ps->cap, ps->n + 1))
+        return NULL;
     point *p = &ps->v[ps->n++];
     memset(p, 0, sizeof *p);
     p->config = config;
@@ -240,13 +235,7 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
         field(row, c_mode, mode, sizeof mode);
         if (!strcmp(ring, "-1")) {
             point *p = point_of(ps, config, mode);
-            if (p && p->n == p->cap) {
-                int cap = p->cap ? 2 * p->cap : 64;
-                double *ms = realloc(p->ms, sizeof(double) * (size_t)cap);
-                p->ms = ms ? ms : p->ms;
-                p->cap = ms ? cap : p->cap;
-            }
-            if (!p || p->n == p->cap) {
+            if (!p || !FS_GROW_INT(p->ms, p->cap, p->n + 1)) {
                 st = FS_ERR_NOMEM;
                 break;
             }

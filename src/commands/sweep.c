@@ -37,6 +37,7 @@
 #include "cli.h"
 #include "core/config.h"
 #include "core/file_read.h"
+#include "core/grow.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "core/spawn.h"
@@ -130,8 +131,8 @@ static fs_status task_desc(const sweep_manifest *m, const sweep_task *k, char **
 /* The task list: scenes x traces x ring layouts x TAA settings x chunks, in that nesting. */
 fs_status sweep_build_tasks(sweep_manifest *m)
 {
-    int per_chunkless = m->nscenes * m->ngaze * m->nrings * m->ntaa;
-    int cap = per_chunkless;
+    int per_chunk = m->ngaze * m->nrings * m->ntaa; /* a scene's tasks per chunk */
+    int cap = 0;
     m->tasks = NULL;
     m->ntasks = 0;
     fs_status st = FS_OK;
@@ -158,13 +159,10 @@ fs_status sweep_build_tasks(sweep_manifest *m)
         }
         const int *starts = m->chunk_frames > 0 ? m->chunks[s] : NULL;
         int nchunks = starts ? m->nchunks[s] : 1;
-        cap += per_chunkless / m->nscenes * (nchunks - 1);
-        sweep_task *grown = realloc(m->tasks, sizeof *grown * (size_t)cap);
-        if (!grown) {
+        if (!FS_GROW_INT(m->tasks, cap, m->ntasks + per_chunk * nchunks)) {
             st = FS_ERR_NOMEM;
             break;
         }
-        m->tasks = grown;
         for (int g = 0; g < m->ngaze; g++)
             for (int r = 0; r < m->nrings; r++)
                 for (int t = 0; t < m->ntaa; t++)

@@ -147,185 +147,224 @@ static char *dup_or_null(const char *s, bool *oom)
     return d;
 }
 
-static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, const sweep_overrides *ov)
+/* What parse's phases share: the manifest being filled, the document, the manifest's folder
+ * (relative paths resolve against it), the first failure (each phase does nothing once st is not
+ * FS_OK, but for the defaults it sets) and whether a copy ran out of memory. */
+typedef struct mparse {
+    sweep_manifest *m;
+    const cJSON *root;
+    const char *dir;
+    fs_status st;
+    bool oom;
+} mparse;
+
+/* scenes: built-in names or files */
+static void parse_scenes(mparse *p)
 {
-    static const char *const k_top[] = {"scenes", "gaze", "modes", "rings", "taa", "width", "height", "fps",
-                                        "frames", "reference", "cache", "chunk_frames", "warmup", "options",
-                                        "slurm", "out", "chunk_starts", NULL};
-    static const char *const k_ref[] = {"kind", "supersample", "samples", NULL};
-    static const char *const k_slurm[] = {"cpus_per_task", "mem", "time", "partition", "max_running", "extra", NULL};
-    if (!cJSON_IsObject(root))
-        return bad(m, "(top level)", "expected an object");
-    fs_status st = known_keys(m, root, "", k_top);
+    sweep_manifest *m = p->m;
     const char *list[SWEEP_MAX_LIST];
     int n = 0;
-    bool oom = false;
     char abs_path[PATH_MAX];
-    /* scenes: built-in names or files */
-    if (st == FS_OK && (st = strings(m, root, "scenes", list, &n)) == FS_OK && n == 0)
-        st = bad(m, "scenes", "expected an array of scene files or built-in names (%s)", scene_builtin_list());
-    for (int i = 0; i < n && st == FS_OK; i++) {
+    if (p->st == FS_OK && (p->st = strings(m, p->root, "scenes", list, &n)) == FS_OK && n == 0)
+        p->st = bad(m, "scenes", "expected an array of scene files or built-in names (%s)", scene_builtin_list());
+    for (int i = 0; i < n && p->st == FS_OK; i++) {
         const char *s = list[i];
         if (!strncmp(s, "builtin:", 8) || (is_builtin_scene(s) && !strchr(s, '/'))) {
             char b[128];
             snprintf(b, sizeof b, "builtin:%s", strncmp(s, "builtin:", 8) ? s : s + 8);
             if (!is_builtin_scene(b + 8))
-                st = bad(m, "scenes", "[%d]: '%s': no such built-in scene (%s)", i, s, scene_builtin_list());
-            m->scenes[m->nscenes++] = dup_or_null(b, &oom);
+                p->st = bad(m, "scenes", "[%d]: '%s': no such built-in scene (%s)", i, s, scene_builtin_list());
+            m->scenes[m->nscenes++] = dup_or_null(b, &p->oom);
             continue;
         }
-        if (!absolute(dir, s, abs_path, sizeof abs_path)) {
-            st = bad(m, "scenes", "[%d]: the path is too long", i);
+        if (!absolute(p->dir, s, abs_path, sizeof abs_path)) {
+            p->st = bad(m, "scenes", "[%d]: the path is too long", i);
             break;
         }
         struct stat sb;
         int rc = stat(abs_path, &sb);
         if (rc != 0 || !S_ISREG(sb.st_mode))
-            st = bad(m, "scenes", "[%d]: %s: expected a scene file or built-in name (%s): %s", i, abs_path,
-                     scene_builtin_list(), rc != 0 ? strerror(errno) : "not a regular file");
-        m->scenes[m->nscenes++] = dup_or_null(abs_path, &oom);
+            p->st = bad(m, "scenes", "[%d]: %s: expected a scene file or built-in name (%s): %s", i, abs_path,
+                        scene_builtin_list(), rc != 0 ? strerror(errno) : "not a regular file");
+        m->scenes[m->nscenes++] = dup_or_null(abs_path, &p->oom);
     }
-    /* gaze: "centre", builtin:NAME or files; default the centre */
-    if (st == FS_OK && (st = strings(m, root, "gaze", list, &n)) == FS_OK && n == 0)
+}
+
+/* gaze: "centre", builtin:NAME or files; default the centre */
+static void parse_gaze(mparse *p)
+{
+    sweep_manifest *m = p->m;
+    const char *list[SWEEP_MAX_LIST];
+    int n = 0;
+    char abs_path[PATH_MAX];
+    if (p->st == FS_OK && (p->st = strings(m, p->root, "gaze", list, &n)) == FS_OK && n == 0)
         m->gaze[m->ngaze++] = NULL;
-    for (int i = 0; i < n && st == FS_OK; i++) {
+    for (int i = 0; i < n && p->st == FS_OK; i++) {
         const char *g = list[i];
         if (!strcmp(g, "centre") || !strcmp(g, "center")) {
             m->gaze[m->ngaze++] = NULL;
             continue;
         }
         if (!strncmp(g, "builtin:", 8)) {
-            m->gaze[m->ngaze++] = dup_or_null(g, &oom); /* the task's gaze loader says if it is unknown */
+            m->gaze[m->ngaze++] = dup_or_null(g, &p->oom); /* the task's gaze loader says if it is unknown */
             continue;
         }
-        if (!absolute(dir, g, abs_path, sizeof abs_path)) {
-            st = bad(m, "gaze", "[%d]: the path is too long", i);
+        if (!absolute(p->dir, g, abs_path, sizeof abs_path)) {
+            p->st = bad(m, "gaze", "[%d]: the path is too long", i);
             break;
         }
         if (access(abs_path, R_OK) != 0)
-            st = bad(m, "gaze", "[%d]: %s: expected a readable gaze trace, builtin:NAME or \"centre\": %s", i,
-                     abs_path, strerror(errno));
-        m->gaze[m->ngaze++] = dup_or_null(abs_path, &oom);
+            p->st = bad(m, "gaze", "[%d]: %s: expected a readable gaze trace, builtin:NAME or \"centre\": %s", i,
+                        abs_path, strerror(errno));
+        m->gaze[m->ngaze++] = dup_or_null(abs_path, &p->oom);
     }
-    /* modes, compared together in every task */
-    if (st == FS_OK && (st = strings(m, root, "modes", list, &n)) == FS_OK && n == 0) {
+}
+
+/* modes, compared together in every task; ring layouts and TAA settings: the task's compare
+ * checks each ring value */
+static void parse_modes_rings_taa(mparse *p)
+{
+    sweep_manifest *m = p->m;
+    const char *list[SWEEP_MAX_LIST];
+    int n = 0;
+    if (p->st == FS_OK && (p->st = strings(m, p->root, "modes", list, &n)) == FS_OK && n == 0) {
         list[0] = "traditional", list[1] = "hashed";
         n = 2;
     }
-    for (int i = 0; i < n && st == FS_OK; i++) {
+    for (int i = 0; i < n && p->st == FS_OK; i++) {
         if (alpha_mode_parse(list[i]) == ALPHA_MODE_DEFAULT && strcmp(list[i], "all") != 0)
-            st = bad(m, "modes", "[%d]: '%s': expected an alpha mode (%s) or all", i, list[i], alpha_mode_list());
+            p->st = bad(m, "modes", "[%d]: '%s': expected an alpha mode (%s) or all", i, list[i], alpha_mode_list());
         snprintf(m->modes + strlen(m->modes), sizeof m->modes - strlen(m->modes), "%s%s", i ? "," : "", list[i]);
     }
-    /* ring layouts and TAA settings: the task's compare checks each value */
-    if (st == FS_OK && (st = strings(m, root, "rings", list, &n)) == FS_OK && n == 0)
+    if (p->st == FS_OK && (p->st = strings(m, p->root, "rings", list, &n)) == FS_OK && n == 0)
         list[0] = "default", n = 1;
-    for (int i = 0; i < n && st == FS_OK; i++)
-        m->rings[m->nrings++] = dup_or_null(list[i], &oom);
-    if (st == FS_OK && (st = strings(m, root, "taa", list, &n)) == FS_OK && n == 0)
+    for (int i = 0; i < n && p->st == FS_OK; i++)
+        m->rings[m->nrings++] = dup_or_null(list[i], &p->oom);
+    if (p->st == FS_OK && (p->st = strings(m, p->root, "taa", list, &n)) == FS_OK && n == 0)
         list[0] = "default", n = 1;
-    if (st == FS_OK && n > 3)
-        st = bad(m, "taa", "expected at most 3 of \"on\", \"off\", \"default\"");
-    for (int i = 0; i < n && st == FS_OK; i++) {
+    if (p->st == FS_OK && n > 3)
+        p->st = bad(m, "taa", "expected at most 3 of \"on\", \"off\", \"default\"");
+    for (int i = 0; i < n && p->st == FS_OK; i++) {
         static const char *const k_taa[] = {"default", "on", "off"};
         int k = 0;
         while (k < 3 && strcmp(list[i], k_taa[k]) != 0)
             k++;
         if (k == 3)
-            st = bad(m, "taa", "[%d]: '%s': expected \"on\", \"off\" or \"default\" (the scene's)", i, list[i]);
+            p->st = bad(m, "taa", "[%d]: '%s': expected \"on\", \"off\" or \"default\" (the scene's)", i, list[i]);
         else
             m->taa[m->ntaa++] = k_taa[k];
     }
-    /* display and sequence */
-    if (st == FS_OK)
-        st = integer(m, root, "width", "width", 1, 16384, &m->width);
-    if (st == FS_OK)
-        st = integer(m, root, "height", "height", 1, 16384, &m->height);
-    if (st == FS_OK && (m->width > 0) != (m->height > 0))
-        st = bad(m, m->width ? "height" : "width", "expected width and height together, or neither");
-    if (st == FS_OK)
-        st = integer(m, root, "frames", "frames", 1, MAX_FRAMES, &m->frames);
+}
+
+/* display and sequence; the reference */
+static void parse_display_reference(mparse *p)
+{
+    static const char *const k_ref[] = {"kind", "supersample", "samples", NULL};
+    sweep_manifest *m = p->m;
+    const cJSON *root = p->root;
+    if (p->st == FS_OK)
+        p->st = integer(m, root, "width", "width", 1, 16384, &m->width);
+    if (p->st == FS_OK)
+        p->st = integer(m, root, "height", "height", 1, 16384, &m->height);
+    if (p->st == FS_OK && (m->width > 0) != (m->height > 0))
+        p->st = bad(m, m->width ? "height" : "width", "expected width and height together, or neither");
+    if (p->st == FS_OK)
+        p->st = integer(m, root, "frames", "frames", 1, MAX_FRAMES, &m->frames);
     const cJSON *fps = cJSON_GetObjectItemCaseSensitive(root, "fps");
-    if (st == FS_OK && fps) {
+    if (p->st == FS_OK && fps) {
         if (!cJSON_IsNumber(fps) || !(fps->valuedouble >= FPS_MIN && fps->valuedouble <= FPS_MAX))
-            st = bad(m, "fps", "expected a number in [0.001, 1000]");
+            p->st = bad(m, "fps", "expected a number in [0.001, 1000]");
         else
             m->fps = fps->valuedouble;
     }
-    /* the reference */
     const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
-    if (st == FS_OK && ref && !cJSON_IsObject(ref))
-        st = bad(m, "reference", "expected an object with kind, supersample, samples");
-    if (st == FS_OK && ref)
-        st = known_keys(m, ref, "reference", k_ref);
-    if (st == FS_OK && ref)
-        st = text(m, ref, "kind", "reference.kind", m->reference, sizeof m->reference);
-    if (st == FS_OK && m->reference[0] && strcmp(m->reference, "exact") && strcmp(m->reference, "stochastic"))
-        st = bad(m, "reference.kind", "expected \"exact\" or \"stochastic\", got '%s'", m->reference);
-    if (st == FS_OK && ref)
-        st = integer(m, ref, "supersample", "reference.supersample", 1, 16, &m->supersample);
-    if (st == FS_OK && ref)
-        st = integer(m, ref, "samples", "reference.samples", 2, 4096, &m->samples);
-    /* chunks */
-    if (st == FS_OK)
-        st = integer(m, root, "chunk_frames", "chunk_frames", 1, MAX_FRAMES, &m->chunk_frames);
+    if (p->st == FS_OK && ref && !cJSON_IsObject(ref))
+        p->st = bad(m, "reference", "expected an object with kind, supersample, samples");
+    if (p->st == FS_OK && ref)
+        p->st = known_keys(m, ref, "reference", k_ref);
+    if (p->st == FS_OK && ref)
+        p->st = text(m, ref, "kind", "reference.kind", m->reference, sizeof m->reference);
+    if (p->st == FS_OK && m->reference[0] && strcmp(m->reference, "exact") && strcmp(m->reference, "stochastic"))
+        p->st = bad(m, "reference.kind", "expected \"exact\" or \"stochastic\", got '%s'", m->reference);
+    if (p->st == FS_OK && ref)
+        p->st = integer(m, ref, "supersample", "reference.supersample", 1, 16, &m->supersample);
+    if (p->st == FS_OK && ref)
+        p->st = integer(m, ref, "samples", "reference.samples", 2, 4096, &m->samples);
+}
+
+/* chunks, and the chunks a sweep found (written into its copies; not for people to write) */
+static void parse_chunks(mparse *p)
+{
+    sweep_manifest *m = p->m;
+    const cJSON *root = p->root;
+    if (p->st == FS_OK)
+        p->st = integer(m, root, "chunk_frames", "chunk_frames", 1, MAX_FRAMES, &m->chunk_frames);
     m->warmup = SWEEP_DEFAULT_WARMUP;
-    if (st == FS_OK)
-        st = integer(m, root, "warmup", "warmup", 0, MAX_FRAMES, &m->warmup);
-    /* the chunks a sweep found (written into its copies; not for people to write) */
+    if (p->st == FS_OK)
+        p->st = integer(m, root, "warmup", "warmup", 0, MAX_FRAMES, &m->warmup);
     const cJSON *cs = cJSON_GetObjectItemCaseSensitive(root, "chunk_starts");
-    if (st == FS_OK && cs && m->chunk_frames &&
-        (!cJSON_IsArray(cs) || cJSON_GetArraySize(cs) != m->nscenes))
-        st = bad(m, "chunk_starts", "expected one array per scene (written by fovsim sweep; remove it)");
+    if (p->st == FS_OK && cs && m->chunk_frames && (!cJSON_IsArray(cs) || cJSON_GetArraySize(cs) != m->nscenes))
+        p->st = bad(m, "chunk_starts", "expected one array per scene (written by fovsim sweep; remove it)");
     int si = 0;
-    for (const cJSON *e = cs && m->chunk_frames ? cs->child : NULL; e && st == FS_OK; e = e->next, si++) {
+    for (const cJSON *e = cs && m->chunk_frames ? cs->child : NULL; e && p->st == FS_OK; e = e->next, si++) {
         int len = cJSON_GetArraySize(e), prev = -1;
         if (!cJSON_IsArray(e) || len < 2 || !(m->chunks[si] = malloc(sizeof(int) * (size_t)len))) {
-            st = bad(m, "chunk_starts", "[%d]: expected increasing frame numbers (written by fovsim sweep)", si);
+            p->st = bad(m, "chunk_starts", "[%d]: expected increasing frame numbers (written by fovsim sweep)", si);
             break;
         }
         int j = 0;
         for (const cJSON *f = e->child; f; f = f->next, j++) {
             if (!cJSON_IsNumber(f) || f->valuedouble <= prev || f->valuedouble > MAX_FRAMES) {
-                st = bad(m, "chunk_starts", "[%d][%d]: expected increasing frame numbers (written by fovsim sweep)",
-                         si, j);
+                p->st = bad(m, "chunk_starts", "[%d][%d]: expected increasing frame numbers (written by fovsim sweep)",
+                            si, j);
                 break;
             }
             prev = m->chunks[si][j] = (int)f->valuedouble;
         }
         m->nchunks[si] = len - 1;
     }
-    /* further compare options */
-    if (st == FS_OK && (st = strings(m, root, "options", list, &n)) == FS_OK)
+}
+
+/* further compare options; Slurm */
+static void parse_options_slurm(mparse *p)
+{
+    static const char *const k_slurm[] = {"cpus_per_task", "mem", "time", "partition", "max_running", "extra", NULL};
+    sweep_manifest *m = p->m;
+    const char *list[SWEEP_MAX_LIST];
+    int n = 0;
+    if (p->st == FS_OK && (p->st = strings(m, p->root, "options", list, &n)) == FS_OK)
         for (int i = 0; i < n; i++)
-            m->options[m->noptions++] = dup_or_null(list[i], &oom);
-    /* Slurm */
+            m->options[m->noptions++] = dup_or_null(list[i], &p->oom);
     m->slurm.cpus_per_task = 2;
-    const cJSON *sl = cJSON_GetObjectItemCaseSensitive(root, "slurm");
-    if (st == FS_OK && sl && !cJSON_IsObject(sl))
-        st = bad(m, "slurm", "expected an object");
-    if (st == FS_OK && sl)
-        st = known_keys(m, sl, "slurm", k_slurm);
-    if (st == FS_OK && sl)
-        st = integer(m, sl, "cpus_per_task", "slurm.cpus_per_task", 1, 4096, &m->slurm.cpus_per_task);
-    if (st == FS_OK && sl)
-        st = integer(m, sl, "max_running", "slurm.max_running", 1, 100000, &m->slurm.max_running);
-    if (st == FS_OK && sl)
-        st = text(m, sl, "mem", "slurm.mem", m->slurm.mem, sizeof m->slurm.mem);
-    if (st == FS_OK && sl)
-        st = text(m, sl, "time", "slurm.time", m->slurm.time, sizeof m->slurm.time);
-    if (st == FS_OK && sl)
-        st = text(m, sl, "partition", "slurm.partition", m->slurm.partition, sizeof m->slurm.partition);
-    if (st == FS_OK && sl && (st = strings(m, sl, "extra", list, &n)) == FS_OK) {
+    const cJSON *sl = cJSON_GetObjectItemCaseSensitive(p->root, "slurm");
+    if (p->st == FS_OK && sl && !cJSON_IsObject(sl))
+        p->st = bad(m, "slurm", "expected an object");
+    if (p->st == FS_OK && sl)
+        p->st = known_keys(m, sl, "slurm", k_slurm);
+    if (p->st == FS_OK && sl)
+        p->st = integer(m, sl, "cpus_per_task", "slurm.cpus_per_task", 1, 4096, &m->slurm.cpus_per_task);
+    if (p->st == FS_OK && sl)
+        p->st = integer(m, sl, "max_running", "slurm.max_running", 1, 100000, &m->slurm.max_running);
+    if (p->st == FS_OK && sl)
+        p->st = text(m, sl, "mem", "slurm.mem", m->slurm.mem, sizeof m->slurm.mem);
+    if (p->st == FS_OK && sl)
+        p->st = text(m, sl, "time", "slurm.time", m->slurm.time, sizeof m->slurm.time);
+    if (p->st == FS_OK && sl)
+        p->st = text(m, sl, "partition", "slurm.partition", m->slurm.partition, sizeof m->slurm.partition);
+    if (p->st == FS_OK && sl && (p->st = strings(m, sl, "extra", list, &n)) == FS_OK) {
         if (n > 16)
-            st = bad(m, "slurm.extra", "expected at most 16 lines");
-        for (int i = 0; i < n && st == FS_OK; i++) {
+            p->st = bad(m, "slurm.extra", "expected at most 16 lines");
+        for (int i = 0; i < n && p->st == FS_OK; i++) {
             if (strchr(list[i], '\n') || list[i][0] != '-')
-                st = bad(m, "slurm.extra", "[%d]: expected one sbatch option such as \"--account=lab\"", i);
-            m->slurm.extra[m->slurm.nextra++] = dup_or_null(list[i], &oom);
+                p->st = bad(m, "slurm.extra", "[%d]: expected one sbatch option such as \"--account=lab\"", i);
+            m->slurm.extra[m->slurm.nextra++] = dup_or_null(list[i], &p->oom);
         }
     }
-    /* The command line's settings win. */
+}
+
+/* The command line's settings win. */
+static void apply_overrides(sweep_manifest *m, const sweep_overrides *ov)
+{
     if (ov->chunk_frames && ov->chunk_frames != m->chunk_frames) {
         for (int i = 0; i < m->nscenes; i++) { /* found for another length: found again */
             free(m->chunks[i]);
@@ -345,10 +384,15 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
         snprintf(m->slurm.time, sizeof m->slurm.time, "%s", ov->time);
     if (ov->partition)
         snprintf(m->slurm.partition, sizeof m->slurm.partition, "%s", ov->partition);
-    /* The sweep's folder and its cache. */
+}
+
+/* The sweep's folder (--out, else "out", else out/sweep/NAME) and its cache, made absolute. */
+static void parse_out_cache(mparse *p, const sweep_overrides *ov)
+{
+    sweep_manifest *m = p->m;
     char out[PATH_MAX] = "";
-    if (st == FS_OK)
-        st = text(m, root, "out", "out", out, sizeof out);
+    if (p->st == FS_OK)
+        p->st = text(m, p->root, "out", "out", out, sizeof out);
     bool fits;
     char cwd[PATH_MAX];
     if (!getcwd(cwd, sizeof cwd))
@@ -356,7 +400,7 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
     if (ov->out) {
         fits = absolute(cwd, ov->out, m->out, sizeof m->out);
     } else if (out[0]) {
-        fits = absolute(dir, out, m->out, sizeof m->out);
+        fits = absolute(p->dir, out, m->out, sizeof m->out);
     } else {
         const char *b = strrchr(m->path, '/') ? strrchr(m->path, '/') + 1 : m->path;
         char rel[128] = "out/sweep/";
@@ -366,20 +410,39 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
         rel[l + bl] = '\0';
         fits = absolute(cwd, rel, m->out, sizeof m->out);
     }
-    if (st == FS_OK && !fits)
-        st = bad(m, "out", "the sweep's folder, made absolute, is longer than %zu characters", sizeof m->out - 1);
+    if (p->st == FS_OK && !fits)
+        p->st = bad(m, "out", "the sweep's folder, made absolute, is longer than %zu characters", sizeof m->out - 1);
     char cache[PATH_MAX] = "";
-    if (st == FS_OK)
-        st = text(m, root, "cache", "cache", cache, sizeof cache);
+    if (p->st == FS_OK)
+        p->st = text(m, p->root, "cache", "cache", cache, sizeof cache);
     if (cache[0])
-        fits = absolute(dir, cache, m->cache, sizeof m->cache);
+        fits = absolute(p->dir, cache, m->cache, sizeof m->cache);
     else
         fits = strlen(m->out) + 6 < sizeof m->cache && (strcat(strcpy(m->cache, m->out), "/cache"), true);
-    if (st == FS_OK && !fits)
-        st = bad(m, "cache", "the cache folder, made absolute, is longer than %zu characters", sizeof m->cache - 1);
-    if (oom)
+    if (p->st == FS_OK && !fits)
+        p->st = bad(m, "cache", "the cache folder, made absolute, is longer than %zu characters", sizeof m->cache - 1);
+}
+
+static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, const sweep_overrides *ov)
+{
+    static const char *const k_top[] = {"scenes", "gaze", "modes", "rings", "taa", "width", "height", "fps",
+                                        "frames", "reference", "cache", "chunk_frames", "warmup", "options",
+                                        "slurm", "out", "chunk_starts", NULL};
+    if (!cJSON_IsObject(root))
+        return bad(m, "(top level)", "expected an object");
+    mparse p = {.m = m, .root = root, .dir = dir};
+    p.st = known_keys(m, root, "", k_top);
+    parse_scenes(&p);
+    parse_gaze(&p);
+    parse_modes_rings_taa(&p);
+    parse_display_reference(&p);
+    parse_chunks(&p);
+    parse_options_slurm(&p);
+    apply_overrides(m, ov);
+    parse_out_cache(&p, ov);
+    if (p.oom)
         return FS_ERR_NOMEM;
-    return st;
+    return p.st;
 }
 
 /* The manifest as loaded, with absolute paths and every default written out. */

@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grow.h"
+
 /* >>messages */
 
 const char *gaze_snip(char *buf, size_t cap, const char *p, size_t n)
@@ -208,12 +210,8 @@ fs_status gaze_push(pctx *c, long line, long col, double t, double x, double y, 
     if (c->n == c->cap) {
         if (c->cap >= (1 << 29))
             return gaze_fail(c, line, 1, "expected at most %d samples, got more", 1 << 29);
-        int cap = c->cap ? c->cap * 2 : 1024;
-        raw_sample *r = realloc(c->raw, (size_t)cap * sizeof *r);
-        if (!r)
+        if (!FS_GROW_INT(c->raw, c->cap, c->n + 1))
             return gaze_no_memory(c);
-        c->raw = r;
-        c->cap = cap;
     }
     c->raw[c->n++] = (raw_sample){.t = t, .x = (float)x, .y = (float)y, .conf = (float)conf,
                                   .valid = valid, .line = line};

@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/grow.h"
+
 _Static_assert(sizeof(abuffer_node) == 16 * ABUFFER_NODE_TEXELS, "abuffer_node is the list pass's RGBA32UI texels");
 
 /* Front to back: depth, then draw order, then primitive (a total order on what the list pass can
@@ -78,14 +80,8 @@ int abuffer_resolve_pixel(const abuffer_lists *l, size_t i, const float base[ABU
             over = 1;
             break;
         }
-        if (n == s->cap) {
-            size_t cap = s->cap ? 2 * s->cap : 64;
-            abuffer_node *grown = realloc(s->items, cap * sizeof *grown);
-            if (!grown)
-                return -1;
-            s->items = grown;
-            s->cap = cap;
-        }
+        if (!FS_GROW(s->items, s->cap, n + 1))
+            return -1;
         s->items[n++] = l->nodes[p];
         p = l->nodes[p].next;
     }

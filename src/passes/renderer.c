@@ -3,6 +3,7 @@
  * renderer_internal.h. */
 #include "passes/renderer_internal.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -25,86 +26,73 @@ static fs_status build_pass_program(const plan_pass *ps, GLuint *id)
     return st;
 }
 
-static fs_status program_create(const plan_pass *ps, gpu_program *out)
+/* A program's uniforms, one table per program struct: each name is looked up into the GLint field
+ * of the struct at `offset` (-1 where the shader does not use it). UNIFORM(type, field): the field
+ * and the uniform share the name. */
+typedef struct uniform_slot {
+    const char *name;
+    size_t offset;
+} uniform_slot;
+#define UNIFORM(type, field) {#field, offsetof(type, field)}
+
+#define PASS(f) UNIFORM(gpu_program, f)
+static const uniform_slot k_pass_uniforms[] = {
+    PASS(u_view_proj), PASS(u_has_base_tex), PASS(u_base_color), PASS(u_alpha_cutoff), PASS(u_double_sided),
+    PASS(u_mip_bias), PASS(u_mip_scale), PASS(u_eye), PASS(u_light_dir), PASS(u_light_color), PASS(u_ambient),
+    PASS(u_hash_scale), PASS(u_hash_kind), PASS(u_hash_aniso), PASS(u_fade_n), PASS(u_frame), PASS(u_time),
+    PASS(u_prev_time), PASS(u_draw_order), PASS(u_list_capacity), PASS(u_hash_instance), PASS(u_hash_primitive),
+    PASS(u_ring_lod), PASS(u_ring_lod_instance), PASS(u_ring_lod_px), PASS(u_alpha_lod_max),
+};
+#undef PASS
+
+#define TAA(f) UNIFORM(taa_program, f)
+static const uniform_slot k_taa_uniforms[] = {
+    TAA(u_layer), TAA(u_size), TAA(u_prev_size), TAA(u_array_px), TAA(u_inv_view_proj), TAA(u_prev_view_proj),
+    TAA(u_history_valid), TAA(u_blend), TAA(u_gamma), TAA(u_sparse), TAA(u_rect), TAA(u_prev_rect),
+    TAA(u_ring_prev_rect), TAA(u_ring_block), TAA(u_block), TAA(u_cull_gaze_px), TAA(u_cull_display_px),
+    TAA(u_cull_focal_px), TAA(u_ring_hole_deg), TAA(u_prev_inv_view_proj), TAA(u_view_proj),
+};
+#undef TAA
+
+#define COMP(f) UNIFORM(composite_program, f)
+static const uniform_slot k_composite_uniforms[] = {
+    COMP(u_display_px), COMP(u_focal_px), COMP(u_gaze_px), COMP(u_ring_outer), COMP(u_ring_band), COMP(u_ring_rect),
+    COMP(u_ring_block), COMP(u_array_px),
+};
+#undef COMP
+
+#undef UNIFORM
+
+/* Builds a plan pass's program into *id and looks up its uniforms (`slots`) into `program`, the
+ * struct that holds *id. */
+static fs_status build_with_uniforms(const plan_pass *ps, GLuint *id, const uniform_slot *slots, size_t count,
+                                     void *program)
 {
-    fs_status st = build_pass_program(ps, &out->id);
+    fs_status st = build_pass_program(ps, id);
     if (st != FS_OK)
         return st;
-    GLuint p = out->id;
-    out->u_view_proj = glGetUniformLocation(p, "u_view_proj");
-    out->u_has_base_tex = glGetUniformLocation(p, "u_has_base_tex");
-    out->u_base_color = glGetUniformLocation(p, "u_base_color");
-    out->u_alpha_cutoff = glGetUniformLocation(p, "u_alpha_cutoff");
-    out->u_double_sided = glGetUniformLocation(p, "u_double_sided");
-    out->u_mip_bias = glGetUniformLocation(p, "u_mip_bias");
-    out->u_mip_scale = glGetUniformLocation(p, "u_mip_scale");
-    out->u_eye = glGetUniformLocation(p, "u_eye");
-    out->u_light_dir = glGetUniformLocation(p, "u_light_dir");
-    out->u_light_color = glGetUniformLocation(p, "u_light_color");
-    out->u_ambient = glGetUniformLocation(p, "u_ambient");
-    out->u_hash_scale = glGetUniformLocation(p, "u_hash_scale");
-    out->u_hash_kind = glGetUniformLocation(p, "u_hash_kind");
-    out->u_hash_aniso = glGetUniformLocation(p, "u_hash_aniso");
-    out->u_fade_n = glGetUniformLocation(p, "u_fade_n");
-    out->u_frame = glGetUniformLocation(p, "u_frame");
-    out->u_time = glGetUniformLocation(p, "u_time");
-    out->u_prev_time = glGetUniformLocation(p, "u_prev_time");
-    out->u_draw_order = glGetUniformLocation(p, "u_draw_order");
-    out->u_list_capacity = glGetUniformLocation(p, "u_list_capacity");
-    out->u_hash_instance = glGetUniformLocation(p, "u_hash_instance");
-    out->u_hash_primitive = glGetUniformLocation(p, "u_hash_primitive");
-    out->u_ring_lod = glGetUniformLocation(p, "u_ring_lod");
-    out->u_ring_lod_instance = glGetUniformLocation(p, "u_ring_lod_instance");
-    out->u_ring_lod_px = glGetUniformLocation(p, "u_ring_lod_px");
-    out->u_alpha_lod_max = glGetUniformLocation(p, "u_alpha_lod_max");
+    for (size_t i = 0; i < count; i++) {
+        GLint *loc = (GLint *)((char *)program + slots[i].offset);
+        *loc = glGetUniformLocation(*id, slots[i].name);
+    }
     return FS_OK;
+}
+
+#define COUNT_OF(a) (sizeof(a) / sizeof(a)[0])
+
+static fs_status program_create(const plan_pass *ps, gpu_program *out)
+{
+    return build_with_uniforms(ps, &out->id, k_pass_uniforms, COUNT_OF(k_pass_uniforms), out);
 }
 
 static fs_status taa_create(const plan_pass *ps, taa_program *out)
 {
-    fs_status st = build_pass_program(ps, &out->id);
-    if (st != FS_OK)
-        return st;
-    GLuint h = out->id;
-    out->u_layer = glGetUniformLocation(h, "u_layer");
-    out->u_size = glGetUniformLocation(h, "u_size");
-    out->u_prev_size = glGetUniformLocation(h, "u_prev_size");
-    out->u_array_px = glGetUniformLocation(h, "u_array_px");
-    out->u_inv_view_proj = glGetUniformLocation(h, "u_inv_view_proj");
-    out->u_prev_view_proj = glGetUniformLocation(h, "u_prev_view_proj");
-    out->u_history_valid = glGetUniformLocation(h, "u_history_valid");
-    out->u_blend = glGetUniformLocation(h, "u_blend");
-    out->u_gamma = glGetUniformLocation(h, "u_gamma");
-    out->u_sparse = glGetUniformLocation(h, "u_sparse");
-    out->u_rect = glGetUniformLocation(h, "u_rect");
-    out->u_prev_rect = glGetUniformLocation(h, "u_prev_rect");
-    out->u_ring_prev_rect = glGetUniformLocation(h, "u_ring_prev_rect");
-    out->u_ring_block = glGetUniformLocation(h, "u_ring_block");
-    out->u_block = glGetUniformLocation(h, "u_block");
-    out->u_cull_gaze_px = glGetUniformLocation(h, "u_cull_gaze_px");
-    out->u_cull_display_px = glGetUniformLocation(h, "u_cull_display_px");
-    out->u_cull_focal_px = glGetUniformLocation(h, "u_cull_focal_px");
-    out->u_ring_hole_deg = glGetUniformLocation(h, "u_ring_hole_deg");
-    out->u_prev_inv_view_proj = glGetUniformLocation(h, "u_prev_inv_view_proj");
-    out->u_view_proj = glGetUniformLocation(h, "u_view_proj");
-    return FS_OK;
+    return build_with_uniforms(ps, &out->id, k_taa_uniforms, COUNT_OF(k_taa_uniforms), out);
 }
 
 static fs_status composite_create(const plan_pass *ps, composite_program *out)
 {
-    fs_status st = build_pass_program(ps, &out->id);
-    if (st != FS_OK)
-        return st;
-    GLuint h = out->id;
-    out->u_display_px = glGetUniformLocation(h, "u_display_px");
-    out->u_focal_px = glGetUniformLocation(h, "u_focal_px");
-    out->u_gaze_px = glGetUniformLocation(h, "u_gaze_px");
-    out->u_ring_outer = glGetUniformLocation(h, "u_ring_outer");
-    out->u_ring_band = glGetUniformLocation(h, "u_ring_band");
-    out->u_ring_rect = glGetUniformLocation(h, "u_ring_rect");
-    out->u_ring_block = glGetUniformLocation(h, "u_ring_block");
-    out->u_array_px = glGetUniformLocation(h, "u_array_px");
-    return FS_OK;
+    return build_with_uniforms(ps, &out->id, k_composite_uniforms, COUNT_OF(k_composite_uniforms), out);
 }
 
 /* >>lifetime */

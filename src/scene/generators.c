@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grow.h"
 #include "core/log.h"
 #include "scene/generators_internal.h"
 
@@ -19,7 +20,8 @@
 typedef struct mesh_b {
     float *pos, *nrm, *uv;
     uint32_t *idx;
-    uint32_t nv, ni, cap_v, cap_i;
+    uint32_t nv, ni;
+    size_t cap_v, cap_i; /* pos, nrm and uv share cap_v */
     bool oom;
 } mesh_b;
 
@@ -27,33 +29,11 @@ static bool mb_reserve(mesh_b *m, uint32_t add_v, uint32_t add_i)
 {
     if (m->oom)
         return false;
-    if (m->nv + add_v > m->cap_v) {
-        uint32_t cap = m->cap_v ? m->cap_v : 64;
-        while (cap < m->nv + add_v)
-            cap *= 2;
-        float *p = realloc(m->pos, sizeof(float) * 3 * cap);
-        if (p)
-            m->pos = p;
-        float *q = realloc(m->nrm, sizeof(float) * 3 * cap);
-        if (q)
-            m->nrm = q;
-        float *u = realloc(m->uv, sizeof(float) * 2 * cap);
-        if (u)
-            m->uv = u;
-        if (!p || !q || !u)
-            return !(m->oom = true);
-        m->cap_v = cap;
-    }
-    if (m->ni + add_i > m->cap_i) {
-        uint32_t cap = m->cap_i ? m->cap_i : 96;
-        while (cap < m->ni + add_i)
-            cap *= 2;
-        uint32_t *p = realloc(m->idx, sizeof(uint32_t) * cap);
-        if (!p)
-            return !(m->oom = true);
-        m->idx = p;
-        m->cap_i = cap;
-    }
+    size_t need_v = (size_t)m->nv + add_v, cap_n = m->cap_v, cap_u = m->cap_v;
+    if (!fs_grow((void **)&m->nrm, &cap_n, need_v, 3 * sizeof(float)) ||
+        !fs_grow((void **)&m->uv, &cap_u, need_v, 2 * sizeof(float)) ||
+        !fs_grow((void **)&m->pos, &m->cap_v, need_v, 3 * sizeof(float)) || !FS_GROW(m->idx, m->cap_i, (size_t)m->ni + add_i))
+        return !(m->oom = true);
     return true;
 }
 

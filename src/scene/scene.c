@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grow.h"
 #include "core/hash.h"
 #include "core/log.h"
 
@@ -59,15 +60,13 @@ int scene_add_asset(scene *sc, asset *a)
 
 bool scene_add_instance(scene *sc, int asset_index, mat4 transform)
 {
-    /* The array's capacity is implicit: 16, then the next power of two >= instance_count, so it
+    /* The array's capacity is implicit: 16 (FS_GROW_FIRST), then the next power of two >= instance_count, so it
      * grows by doubling without a stored capacity field. */
     int n = sc->instance_count;
     if (n == 0 || (n >= 16 && (n & (n - 1)) == 0)) {
-        size_t cap = n == 0 ? 16 : (size_t)n * 2;
-        instance *grown = realloc(sc->instances, sizeof *grown * cap);
-        if (!grown)
+        size_t cap = (size_t)n; /* full: fs_grow doubles it (16 from 0) */
+        if (!FS_GROW(sc->instances, cap, (size_t)n + 1))
             return false;
-        sc->instances = grown;
     }
     sc->instances[n] = (instance){.asset = asset_index, .transform = transform};
     sc->instance_count = n + 1;

@@ -43,8 +43,6 @@ static fs_status parse_camera(const jctx *c, const cJSON *arr)
         const cJSON *jtgt = cJSON_GetObjectItemCaseSensitive(it, "target");
         const cJSON *jhfov = cJSON_GetObjectItemCaseSensitive(it, "hfov");
         const cJSON *jcut = cJSON_GetObjectItemCaseSensitive(it, "cut");
-        const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(it, "comment");
-        const char *str;
         if (!jtime && n > 1)
             return jfail(c, ip, "missing \"time\" (needed when the path has more than one key)");
         if (!jpos || !jtgt)
@@ -69,7 +67,7 @@ static fs_status parse_camera(const jctx *c, const cJSON *arr)
             return s;
         if (k.cut && i == 0)
             return jfail(c, kp, "the first key cannot be a cut (nothing comes before it)");
-        if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, ip, "comment"), &str)) != FS_OK)
+        if ((s = jopt_comment(c, it, ip)) != FS_OK)
             return s;
         cp->keys[i] = k;
     }
@@ -88,17 +86,15 @@ static fs_status parse_display(const jctx *c, const cJSON *it)
 {
     static const char *const keys[] = {"width", "height", "hfov", "comment", NULL};
     display_desc *d = &c->sc->display;
-    const char *str;
     fs_status s = jkeys(c, it, "display", keys);
-    const cJSON *j;
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "width")))
-        s = jint(c, j, "display.width", 16, MAX_DISPLAY_SIZE, &d->width);
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "height")))
-        s = jint(c, j, "display.height", 16, MAX_DISPLAY_SIZE, &d->height);
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "hfov")))
-        s = jfloat(c, j, "display.hfov", R_HFOV, &d->hfov_deg);
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "comment")))
-        s = jstring(c, j, "display.comment", &str);
+    if (s == FS_OK)
+        s = jopt_int(c, it, "display", "width", 16, MAX_DISPLAY_SIZE, &d->width);
+    if (s == FS_OK)
+        s = jopt_int(c, it, "display", "height", 16, MAX_DISPLAY_SIZE, &d->height);
+    if (s == FS_OK)
+        s = jopt_float(c, it, "display", "hfov", R_HFOV, &d->hfov_deg);
+    if (s == FS_OK)
+        s = jopt_comment(c, it, "display");
     return s;
 }
 
@@ -106,7 +102,6 @@ static fs_status parse_light(const jctx *c, const cJSON *it)
 {
     static const char *const keys[] = {"direction", "color", "ambient", "sky", "comment", NULL};
     light_desc *l = &c->sc->light;
-    const char *str;
     fs_status s = jkeys(c, it, "light", keys);
     const cJSON *j;
     if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "direction"))) {
@@ -117,14 +112,14 @@ static fs_status parse_light(const jctx *c, const cJSON *it)
         if (s == FS_OK)
             l->direction = v3_norm_or(d, l->direction);
     }
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "color")))
-        s = jvec3(c, j, "light.color", R_NONNEG, &l->color);
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "ambient")))
-        s = jvec3(c, j, "light.ambient", R_NONNEG, &l->ambient);
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "sky")))
-        s = jvec3(c, j, "light.sky", R_NONNEG, &l->sky);
-    if (s == FS_OK && (j = cJSON_GetObjectItemCaseSensitive(it, "comment")))
-        s = jstring(c, j, "light.comment", &str);
+    if (s == FS_OK)
+        s = jopt_vec3(c, it, "light", "color", R_NONNEG, &l->color);
+    if (s == FS_OK)
+        s = jopt_vec3(c, it, "light", "ambient", R_NONNEG, &l->ambient);
+    if (s == FS_OK)
+        s = jopt_vec3(c, it, "light", "sky", R_NONNEG, &l->sky);
+    if (s == FS_OK)
+        s = jopt_comment(c, it, "light");
     return s;
 }
 
@@ -174,11 +169,9 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
         const cJSON *jcut = cJSON_GetObjectItemCaseSensitive(ov, "alpha_cutoff");
         const cJSON *jds = cJSON_GetObjectItemCaseSensitive(ov, "double_sided");
         const cJSON *jlod = cJSON_GetObjectItemCaseSensitive(ov, "alpha_lod_max");
-        const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(ov, "comment");
         alpha_mode mode = ALPHA_MODE_DEFAULT;
         float cutoff = 0, lod_max = 0;
         bool ds = false;
-        const char *str;
         if (jmode_ && (s = jmode(c, jmode_, jkey_path(kp, sizeof kp, mp, "alpha_mode"), &mode)) != FS_OK)
             return s;
         if (jcut && (s = jfloat(c, jcut, jkey_path(kp, sizeof kp, mp, "alpha_cutoff"), R_UNIT, &cutoff)) != FS_OK)
@@ -189,7 +182,7 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
         if (jlod && (s = jfloat(c, jlod, jkey_path(kp, sizeof kp, mp, "alpha_lod_max"),
                                 (nrange){0, ALPHA_LOD_MAX_LIMIT, false, false, false, false}, &lod_max)) != FS_OK)
             return s;
-        if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, mp, "comment"), &str)) != FS_OK)
+        if ((s = jopt_comment(c, ov, mp)) != FS_OK)
             return s;
         if (!apply)
             continue;
@@ -234,11 +227,11 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
     if (s != FS_OK)
         return s;
     const cJSON *j;
-    if ((j = cJSON_GetObjectItemCaseSensitive(root, "comment")) && (s = jstring(c, j, "comment", &str)) != FS_OK)
+    if ((s = jopt_comment(c, root, "")) != FS_OK)
         return s;
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "display")) && (s = parse_display(c, j)) != FS_OK)
         return s;
-    if ((j = cJSON_GetObjectItemCaseSensitive(root, "alpha_mode")) && (s = jmode(c, j, "alpha_mode", &sc->alpha_mode)) != FS_OK)
+    if ((s = jopt_mode(c, root, "", "alpha_mode", &sc->alpha_mode)) != FS_OK)
         return s;
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "light")) && (s = parse_light(c, j)) != FS_OK)
         return s;
@@ -249,17 +242,13 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
         const cJSON *t;
         bool enabled = true;
         sc->taa.given = true;
-        if ((t = cJSON_GetObjectItemCaseSensitive(j, "enabled")) && (s = jbool(c, t, "taa.enabled", &enabled)) != FS_OK)
+        if ((s = jopt_bool(c, j, "taa", "enabled", &enabled)) != FS_OK)
             return s;
         sc->taa.off = !enabled;
-        if ((t = cJSON_GetObjectItemCaseSensitive(j, "blend"))) {
-            if ((s = jfloat(c, t, "taa.blend", (nrange){0, 1, true, false, false, false}, &sc->taa.blend)) != FS_OK)
-                return s;
-        }
-        if ((t = cJSON_GetObjectItemCaseSensitive(j, "gamma"))) {
-            if ((s = jfloat(c, t, "taa.gamma", (nrange){0, 16, true, false, false, false}, &sc->taa.gamma)) != FS_OK)
-                return s;
-        }
+        if ((s = jopt_float(c, j, "taa", "blend", (nrange){0, 1, true, false, false, false}, &sc->taa.blend)) != FS_OK)
+            return s;
+        if ((s = jopt_float(c, j, "taa", "gamma", (nrange){0, 16, true, false, false, false}, &sc->taa.gamma)) != FS_OK)
+            return s;
         if ((t = cJSON_GetObjectItemCaseSensitive(j, "sparse"))) {
             float f = 0.0f; /* checked as the float it is used as: 1e-300 is not 0 ("off") */
             if (!cJSON_IsFalse(t) &&
@@ -267,8 +256,7 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
                 return s;
             sc->taa.sparse = f > 0 ? f : -1.0f;
         }
-        if ((t = cJSON_GetObjectItemCaseSensitive(j, "jitter_length")) &&
-            (s = jint(c, t, "taa.jitter_length", 1, 1024, &sc->taa.jitter_length)) != FS_OK)
+        if ((s = jopt_int(c, j, "taa", "jitter_length", 1, 1024, &sc->taa.jitter_length)) != FS_OK)
             return s;
     }
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "rings"))) {

@@ -135,10 +135,9 @@ static fs_status parse_asset(const jctx *c, const cJSON *it, const char *path, a
     const cJSON *jgen = cJSON_GetObjectItemCaseSensitive(it, "generator");
     const cJSON *jparams = cJSON_GetObjectItemCaseSensitive(it, "params");
     const cJSON *jgltf = cJSON_GetObjectItemCaseSensitive(it, "gltf");
-    const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(it, "comment");
     const char *str;
 
-    if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, path, "comment"), &str)) != FS_OK)
+    if ((s = jopt_comment(c, it, path)) != FS_OK)
         return s;
     if (jgen && jgltf)
         return jfail(c, path, "give either \"generator\" or \"gltf\", not both");

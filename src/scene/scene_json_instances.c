@@ -131,13 +131,9 @@ static fs_status parse_scatter(const jctx *c, const cJSON *it, const char *path,
     if (s != FS_OK)
         return s;
     const cJSON *jcount = cJSON_GetObjectItemCaseSensitive(it, "count");
-    const cJSON *jseed = cJSON_GetObjectItemCaseSensitive(it, "seed");
     const cJSON *jmin = cJSON_GetObjectItemCaseSensitive(it, "min");
     const cJSON *jmax = cJSON_GetObjectItemCaseSensitive(it, "max");
     const cJSON *jscale = cJSON_GetObjectItemCaseSensitive(it, "scale");
-    const cJSON *jyaw = cJSON_GetObjectItemCaseSensitive(it, "random_yaw");
-    const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(it, "comment");
-    const char *str;
     int count;
     double seed = 1;
     vec3 lo, hi;
@@ -150,7 +146,7 @@ static fs_status parse_scatter(const jctx *c, const cJSON *it, const char *path,
         return jfail(c, path, "missing \"%s\" (the box instances are placed in)", jmin ? "max" : "min");
     if ((s = jint(c, jcount, jkey_path(kp, sizeof kp, path, "count"), 1, MAX_SCATTER_COUNT, &count)) != FS_OK)
         return s;
-    if (jseed && (s = jnum(c, jseed, jkey_path(kp, sizeof kp, path, "seed"), R_SEED, &seed)) != FS_OK)
+    if ((s = jopt_num(c, it, path, "seed", R_SEED, &seed)) != FS_OK)
         return s;
     if ((s = jvec3(c, jmin, jkey_path(kp, sizeof kp, path, "min"), R_ANY, &lo)) != FS_OK)
         return s;
@@ -171,9 +167,9 @@ static fs_status parse_scatter(const jctx *c, const cJSON *it, const char *path,
         if (slo > shi)
             return jfail(c, kp, "expected min <= max, got %g > %g", slo, shi);
     }
-    if (jyaw && (s = jbool(c, jyaw, jkey_path(kp, sizeof kp, path, "random_yaw"), &yaw)) != FS_OK)
+    if ((s = jopt_bool(c, it, path, "random_yaw", &yaw)) != FS_OK)
         return s;
-    if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, path, "comment"), &str)) != FS_OK)
+    if ((s = jopt_comment(c, it, path)) != FS_OK)
         return s;
 
     /* Five draws per instance whatever the options, so toggling random_yaw or scale never moves
@@ -212,12 +208,7 @@ static fs_status parse_sway(const jctx *c, const cJSON *it, const char *path, in
     if (s != FS_OK)
         return s;
     const cJSON *ja = cJSON_GetObjectItemCaseSensitive(it, "amplitude");
-    const cJSON *jf = cJSON_GetObjectItemCaseSensitive(it, "frequency");
     const cJSON *jd = cJSON_GetObjectItemCaseSensitive(it, "direction");
-    const cJSON *jh = cJSON_GetObjectItemCaseSensitive(it, "height");
-    const cJSON *jw = cJSON_GetObjectItemCaseSensitive(it, "wavelength");
-    const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(it, "comment");
-    const char *str;
     float amplitude = 0, frequency = (float)SWAY_FREQUENCY_DEFAULT, height = 0,
           wavelength = (float)SWAY_WAVELENGTH_DEFAULT;
     vec3 dir = v3(1, 0, 0);
@@ -225,7 +216,7 @@ static fs_status parse_sway(const jctx *c, const cJSON *it, const char *path, in
         return jfail(c, path, "missing \"amplitude\" (metres the top moves)");
     if ((s = jfloat(c, ja, jkey_path(kp, sizeof kp, path, "amplitude"), R_AMPLITUDE, &amplitude)) != FS_OK)
         return s;
-    if (jf && (s = jfloat(c, jf, jkey_path(kp, sizeof kp, path, "frequency"), R_FREQUENCY, &frequency)) != FS_OK)
+    if ((s = jopt_float(c, it, path, "frequency", R_FREQUENCY, &frequency)) != FS_OK)
         return s;
     if (jd) {
         if ((s = jvec3(c, jd, jkey_path(kp, sizeof kp, path, "direction"), R_ANY, &dir)) != FS_OK)
@@ -234,11 +225,11 @@ static fs_status parse_sway(const jctx *c, const cJSON *it, const char *path, in
             return jfail(c, kp, "expected a nonzero direction, got (%g, %g, %g)", dir.x, dir.y, dir.z);
         dir = v3_norm_or(dir, v3(1, 0, 0));
     }
-    if (jh && (s = jfloat(c, jh, jkey_path(kp, sizeof kp, path, "height"), R_SWAY_LEN, &height)) != FS_OK)
+    if ((s = jopt_float(c, it, path, "height", R_SWAY_LEN, &height)) != FS_OK)
         return s;
-    if (jw && (s = jfloat(c, jw, jkey_path(kp, sizeof kp, path, "wavelength"), R_SWAY_LEN, &wavelength)) != FS_OK)
+    if ((s = jopt_float(c, it, path, "wavelength", R_SWAY_LEN, &wavelength)) != FS_OK)
         return s;
-    if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, path, "comment"), &str)) != FS_OK)
+    if ((s = jopt_comment(c, it, path)) != FS_OK)
         return s;
     for (int i = first; i < c->sc->instance_count; i++) {
         instance *in = &c->sc->instances[i];
@@ -276,11 +267,8 @@ static fs_status parse_instance(const jctx *c, const cJSON *it, const char *path
         return s;
     const cJSON *jasset = cJSON_GetObjectItemCaseSensitive(it, "asset");
     const cJSON *jt = cJSON_GetObjectItemCaseSensitive(it, "translation");
-    const cJSON *jr = cJSON_GetObjectItemCaseSensitive(it, "rotation_deg");
     const cJSON *js = cJSON_GetObjectItemCaseSensitive(it, "scale");
     const cJSON *jscatter = cJSON_GetObjectItemCaseSensitive(it, "scatter");
-    const cJSON *jcomment = cJSON_GetObjectItemCaseSensitive(it, "comment");
-    const char *str;
     int index = -1;
     placement pl = {v3(0, 0, 0), v3(0, 0, 0), v3(1, 1, 1)};
 
@@ -293,11 +281,11 @@ static fs_status parse_instance(const jctx *c, const cJSON *it, const char *path
                      "not allowed with \"scatter\" (the scatter box places the instances)");
     if (jt && (s = jvec3(c, jt, jkey_path(kp, sizeof kp, path, "translation"), R_ANY, &pl.translation)) != FS_OK)
         return s;
-    if (jr && (s = jvec3(c, jr, jkey_path(kp, sizeof kp, path, "rotation_deg"), R_ANY, &pl.rotation_deg)) != FS_OK)
+    if ((s = jopt_vec3(c, it, path, "rotation_deg", R_ANY, &pl.rotation_deg)) != FS_OK)
         return s;
     if (js && (s = parse_scale(c, js, jkey_path(kp, sizeof kp, path, "scale"), &pl.scale)) != FS_OK)
         return s;
-    if (jcomment && (s = jstring(c, jcomment, jkey_path(kp, sizeof kp, path, "comment"), &str)) != FS_OK)
+    if ((s = jopt_comment(c, it, path)) != FS_OK)
         return s;
     mat4 local = m4_mul(euler_deg(pl.rotation_deg), m4_scale(pl.scale));
     int first = c->sc->instance_count;

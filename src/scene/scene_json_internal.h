@@ -63,6 +63,19 @@ fs_status jstring(const jctx *c, const cJSON *it, const char *path, const char *
 fs_status jvec3(const jctx *c, const cJSON *it, const char *path, nrange r, vec3 *out);
 fs_status jmode(const jctx *c, const cJSON *it, const char *path, alpha_mode *out);
 
+/* >>optional members: the member `key` of the object obj whose path is `parent` ("" at the top
+ * level), read by the reader of the same name above with the path "parent.key" (at most
+ * JPATH_MAX - 1 characters) when present; absent, *out is left as it is and the result is FS_OK.
+ * jopt_comment: a "comment" member, when present, is a string (its text is not kept). */
+enum { JPATH_MAX = 300 };
+fs_status jopt_num(const jctx *c, const cJSON *obj, const char *parent, const char *key, nrange r, double *out);
+fs_status jopt_float(const jctx *c, const cJSON *obj, const char *parent, const char *key, nrange r, float *out);
+fs_status jopt_int(const jctx *c, const cJSON *obj, const char *parent, const char *key, int lo, int hi, int *out);
+fs_status jopt_bool(const jctx *c, const cJSON *obj, const char *parent, const char *key, bool *out);
+fs_status jopt_vec3(const jctx *c, const cJSON *obj, const char *parent, const char *key, nrange r, vec3 *out);
+fs_status jopt_mode(const jctx *c, const cJSON *obj, const char *parent, const char *key, alpha_mode *out);
+fs_status jopt_comment(const jctx *c, const cJSON *obj, const char *parent);
+
 /* >>assets (scene_json_assets.c) */
 
 typedef union gen_desc {

@@ -240,3 +240,64 @@ fs_status jmode(const jctx *c, const cJSON *it, const char *path, alpha_mode *ou
     *out = m;
     return FS_OK;
 }
+
+/* >>optional members */
+
+/* The member `key` of obj (NULL when absent) and, when present, its path "parent.key" in buf. */
+static const cJSON *member(const cJSON *obj, const char *parent, const char *key, char *buf, size_t n)
+{
+    const cJSON *it = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (it)
+        jkey_path(buf, n, parent, key);
+    return it;
+}
+
+fs_status jopt_num(const jctx *c, const cJSON *obj, const char *parent, const char *key, nrange r, double *out)
+{
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, key, kp, sizeof kp);
+    return it ? jnum(c, it, kp, r, out) : FS_OK;
+}
+
+fs_status jopt_float(const jctx *c, const cJSON *obj, const char *parent, const char *key, nrange r, float *out)
+{
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, key, kp, sizeof kp);
+    return it ? jfloat(c, it, kp, r, out) : FS_OK;
+}
+
+fs_status jopt_int(const jctx *c, const cJSON *obj, const char *parent, const char *key, int lo, int hi, int *out)
+{
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, key, kp, sizeof kp);
+    return it ? jint(c, it, kp, lo, hi, out) : FS_OK;
+}
+
+fs_status jopt_bool(const jctx *c, const cJSON *obj, const char *parent, const char *key, bool *out)
+{
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, key, kp, sizeof kp);
+    return it ? jbool(c, it, kp, out) : FS_OK;
+}
+
+fs_status jopt_vec3(const jctx *c, const cJSON *obj, const char *parent, const char *key, nrange r, vec3 *out)
+{
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, key, kp, sizeof kp);
+    return it ? jvec3(c, it, kp, r, out) : FS_OK;
+}
+
+fs_status jopt_mode(const jctx *c, const cJSON *obj, const char *parent, const char *key, alpha_mode *out)
+{
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, key, kp, sizeof kp);
+    return it ? jmode(c, it, kp, out) : FS_OK;
+}
+
+fs_status jopt_comment(const jctx *c, const cJSON *obj, const char *parent)
+{
+    const char *str;
+    char kp[JPATH_MAX];
+    const cJSON *it = member(obj, parent, "comment", kp, sizeof kp);
+    return it ? jstring(c, it, kp, &str) : FS_OK;
+}

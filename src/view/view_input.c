@@ -11,6 +11,7 @@
 
 #include "core/config.h"
 #include "core/file_read.h"
+#include "core/grow.h"
 #include "core/log.h"
 
 /* >>keys */
@@ -182,15 +183,9 @@ fs_status view_script_parse(const char *text, long size, const char *name, view_
         st = parse_line(buf, name, line + 1, &frame, &ev);
         if (st != FS_OK || ev.line == 0)
             continue;
-        if (out->count == cap) {
-            int ncap = cap ? 2 * cap : 16;
-            view_event *p = realloc(out->events, sizeof *p * (size_t)ncap);
-            if (!p) {
-                st = FS_ERR_NOMEM;
-                break;
-            }
-            out->events = p;
-            cap = ncap;
+        if (!FS_GROW_INT(out->events, cap, out->count + 1)) {
+            st = FS_ERR_NOMEM;
+            break;
         }
         out->events[out->count++] = ev;
     }
