@@ -25,6 +25,7 @@
 #include "core/display.h"
 #include "core/fmath.h"
 #include "core/status.h"
+#include "fov/fov_ring.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -199,7 +200,9 @@ typedef struct scene {
     alpha_mode alpha_mode; /* the scene's default mode, DEFAULT = traditional unless the CLI says */
     scene_taa taa;         /* TAA settings from the scene file */
     char rings[256];       /* foveation ring layout from the scene file ("auto", "off", "10:1:0,..."),
-                              empty = not given (the CLI's --rings, else auto) */
+                              empty = not given (the CLI's --rings, else auto); the run record hashes it */
+    fov_layout rings_layout; /* the same, parsed once when the file is read (valid when rings[0]);
+                                FOV_LAYOUT_AUTO is resolved against the run's display later */
     char ring_lod[128];    /* ring LOD from the scene file ("off", "simplify", "simplify:1,1,1/4"),
                               empty = not given (the CLI's --ring-lod, else off) */
     float duration;        /* seconds: the last camera key's time (0 for a still camera) */

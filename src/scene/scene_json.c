@@ -263,9 +263,9 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
         /* A ring layout, checked now against the display parsed above (fov_ring.h). */
         if ((s = jstring(c, j, "rings", &str)) != FS_OK)
             return s;
-        fov_layout l;
         char err[256];
-        if (strlen(str) >= sizeof sc->rings || fov_layout_parse(str, &sc->display, &l, err, sizeof err) != FS_OK)
+        if (strlen(str) >= sizeof sc->rings ||
+            fov_layout_parse(str, &sc->display, &sc->rings_layout, err, sizeof err) != FS_OK)
             return jfail(c, "rings", "expected \"auto\", \"off\" or a layout like \"10:1:0,25:1/2:0,*:1/4:0.5\" (%s)",
                          strlen(str) >= sizeof sc->rings ? "too long" : err);
         snprintf(sc->rings, sizeof sc->rings, "%s", str);

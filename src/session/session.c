@@ -71,13 +71,9 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
 {
     display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
                        sc->display.hfov_deg};
-    char err[256];
-    if (d->rings) {
-        *out = d->rings_layout.kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : d->rings_layout;
-    } else if (fov_layout_parse(sc->rings[0] ? sc->rings : "auto", &dd, out, err, sizeof err) != FS_OK) {
-        log_error("%s: %s", sc->path, err);
-        return FS_ERR_USAGE;
-    }
+    /* Both were parsed once, where they were read; only "auto" depends on the display. */
+    const fov_layout *given = d->rings ? &d->rings_layout : sc->rings[0] ? &sc->rings_layout : NULL;
+    *out = !given || given->kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : *given;
     /* An auto layout that would shade as many pixels as the display (small or coarse displays,
      * where the fovea already spans most of the view) only adds work: foveation off. */
     if (out->kind == FOV_LAYOUT_AUTO && out->count > 1 &&
