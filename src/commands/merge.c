@@ -332,7 +332,10 @@ static fs_status plot(const char *dir, const points *ps)
         sb_puts(&gp, first ? "" : ", \\\n     ");
         sb_puts(&gp, "'accuracy.csv' u 6:(strcol(5) eq ");
         gnuplot_str(&gp, ps->v[i].mode);
-        sb_puts(&gp, " ? $7 : NaN) w p pt 7 ps 1.3 t ");
+        char col[8]; /* each mode its own colour in every plot (FS_ALPHA_MODES) */
+        sb_puts(&gp, " ? $7 : NaN) w p pt 7 ps 1.3 lc rgb ");
+        gnuplot_str(&gp, alpha_mode_colour(alpha_mode_parse(ps->v[i].mode), col));
+        sb_puts(&gp, " t ");
         gnuplot_str(&gp, ps->v[i].mode);
         first = 0;
     }

@@ -119,12 +119,12 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
         snprintf(ps->name, sizeof ps->name, "forward.mask[%s]", alpha_mode_name(mode));
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_MASK 1");
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_MODE %d", alpha_mode_shader_id(mode));
-        if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
+        /* What the mode's traits (FS_ALPHA_MODES, common/shared_defs.h) compile in. */
+        if (alpha_mode_has(mode, ALPHA_TRAIT_MSAA))
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "MSAA 1");
-        if (mode == ALPHA_MODE_A2C && p->alpha.a2c_sharpen)
+        if (alpha_mode_has(mode, ALPHA_TRAIT_GL_A2C) && p->alpha.a2c_sharpen)
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "A2C_SHARPEN 1");
-        if (mode == ALPHA_MODE_HASHED || mode == ALPHA_MODE_HASHED_A2C)
-        {
+        if (alpha_mode_has(mode, ALPHA_TRAIT_HASH)) {
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_HASH_KIND %d", p->alpha.hash_kind);
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_HASH_ANISO %d", p->alpha.anisotropic);
         }
@@ -167,17 +167,13 @@ static void fullscreen_pass(plan_pass *ps, const char *name, const char *fs)
     ps->fs = fs;
 }
 
-/* Some alpha-tested pass draws with a stochastic threshold (its samples are noise). */
-/* Some surface is alpha-tested (a MASK pass): in any mode, or (stochastic_only) with a stochastic
- * or hashed test, whose samples are noise in time. */
-static bool has_mask(const plan *p, bool stochastic_only)
+/* Some surface is alpha-tested (a MASK pass) in a mode with all of `traits` (0: any mode; e.g.
+ * ALPHA_TRAIT_NOISE: a stochastic or hashed test, whose samples are noise in time). */
+static bool has_mask(const plan *p, unsigned traits)
 {
-    for (int i = 0; i < p->pass_count; i++) {
-        alpha_mode m = p->passes[i].mode;
-        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
-            (!stochastic_only || m == ALPHA_MODE_STOCHASTIC || m == ALPHA_MODE_HASHED || m == ALPHA_MODE_HASHED_A2C))
+    for (int i = 0; i < p->pass_count; i++)
+        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(p->passes[i].mode, traits))
             return true;
-    }
     return false;
 }
 
@@ -233,10 +229,8 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                 }
                 ps->prim_count++;
                 ps->triangles += (long long)(pr->index_count / 3) * inst;
-                if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
-                    out->msaa = true;
-                if (mode == ALPHA_MODE_CASTANO)
-                    out->castano = true;
+                out->msaa |= alpha_mode_has(mode, ALPHA_TRAIT_MSAA);
+                out->castano |= alpha_mode_has(mode, ALPHA_TRAIT_COVERAGE_MIPS);
                 /* The alpha LOD clamp: compiled only into the passes of materials that have one. */
                 if (kind == PLAN_PASS_FORWARD_MASK && plan_material_alpha_lod_max(out, m) >= 0.0f) {
                     out->alpha_lod_prims++;
@@ -256,7 +250,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     out->taa = o.taa && o.frames > 1;
     for (int i = 0; i < out->pass_count && out->taa && !out->alpha.no_frame_offset; i++) {
         plan_pass *ps = &out->passes[i];
-        if (ps->kind == PLAN_PASS_FORWARD_MASK && (ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C))
+        if (ps->kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(ps->mode, ALPHA_TRAIT_HASH))
             add_define(ps, "TAA_HASH_OFFSET", 1);
     }
     /* Animation: swaying instances move their vertices in every forward pass (trunk and leaves
@@ -320,12 +314,12 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_HISTORY_CATMULL_ROM 1");
         if (out->taa_controls.nan_check == TAA_NAN_SET)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
-        out->taa_coarse_history = out->layout.count > 1 && has_mask(out, true);
+        out->taa_coarse_history = out->layout.count > 1 && has_mask(out, ALPHA_TRAIT_NOISE);
         /* The sparse-coverage rule (docs/taa.md, "Sparse coverage"): wherever a surface is
          * alpha-tested, a pixel's coverage sample is a binary draw (a stochastic or hashed
          * threshold, or a jittered sub-pixel leaf under any test), which its neighbours cannot
          * refute. Scenes without MASK surfaces keep the plain clamp. */
-        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out, false);
+        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out, 0);
         if (out->taa_sparse)
             snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
         /* Disocclusion (docs/taa.md): only where pixels move, i.e. where TAA reprojects through
@@ -399,8 +393,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     fprintf(f, "alpha mode %s (global; per-material overrides shown per pass)\n", alpha_mode_name(p->global_mode));
     bool hashed = false;
     for (int i = 0; i < p->pass_count; i++)
-        hashed |= p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
-                  (p->passes[i].mode == ALPHA_MODE_HASHED || p->passes[i].mode == ALPHA_MODE_HASHED_A2C);
+        hashed |= p->passes[i].kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(p->passes[i].mode, ALPHA_TRAIT_HASH);
     if (hashed)
     {
         char fade[64];
