@@ -11,7 +11,7 @@
  * an alpha mode"). One row per mode, X(NAME, name, COLOUR, TRAITS):
  *   NAME    C: enum alpha_mode's ALPHA_MODE_<NAME> (src/scene/scene.h); GLSL: ALPHA_MODE_ID_<NAME>,
  *           which shader_src_build defines in every shader (the plan sets ALPHA_MODE to one of them)
- *   name    what --alpha, --modes, scene files and every output call it
+ *   name    what --alpha, --modes, scene files and every output call it; NAME is it in capitals
  *   COLOUR  its colour in plots, 0xRRGGBB
  *   TRAITS  what its passes need, ALPHA_TRAIT_* below or'ed (0: none); plan.c turns them into
  *           passes, targets and defines
@@ -25,13 +25,13 @@
 #define ALPHA_TRAIT_NOISE 8         /* thresholds are noise that changes with the frame or the pixel
                                      * (TAA's coarse-ring history helps) */
 #define ALPHA_TRAIT_COVERAGE_MIPS 16 /* the traditional test on coverage-preserving mips (seed 001) */
-#define FS_ALPHA_MODES(X)                                                        \
-    X(TRADITIONAL, traditional, 0x1f77b4, 0)                                     \
-    X(STOCHASTIC, stochastic, 0xd62728, ALPHA_TRAIT_NOISE)                       \
-    X(HASHED, hashed, 0x2ca02c, ALPHA_TRAIT_HASH | ALPHA_TRAIT_NOISE)            \
-    X(A2C, a2c, 0x9467bd, ALPHA_TRAIT_MSAA | ALPHA_TRAIT_GL_A2C)                 \
+#define FS_ALPHA_MODES(X)                                                                        \
+    X(TRADITIONAL, traditional, 0x1f77b4, 0)                                                     \
+    X(STOCHASTIC, stochastic, 0xd62728, ALPHA_TRAIT_NOISE)                                       \
+    X(HASHED, hashed, 0x2ca02c, ALPHA_TRAIT_HASH | ALPHA_TRAIT_NOISE)                            \
+    X(A2C, a2c, 0x9467bd, ALPHA_TRAIT_MSAA | ALPHA_TRAIT_GL_A2C)                                 \
     X(HASHED_A2C, hashed_a2c, 0xff7f0e, ALPHA_TRAIT_MSAA | ALPHA_TRAIT_HASH | ALPHA_TRAIT_NOISE) \
-    X(CASTANO, castano, 0x8c564b, ALPHA_TRAIT_COVERAGE_MIPS)                     \
+    X(CASTANO, castano, 0x8c564b, ALPHA_TRAIT_COVERAGE_MIPS)                                     \
     X(MIPSCALE, mipscale, 0xe377c2, 0)
 
 /* Smallest alpha we divide premultiplied colour by (texels with less are treated as empty). */
