@@ -156,12 +156,12 @@ double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
 /* >>columns: the columns of metrics.csv, in order: the one list of them. One row per column,
  * X(ID, name, FORMAT, FLAGS):
  *   ID      METRICS_COL_<ID>, its index in a row
- *   name    its name in the header; fovsim check's metric of the same name (check_metric_name)
- *           judges it, merge and check find it by it
+ *   name    its name in the header, by which merge and check find it; fovsim check's metric of
+ *           the same name (check_metric_name), if any, judges it as its flags say
  *   FORMAT  how metrics_csv_row writes its value (NULL: a string, the mode)
  *   FLAGS   METRICS_COLF_* or'ed
- * docs/metrics.md defines each; docs/design-notes.md "Adding an alpha mode" lists what else a new
- * measurement touches. */
+ * docs/metrics.md defines each; docs/design-notes.md "Adding a metrics.csv column" lists what else a
+ * new measurement touches. */
 #define METRICS_COLF_KEY 1         /* names the row (frame, time, mode, ring), not a measurement */
 #define METRICS_COLF_WHOLE 2       /* a whole number (merge refuses anything else) */
 #define METRICS_COLF_GROWTH 4      /* an error: fovsim check fails its growth, now - baseline */
