@@ -7,14 +7,32 @@
 #ifndef FOVSIM_SHARED_DEFS_H
 #define FOVSIM_SHARED_DEFS_H
 
-/* Alpha-test strategies (numbering matches enum alpha_mode in src/scene/scene.h). */
-#define ALPHA_MODE_ID_TRADITIONAL 1
-#define ALPHA_MODE_ID_STOCHASTIC 2
-#define ALPHA_MODE_ID_HASHED 3
-#define ALPHA_MODE_ID_A2C 4
-#define ALPHA_MODE_ID_HASHED_A2C 5
-#define ALPHA_MODE_ID_CASTANO 6
-#define ALPHA_MODE_ID_MIPSCALE 7
+/* Alpha-test strategies: the one table of them (docs/alpha-modes.md; docs/design-notes.md "Adding
+ * an alpha mode"). One row per mode, X(NAME, name, COLOUR, TRAITS):
+ *   NAME    C: enum alpha_mode's ALPHA_MODE_<NAME> (src/scene/scene.h); GLSL: ALPHA_MODE_ID_<NAME>,
+ *           which shader_src_build defines in every shader (the plan sets ALPHA_MODE to one of them)
+ *   name    what --alpha, --modes, scene files and every output call it; NAME is it in capitals
+ *   COLOUR  its colour in plots, 0xRRGGBB
+ *   TRAITS  what its passes need, ALPHA_TRAIT_* below or'ed (0: none); plan.c turns them into
+ *           passes, targets and defines
+ * A mode's id (both enums) is its row: 1 for the first; 0 is ALPHA_MODE_DEFAULT, "not set". The
+ * table holds only identifiers and numbers, so GLSL reads this file too (it never expands it). */
+#define ALPHA_TRAIT_MSAA 1          /* drawn through MSAA_SAMPLES x MSAA targets (define MSAA) */
+#define ALPHA_TRAIT_GL_A2C 2        /* GL turns alpha into coverage (GL_SAMPLE_ALPHA_TO_COVERAGE and
+                                     * _TO_ONE); --a2c-sharpen applies (define A2C_SHARPEN) */
+#define ALPHA_TRAIT_HASH 4          /* hashed thresholds: defines ALPHA_HASH_KIND and ALPHA_HASH_ANISO,
+                                     * with TAA TAA_HASH_OFFSET; a fade-in length per material */
+#define ALPHA_TRAIT_NOISE 8         /* thresholds are noise that changes with the frame or the pixel
+                                     * (TAA's coarse-ring history helps) */
+#define ALPHA_TRAIT_COVERAGE_MIPS 16 /* the traditional test on coverage-preserving mips (seed 001) */
+#define FS_ALPHA_MODES(X)                                                                        \
+    X(TRADITIONAL, traditional, 0x1f77b4, 0)                                                     \
+    X(STOCHASTIC, stochastic, 0xd62728, ALPHA_TRAIT_NOISE)                                       \
+    X(HASHED, hashed, 0x2ca02c, ALPHA_TRAIT_HASH | ALPHA_TRAIT_NOISE)                            \
+    X(A2C, a2c, 0x9467bd, ALPHA_TRAIT_MSAA | ALPHA_TRAIT_GL_A2C)                                 \
+    X(HASHED_A2C, hashed_a2c, 0xff7f0e, ALPHA_TRAIT_MSAA | ALPHA_TRAIT_HASH | ALPHA_TRAIT_NOISE) \
+    X(CASTANO, castano, 0x8c564b, ALPHA_TRAIT_COVERAGE_MIPS)                                     \
+    X(MIPSCALE, mipscale, 0xe377c2, 0)
 
 /* Smallest alpha we divide premultiplied colour by (texels with less are treated as empty). */
 #define PREMUL_ALPHA_EPS 1.0e-6

@@ -261,7 +261,7 @@ static void bench_list_configs(bench_run *b)
     if (nmodes == 0)
         modes[nmodes++] = b->s.pl.global_mode;
     for (int m = 0; m < nmodes; m++)
-        want_msaa |= modes[m] == ALPHA_MODE_A2C || modes[m] == ALPHA_MODE_HASHED_A2C;
+        want_msaa |= alpha_mode_has(modes[m], ALPHA_TRAIT_MSAA);
     /* Ring LOD (docs/ring-lod.md) is measured against the same rings without it: the plain rings
      * configuration is drawn without it, whatever --ring-lod or the scene say. */
     const plan *pl = &b->s.pl;

@@ -100,7 +100,6 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
 {
     /* circle, square, diamond, triangle */
     static const int shape_filled[ACC_LAYOUTS] = {7, 5, 13, 9}, shape_hollow[ACC_LAYOUTS] = {6, 4, 12, 8};
-    static const char *const colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2"};
     char gp[1200], png[1200], pngtmp[1300];
     snprintf(gp, sizeof gp, "%s.gp", stem);
     snprintf(png, sizeof png, "%s/%s.png", out, stem);
@@ -134,7 +133,9 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
     }
     sb_puts(&b, "EOD\nset grid\nset key outside right top\nplot ");
     for (int m = 0; m < mode_count; m++) {
-        const char *name = alpha_mode_name(modes[m]), *col = colours[m % 7];
+        char col[8]; /* each mode its own colour in every plot (FS_ALPHA_MODES) */
+        const char *name = alpha_mode_name(modes[m]);
+        alpha_mode_colour(modes[m], col);
         for (int l = 0; l < ACC_LAYOUTS; l++)
             for (int t = 0; t < 2 && layouts[l]; t++) {
                 sb_puts(&b, "'accuracy.csv' u ");

@@ -32,8 +32,22 @@ typedef struct rows {
     int n;
 } rows;
 
-static const char *const k_csv_columns[CHECK_PIXEL] = {"coverage_ratio", "rmse", "alpha_rmse", "flip",
-                                                       "temporal_error"};
+/* The metrics.csv column that check metric m (< CHECK_PIXEL) judges: the one of its name. How it is
+ * judged comes from the column's flags (METRICS_CSV_COLUMNS, metrics/metrics.h). */
+static metrics_column csv_column(int m)
+{
+    return metrics_column_of(check_metric_name((check_metric)m));
+}
+
+/* The columns read_rows reads: these, then the judged metrics' (F_FIXED + m). */
+enum { F_FRAME, F_MODE, F_RING, F_PIXELS, F_REFCOV, F_FIXED };
+
+static const char *read_name(int i)
+{
+    static const metrics_column fixed[F_FIXED] = {METRICS_COL_FRAME, METRICS_COL_MODE, METRICS_COL_RING,
+                                                  METRICS_COL_PIXELS, METRICS_COL_REF_COVERAGE};
+    return metrics_column_name(i < F_FIXED ? fixed[i] : csv_column(i - F_FIXED));
+}
 
 /* The index of `name` among the comma-separated columns of `header`, or -1. */
 static int column(const char *header, const char *name)
@@ -55,14 +69,12 @@ static fs_status read_rows(const char *dir, rows *out)
     fs_status st = file_read_all(path, (size_t)1 << 30, "the metrics of a compare run", FS_ERR_IO, &text, &size);
     if (st != FS_OK)
         return st;
-    enum { F_FRAME, F_MODE, F_RING, F_PIXELS, F_REFCOV, F_FIXED };
-    static const char *const fixed[F_FIXED] = {"frame", "mode", "ring", "pixels", "ref_coverage"};
     int col[F_FIXED + CHECK_PIXEL], ncol = 0;
     for (int i = 0; i < F_FIXED + CHECK_PIXEL; i++) {
-        col[i] = column(text, i < F_FIXED ? fixed[i] : k_csv_columns[i - F_FIXED]);
+        col[i] = column(text, read_name(i));
         if (col[i] < 0) {
             log_error("%s: line 1: no column '%s' (not a metrics.csv of fovsim compare)", path,
-                      i < F_FIXED ? fixed[i] : k_csv_columns[i - F_FIXED]);
+                      read_name(i));
             free(text);
             return FS_ERR_IO;
         }
@@ -87,7 +99,7 @@ static fs_status read_rows(const char *dir, rows *out)
             for (int i = 0; i < F_FIXED + CHECK_PIXEL; i++) {
                 if (col[i] != c)
                     continue;
-                const char *name = i < F_FIXED ? fixed[i] : k_csv_columns[i - F_FIXED];
+                const char *name = read_name(i);
                 if (i == F_MODE) {
                     snprintf(r->mode, sizeof r->mode, "%.*s", (int)len, f);
                     bad = len && len < sizeof r->mode ? NULL : name;
@@ -230,12 +242,13 @@ static fs_status judge_rows(judge *j, const rows *base, const rows *now)
                                                 b->ring >= 0 ? j->block[b->ring] : 1);
         for (int m = 0; m < CHECK_PIXEL && st == FS_OK; m++) {
             double x = b->v[m], y = n->v[m];
-            if (m == CHECK_COVERAGE && (!cov || x < 0.0 || y < 0.0))
+            unsigned flags = metrics_column_flags(csv_column(m));
+            if ((flags & METRICS_COLF_RESTS) && !cov)
                 continue;
-            if (m == CHECK_TEMPORAL && (x < 0.0 || y < 0.0)) /* not measured (first frame, after a cut) */
+            if ((flags & METRICS_COLF_UNMEASURED) && (x < 0.0 || y < 0.0)) /* e.g. a first frame, after a cut */
                 continue;
             st = judge_value(j, b->frame, b->mode, b->ring, (check_metric)m, x, y,
-                             m == CHECK_COVERAGE ? fabs(y - x) : y - x);
+                             (flags & METRICS_COLF_EITHER_WAY) ? fabs(y - x) : y - x);
         }
     }
     for (int i = 0; i < now->n && st == FS_OK; i++)

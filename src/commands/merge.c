@@ -94,7 +94,7 @@ static bool number(const char *s, bool integer)
  * integer ring >= -1, numbers. Anything else (a hand-edited or hostile file) is refused naming
  * path:line and the column, before it reaches a CSV, a summary or a gnuplot script. */
 static fs_status check_row(const char *path, int line, const char *row, int c_mode, int c_ring,
-                           const int *num_cols, const char *const *num_names, int nnum)
+                           const int *num_cols, const metrics_column *nums, int nnum)
 {
     char v[64];
     if (!field(row, c_mode, v, sizeof v) || alpha_mode_parse(v) == ALPHA_MODE_DEFAULT) {
@@ -107,8 +107,8 @@ static fs_status check_row(const char *path, int line, const char *row, int c_mo
         return FS_ERR_IO;
     }
     for (int i = 0; i < nnum; i++)
-        if (!field(row, num_cols[i], v, sizeof v) || !number(v, !strcmp(num_names[i], "pixels"))) {
-            log_error("%s:%d: column '%s': '%.40s' is not a number", path, line, num_names[i], v);
+        if (!field(row, num_cols[i], v, sizeof v) || !number(v, metrics_column_flags(nums[i]) & METRICS_COLF_WHOLE)) {
+            log_error("%s:%d: column '%s': '%.40s' is not a number", path, line, metrics_column_name(nums[i]), v);
             return FS_ERR_IO;
         }
     return FS_OK;
@@ -124,15 +124,16 @@ static fs_status check_task_csv(const char *path, const char *text, size_t size)
         log_error("%s: holds a NUL byte (not a text file: a damaged or foreign metrics.csv)", path);
         return FS_ERR_IO;
     }
-    static const char *const k_read[] = {"mode", "ring", "frame_ms", "flip", "coverage_ratio", "pixels", "coverage",
-                                         "ref_coverage"};
+    static const metrics_column k_read[] = {METRICS_COL_MODE,     METRICS_COL_RING,           METRICS_COL_FRAME_MS,
+                                            METRICS_COL_FLIP,     METRICS_COL_COVERAGE_RATIO, METRICS_COL_PIXELS,
+                                            METRICS_COL_COVERAGE, METRICS_COL_REF_COVERAGE};
     size_t hl = strcspn(text, "\n");
     char header[2048];
     snprintf(header, sizeof header, "%.*s", (int)(hl < sizeof header ? hl : sizeof header - 1), text);
     for (size_t k = 0; k < sizeof k_read / sizeof k_read[0]; k++)
-        if (column(header, k_read[k]) < 0) {
+        if (column(header, metrics_column_name(k_read[k])) < 0) {
             log_error("%s:1: the header has no column '%s' (expected the header of fovsim compare's metrics.csv)",
-                      path, k_read[k]);
+                      path, metrics_column_name(k_read[k]));
             return FS_ERR_IO;
         }
     int want = 1;
@@ -170,7 +171,10 @@ static fs_status check_task_csv(const char *path, const char *text, size_t size)
     return FS_OK;
 }
 
-static const char *const k_num_names[] = {"frame_ms", "flip", "coverage_ratio", "pixels", "coverage", "ref_coverage"};
+/* The numbers merge reads from a row (check_row checks each). */
+static const metrics_column k_nums[] = {METRICS_COL_FRAME_MS, METRICS_COL_FLIP,     METRICS_COL_COVERAGE_RATIO,
+                                        METRICS_COL_PIXELS,   METRICS_COL_COVERAGE, METRICS_COL_REF_COVERAGE};
+enum { NUMS = (int)(sizeof k_nums / sizeof k_nums[0]) };
 
 fs_status merge_check_metrics(const char *path, const char *text, size_t size)
 {
@@ -180,13 +184,14 @@ fs_status merge_check_metrics(const char *path, const char *text, size_t size)
     char header[2048];
     size_t hl = strcspn(text, "\n");
     snprintf(header, sizeof header, "%.*s", (int)(hl < sizeof header ? hl : sizeof header - 1), text);
-    int num_cols[6];
-    for (int i = 0; i < 6; i++)
-        num_cols[i] = column(header, k_num_names[i]);
-    int c_mode = column(header, "mode"), c_ring = column(header, "ring"), line = 1;
+    int num_cols[NUMS];
+    for (int i = 0; i < NUMS; i++)
+        num_cols[i] = column(header, metrics_column_name(k_nums[i]));
+    int c_mode = column(header, metrics_column_name(METRICS_COL_MODE));
+    int c_ring = column(header, metrics_column_name(METRICS_COL_RING)), line = 1;
     /* Rows end with a line break (check_task_csv); field() stops at it. */
     for (const char *row = text + hl + (text[hl] == '\n'); *row && st == FS_OK; row += strcspn(row, "\n") + 1)
-        st = check_row(path, ++line, row, c_mode, c_ring, num_cols, k_num_names, 6);
+        st = check_row(path, ++line, row, c_mode, c_ring, num_cols, k_nums, NUMS);
     return st;
 }
 
@@ -220,9 +225,12 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
         free(text);
         return FS_ERR_IO;
     }
-    int c_mode = column(header, "mode"), c_ring = column(header, "ring"), c_ms = column(header, "frame_ms"),
-        c_flip = column(header, "flip"), c_ratio = column(header, "coverage_ratio"), c_px = column(header, "pixels"),
-        c_cov = column(header, "coverage"), c_ref = column(header, "ref_coverage");
+    int c[METRICS_COL_COUNT];
+    for (int i = 0; i < METRICS_COL_COUNT; i++)
+        c[i] = column(header, metrics_column_name((metrics_column)i));
+    int c_mode = c[METRICS_COL_MODE], c_ring = c[METRICS_COL_RING], c_ms = c[METRICS_COL_FRAME_MS],
+        c_flip = c[METRICS_COL_FLIP], c_ratio = c[METRICS_COL_COVERAGE_RATIO], c_px = c[METRICS_COL_PIXELS],
+        c_cov = c[METRICS_COL_COVERAGE], c_ref = c[METRICS_COL_REF_COVERAGE];
     /* Every row was checked (merge_check_metrics): read it. */
     for (char *row = nl + 1; *row && st == FS_OK;) {
         char *end = strchr(row, '\n');
@@ -332,7 +340,10 @@ static fs_status plot(const char *dir, const points *ps)
         sb_puts(&gp, first ? "" : ", \\\n     ");
         sb_puts(&gp, "'accuracy.csv' u 6:(strcol(5) eq ");
         gnuplot_str(&gp, ps->v[i].mode);
-        sb_puts(&gp, " ? $7 : NaN) w p pt 7 ps 1.3 t ");
+        char col[8]; /* each mode its own colour in every plot (FS_ALPHA_MODES) */
+        sb_puts(&gp, " ? $7 : NaN) w p pt 7 ps 1.3 lc rgb ");
+        gnuplot_str(&gp, alpha_mode_colour(alpha_mode_parse(ps->v[i].mode), col));
+        sb_puts(&gp, " t ");
         gnuplot_str(&gp, ps->v[i].mode);
         first = 0;
     }

@@ -9,6 +9,7 @@
 #include "core/embedded.h"
 #include "core/log.h"
 #include "core/strbuf.h"
+#include "common/shared_defs.h"
 
 static int file_number(shader_src *s, const char *path)
 {
@@ -83,6 +84,13 @@ fs_status shader_src_build(const char *path, const char *const *defines, int def
         sb_append(&b, defines[i], strlen(defines[i]));
         sb_append(&b, "\n", 1);
     }
+    /* The alpha modes' ids, which the shaders test ALPHA_MODE against: a mode's row in the table of
+     * common/shared_defs.h, 1 for the first, as enum alpha_mode numbers them (GLSL cannot make a
+     * #define from the table, so C writes them from it). */
+    int id = 0;
+#define FS_ALPHA_MODE_ID(NAME, name, colour, traits) sb_printf(&b, "#define ALPHA_MODE_ID_%s %d\n", #NAME, ++id);
+    FS_ALPHA_MODES(FS_ALPHA_MODE_ID)
+#undef FS_ALPHA_MODE_ID
     fs_status st = expand(out, &b, path, NULL, 0, 0);
     if (st == FS_OK && b.oom)
         st = FS_ERR_NOMEM;

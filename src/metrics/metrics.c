@@ -310,12 +310,42 @@ fs_status metrics_band_limit(const metrics_view *ref, const display_desc *d, con
 
 // >>csv
 
+typedef struct column_row {
+    const char *name, *format;
+    unsigned flags;
+} column_row;
+
+#define METRICS_COL_ROW(ID, name, format, flags) {#name, format, flags},
+static const column_row k_columns[METRICS_COL_COUNT] = {METRICS_CSV_COLUMNS(METRICS_COL_ROW)};
+#undef METRICS_COL_ROW
+
+/* The header line, ",frame,time,...": metrics_csv_header skips the first comma. */
+#define METRICS_COL_HEADER(ID, name, format, flags) "," #name
+static const char k_header[] = METRICS_CSV_COLUMNS(METRICS_COL_HEADER) "\n";
+#undef METRICS_COL_HEADER
+
+const char *metrics_column_name(metrics_column c)
+{
+    return (unsigned)c < METRICS_COL_COUNT ? k_columns[c].name : "";
+}
+
+unsigned metrics_column_flags(metrics_column c)
+{
+    return (unsigned)c < METRICS_COL_COUNT ? k_columns[c].flags : 0u;
+}
+
+metrics_column metrics_column_of(const char *name)
+{
+    int c = 0;
+    while (c < METRICS_COL_COUNT && strcmp(name, k_columns[c].name) != 0)
+        c++;
+    return (metrics_column)c;
+}
+
 bool metrics_csv_header(FILE *f)
 {
     FS_ASSERT(f);
-    fputs("frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,"
-          "temporal_error,disoccluded,static_flicker,frame_ms\n",
-          f);
+    fputs(k_header + 1, f);
     return !ferror(f);
 }
 
@@ -344,11 +374,33 @@ bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
         time = 0.0f;
     if (!isfinite(frame_ms) || frame_ms < 0.0)
         frame_ms = -1.0;
-    fprintf(f, "%d,%.9g,", frame, (double)time);
-    csv_field(f, mode);
-    /* %.9g keeps 9 significant digits: more than the half-float inputs carry. */
-    fprintf(f, ",%d,%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3f\n", ring, m->pixels,
-            m->coverage, m->ref_coverage, m->coverage_ratio, m->rmse, m->alpha_rmse, m->flip, m->psnr,
-            m->temporal_error, m->disoccluded, still && m->has_prev ? m->change : -1.0, frame_ms);
+    /* Every value as a double (whole numbers below 2^53 print exactly with %.0f); the mode is the
+     * one string. %.9g keeps 9 significant digits: more than the half-float inputs carry. */
+    const double v[METRICS_COL_COUNT] = {
+        [METRICS_COL_FRAME] = frame,
+        [METRICS_COL_TIME] = (double)time,
+        [METRICS_COL_RING] = ring,
+        [METRICS_COL_PIXELS] = (double)m->pixels,
+        [METRICS_COL_COVERAGE] = m->coverage,
+        [METRICS_COL_REF_COVERAGE] = m->ref_coverage,
+        [METRICS_COL_COVERAGE_RATIO] = m->coverage_ratio,
+        [METRICS_COL_RMSE] = m->rmse,
+        [METRICS_COL_ALPHA_RMSE] = m->alpha_rmse,
+        [METRICS_COL_FLIP] = m->flip,
+        [METRICS_COL_PSNR] = m->psnr,
+        [METRICS_COL_TEMPORAL_ERROR] = m->temporal_error,
+        [METRICS_COL_DISOCCLUDED] = m->disoccluded,
+        [METRICS_COL_STATIC_FLICKER] = still && m->has_prev ? m->change : -1.0,
+        [METRICS_COL_FRAME_MS] = frame_ms,
+    };
+    for (int c = 0; c < METRICS_COL_COUNT; c++) {
+        if (c)
+            fputc(',', f);
+        if (k_columns[c].format)
+            fprintf(f, k_columns[c].format, v[c]);
+        else
+            csv_field(f, mode);
+    }
+    fputc('\n', f);
     return !ferror(f);
 }

@@ -153,9 +153,54 @@ bool metrics_coverage_ratio_rests(double ref_px, int block);
  * metrics_coverage_ratio_rests(ref_px, block), else -1 (not reported). */
 double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
 
-/* CSV: one row per frame x mode x ring (ring -1 = the whole display), columns
- * frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,
- * temporal_error,disoccluded,static_flicker,frame_ms; static_flicker is `change` on frames with a
+/* >>columns: the columns of metrics.csv, in order: the one list of them. One row per column,
+ * X(ID, name, FORMAT, FLAGS):
+ *   ID      METRICS_COL_<ID>, its index in a row
+ *   name    its name in the header, by which merge and check find it; fovsim check's metric of
+ *           the same name (check_metric_name), if any, judges it as its flags say
+ *   FORMAT  how metrics_csv_row writes its value (NULL: a string, the mode)
+ *   FLAGS   METRICS_COLF_* or'ed
+ * docs/metrics.md defines each; docs/design-notes.md "Adding a metrics.csv column" lists what else a
+ * new measurement touches. */
+#define METRICS_COLF_KEY 1         /* names the row (frame, time, mode, ring), not a measurement */
+#define METRICS_COLF_WHOLE 2       /* a whole number (merge refuses anything else) */
+#define METRICS_COLF_GROWTH 4      /* an error: fovsim check fails its growth, now - baseline */
+#define METRICS_COLF_EITHER_WAY 8  /* fovsim check fails a change either way, |now - baseline|
+                                    * (coverage: erosion and bloat) */
+#define METRICS_COLF_UNMEASURED 16 /* negative (-1) = not measured or not reported: check skips it */
+#define METRICS_COLF_RESTS 32      /* judged only where both runs' reference holds enough coverage
+                                    * (metrics_coverage_ratio_rests) */
+#define METRICS_CSV_COLUMNS(X)                                                                    \
+    X(FRAME, frame, "%.0f", METRICS_COLF_KEY | METRICS_COLF_WHOLE)                               \
+    X(TIME, time, "%.9g", METRICS_COLF_KEY)                                                      \
+    X(MODE, mode, NULL, METRICS_COLF_KEY)                                                        \
+    X(RING, ring, "%.0f", METRICS_COLF_KEY | METRICS_COLF_WHOLE)                                 \
+    X(PIXELS, pixels, "%.0f", METRICS_COLF_WHOLE)                                                \
+    X(COVERAGE, coverage, "%.9g", 0)                                                             \
+    X(REF_COVERAGE, ref_coverage, "%.9g", 0)                                                     \
+    X(COVERAGE_RATIO, coverage_ratio, "%.9g",                                                    \
+      METRICS_COLF_EITHER_WAY | METRICS_COLF_UNMEASURED | METRICS_COLF_RESTS)                    \
+    X(RMSE, rmse, "%.9g", METRICS_COLF_GROWTH)                                                   \
+    X(ALPHA_RMSE, alpha_rmse, "%.9g", METRICS_COLF_GROWTH)                                       \
+    X(FLIP, flip, "%.9g", METRICS_COLF_GROWTH)                                                   \
+    X(PSNR, psnr, "%.9g", 0)                                                                     \
+    X(TEMPORAL_ERROR, temporal_error, "%.9g", METRICS_COLF_GROWTH | METRICS_COLF_UNMEASURED)     \
+    X(DISOCCLUDED, disoccluded, "%.9g", METRICS_COLF_UNMEASURED)                                 \
+    X(STATIC_FLICKER, static_flicker, "%.9g", METRICS_COLF_UNMEASURED)                           \
+    X(FRAME_MS, frame_ms, "%.3f", METRICS_COLF_UNMEASURED)
+
+#define METRICS_COL_ENUM(ID, name, format, flags) METRICS_COL_##ID,
+typedef enum metrics_column { METRICS_CSV_COLUMNS(METRICS_COL_ENUM) METRICS_COL_COUNT } metrics_column;
+#undef METRICS_COL_ENUM
+
+/* The column's name ("coverage_ratio"), its METRICS_COLF_* flags; the column of a name, or
+ * METRICS_COL_COUNT. */
+const char *metrics_column_name(metrics_column c);
+unsigned metrics_column_flags(metrics_column c);
+metrics_column metrics_column_of(const char *name);
+
+/* CSV: one row per frame x mode x ring (ring -1 = the whole display), the columns above;
+ * static_flicker is `change` on frames with a
  * still camera (the caller says: still) and -1 otherwise. coverage_ratio is written as given: compare
  * sets it to -1 first where the reference holds too little (measure_gate_ratios,
  * metrics_coverage_ratio_rests). `mode` is quoted when it holds a comma, quote or line break. frame_ms < 0 or

@@ -119,12 +119,12 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
         snprintf(ps->name, sizeof ps->name, "forward.mask[%s]", alpha_mode_name(mode));
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "PASS_MASK 1");
         snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_MODE %d", alpha_mode_shader_id(mode));
-        if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
+        /* What the mode's traits (FS_ALPHA_MODES, common/shared_defs.h) compile in. */
+        if (alpha_mode_has(mode, ALPHA_TRAIT_MSAA))
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "MSAA 1");
-        if (mode == ALPHA_MODE_A2C && p->alpha.a2c_sharpen)
+        if (alpha_mode_has(mode, ALPHA_TRAIT_GL_A2C) && p->alpha.a2c_sharpen)
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "A2C_SHARPEN 1");
-        if (mode == ALPHA_MODE_HASHED || mode == ALPHA_MODE_HASHED_A2C)
-        {
+        if (alpha_mode_has(mode, ALPHA_TRAIT_HASH)) {
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_HASH_KIND %d", p->alpha.hash_kind);
             snprintf(ps->defines[ps->define_count++], sizeof ps->defines[0], "ALPHA_HASH_ANISO %d", p->alpha.anisotropic);
         }
@@ -167,44 +167,62 @@ static void fullscreen_pass(plan_pass *ps, const char *name, const char *fs)
     ps->fs = fs;
 }
 
-/* Some alpha-tested pass draws with a stochastic threshold (its samples are noise). */
-/* Some surface is alpha-tested (a MASK pass): in any mode, or (stochastic_only) with a stochastic
- * or hashed test, whose samples are noise in time. */
-static bool has_mask(const plan *p, bool stochastic_only)
+/* Some surface is alpha-tested (a MASK pass) in a mode with all of `traits` (0: any mode; e.g.
+ * ALPHA_TRAIT_NOISE: a stochastic or hashed test, whose samples are noise in time). */
+static bool has_mask(const plan *p, unsigned traits)
 {
-    for (int i = 0; i < p->pass_count; i++) {
-        alpha_mode m = p->passes[i].mode;
-        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
-            (!stochastic_only || m == ALPHA_MODE_STOCHASTIC || m == ALPHA_MODE_HASHED || m == ALPHA_MODE_HASHED_A2C))
+    for (int i = 0; i < p->pass_count; i++)
+        if (p->passes[i].kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(p->passes[i].mode, traits))
             return true;
-    }
     return false;
 }
 
-fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
+/* Phase 1: what the options and the scene decide before any pass: the output size, the global
+ * alpha mode (--alpha, else the scene's, else traditional; the reference's is stochastic), the
+ * hashed family's parameters. */
+static void plan_settings(const scene *sc, const plan_options *o, plan *out)
 {
-    plan_options o = opt ? *opt : (plan_options){0};
-    memset(out, 0, sizeof *out);
-    out->width = o.width > 0 ? o.width : sc->display.width;
-    out->height = o.height > 0 ? o.height : sc->display.height;
+    out->width = o->width > 0 ? o->width : sc->display.width;
+    out->height = o->height > 0 ? o->height : sc->display.height;
     out->hfov_deg = sc->display.hfov_deg;
-    out->global_mode = o.alpha_mode != ALPHA_MODE_DEFAULT ? o.alpha_mode
+    out->global_mode = o->alpha_mode != ALPHA_MODE_DEFAULT ? o->alpha_mode
                        : sc->alpha_mode != ALPHA_MODE_DEFAULT ? sc->alpha_mode
                                                               : ALPHA_MODE_TRADITIONAL;
-    if (o.reference) {
+    if (o->reference) {
         out->reference = true;
-        out->reference_lists = o.reference_lists;
+        out->reference_lists = o->reference_lists;
         out->global_mode = ALPHA_MODE_STOCHASTIC;
     }
     out->coverage = true;
-    out->alpha = alpha_params_defaults(&o.alpha);
-    out->msaa = o.force_msaa;
+    out->alpha = alpha_params_defaults(&o->alpha);
+    out->msaa = o->force_msaa;
+}
 
-    /* Passes in draw order: opaque, then alpha-tested, then blended (sorted back to front); the
-     * exact reference: opaque, then the list pass. */
+/* The forward pass kind a primitive of material `m` is drawn in while the passes of kind `now`
+ * are planned (the exact reference's MASK materials go to the solid pass, then with BLEND to the
+ * list pass). */
+static plan_pass_kind forward_kind(const plan *p, const material *m, plan_pass_kind now)
+{
+    plan_pass_kind kind = m->alpha_kind == ALPHA_KIND_MASK    ? PLAN_PASS_FORWARD_MASK
+                          : m->alpha_kind == ALPHA_KIND_BLEND ? PLAN_PASS_FORWARD_BLEND
+                                                              : PLAN_PASS_FORWARD_OPAQUE;
+    /* The exact reference: MASK materials draw their alpha-1 texels' depth first (the solid pass),
+     * then MASK and BLEND go to the list pass. */
+    if (p->reference_lists && kind != PLAN_PASS_FORWARD_OPAQUE)
+        kind = kind == PLAN_PASS_FORWARD_MASK && now == PLAN_PASS_FORWARD_SOLID ? PLAN_PASS_FORWARD_SOLID
+                                                                              : PLAN_PASS_FORWARD_LIST;
+    return kind;
+}
+
+/* Phase 2: the forward passes, in draw order: opaque, then alpha-tested (one pass per alpha mode
+ * in use), then blended (sorted back to front); the exact reference: opaque, solid, then the list
+ * pass. Each placed primitive counts into its pass; its mode's traits switch on MSAA targets and
+ * Castano mips, a material's alpha LOD clamp its pass's ALPHA_LOD_CLAMP. */
+static fs_status plan_forward_passes(const scene *sc, plan *out)
+{
     static const plan_pass_kind order[] = {PLAN_PASS_FORWARD_OPAQUE, PLAN_PASS_FORWARD_MASK, PLAN_PASS_FORWARD_BLEND,
                                            PLAN_PASS_FORWARD_SOLID, PLAN_PASS_FORWARD_LIST};
-    for (int k = 0; k < 5; k++) {
+    for (int k = 0; k < (int)(sizeof order / sizeof order[0]); k++) {
         for (int a = 0; a < sc->asset_count; a++) {
             const asset *as = &sc->assets[a];
             long long inst = 0;
@@ -215,14 +233,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
             for (int pi = 0; pi < as->prim_count; pi++) {
                 const prim *pr = &as->prims[pi];
                 const material *m = &as->materials[pr->material];
-                plan_pass_kind kind = m->alpha_kind == ALPHA_KIND_MASK    ? PLAN_PASS_FORWARD_MASK
-                                      : m->alpha_kind == ALPHA_KIND_BLEND ? PLAN_PASS_FORWARD_BLEND
-                                                                          : PLAN_PASS_FORWARD_OPAQUE;
-                /* The exact reference: MASK materials draw their alpha-1 texels' depth first (the
-                 * solid pass), then MASK and BLEND go to the list pass. */
-                if (out->reference_lists && kind != PLAN_PASS_FORWARD_OPAQUE)
-                    kind = kind == PLAN_PASS_FORWARD_MASK && order[k] == PLAN_PASS_FORWARD_SOLID ? PLAN_PASS_FORWARD_SOLID
-                                                                                               : PLAN_PASS_FORWARD_LIST;
+                plan_pass_kind kind = forward_kind(out, m, order[k]);
                 if (kind != order[k])
                     continue;
                 alpha_mode mode = kind == PLAN_PASS_FORWARD_MASK ? plan_material_mode(out, m) : ALPHA_MODE_DEFAULT;
@@ -233,10 +244,8 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
                 }
                 ps->prim_count++;
                 ps->triangles += (long long)(pr->index_count / 3) * inst;
-                if (mode == ALPHA_MODE_A2C || mode == ALPHA_MODE_HASHED_A2C)
-                    out->msaa = true;
-                if (mode == ALPHA_MODE_CASTANO)
-                    out->castano = true;
+                out->msaa |= alpha_mode_has(mode, ALPHA_TRAIT_MSAA);
+                out->castano |= alpha_mode_has(mode, ALPHA_TRAIT_COVERAGE_MIPS);
                 /* The alpha LOD clamp: compiled only into the passes of materials that have one. */
                 if (kind == PLAN_PASS_FORWARD_MASK && plan_material_alpha_lod_max(out, m) >= 0.0f) {
                     out->alpha_lod_prims++;
@@ -248,43 +257,57 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
     }
     for (int a = 0; a < sc->asset_count; a++)
         out->texture_count += sc->assets[a].image_count;
+    return FS_OK;
+}
 
-    /* TAA: history only when there is more than one frame to accumulate. With TAA the hashed
-     * thresholds move every frame by a golden-ratio offset so the history averages them
-     * (alpha_hashed_frame_offset; the paper's own suggestion, §5.4.1, is sub-pixel noise, a
-     * --hash-scale of 0.3-0.5: docs/hashed-alpha.md measures both). */
-    out->taa = o.taa && o.frames > 1;
+/* Phase 3: time. TAA only when there is more than one frame to accumulate. With TAA the hashed
+ * thresholds move every frame by a golden-ratio offset so the history averages them
+ * (alpha_hashed_frame_offset; the paper's own suggestion, §5.4.1, is sub-pixel noise, a
+ * --hash-scale of 0.3-0.5: docs/hashed-alpha.md measures both). Swaying instances move their
+ * vertices in every forward pass (trunk and leaves together); with TAA the passes also write each
+ * fragment's motion, so that history follows the leaves, not just the camera. A static scene
+ * compiles neither. */
+static void plan_time(const scene *sc, const plan_options *o, plan *out)
+{
+    out->taa = o->taa && o->frames > 1;
     for (int i = 0; i < out->pass_count && out->taa && !out->alpha.no_frame_offset; i++) {
         plan_pass *ps = &out->passes[i];
-        if (ps->kind == PLAN_PASS_FORWARD_MASK && (ps->mode == ALPHA_MODE_HASHED || ps->mode == ALPHA_MODE_HASHED_A2C))
+        if (ps->kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(ps->mode, ALPHA_TRAIT_HASH))
             add_define(ps, "TAA_HASH_OFFSET", 1);
     }
-    /* Animation: swaying instances move their vertices in every forward pass (trunk and leaves
-     * together); with TAA the passes also write each fragment's motion, so that history follows
-     * the leaves, not just the camera. A static scene compiles neither. */
     out->sway_instances = scene_sway_count(sc);
     out->sway = out->sway_instances > 0;
-    out->velocity = out->sway && out->taa && !o.taa_controls.no_object_motion;
+    out->velocity = out->sway && out->taa && !o->taa_controls.no_object_motion;
     for (int i = 0; i < out->pass_count; i++) {
         if (out->sway)
             add_define(&out->passes[i], "SWAY", 1);
         if (out->velocity)
             add_define(&out->passes[i], "OBJECT_MOTION", 1);
     }
-    out->taa_controls = taa_controls_defaults(&o.taa_controls);
+    out->taa_controls = taa_controls_defaults(&o->taa_controls);
     out->camera_motion = camera_moves(&sc->camera);
-    /* Foveation: the rings, and a composite pass only when something needs one. */
-    out->layout = o.layout.count > 0 ? o.layout : fov_layout_off();
+}
+
+/* Phase 4: foveation: the rings, whether a composite pass runs (rings, overlay or debug channels)
+ * and whether rings cull the instances in their hole. */
+static void plan_rings(const plan_options *o, plan *out)
+{
+    out->layout = o->layout.count > 0 ? o->layout : fov_layout_off();
     out->rings = out->layout.count > 1 || out->layout.rings[0].scale_log2 > 0;
-    out->overlay = o.overlay;
-    out->debug_channels = o.debug_channels;
-    out->composite = out->rings || o.overlay || o.debug_channels;
-    out->ring_cull = out->layout.count > 1 && !o.no_ring_cull;
-    /* Ring LOD (docs/ring-lod.md): only for scenes with foliage to thin, never for the
-     * reference, and only when some ring keeps fewer than all cards (an explicit schedule of ones
-     * compiles it too: that is how a test shows u = 1 changes nothing). */
-    if (o.ring_lod.kind != RING_LOD_OFF && !out->reference) {
-        if (ring_lod_active(&o.ring_lod, &out->layout) || o.ring_lod.kind == RING_LOD_EXPLICIT) {
+    out->overlay = o->overlay;
+    out->debug_channels = o->debug_channels;
+    out->composite = out->rings || o->overlay || o->debug_channels;
+    out->ring_cull = out->layout.count > 1 && !o->no_ring_cull;
+}
+
+/* Phase 5: ring LOD (docs/ring-lod.md): only for scenes with foliage to thin, never for the
+ * reference, and only when some ring keeps fewer than all cards (an explicit schedule of ones
+ * compiles it too: that is how a test shows u = 1 changes nothing). The MASK passes then compile
+ * RING_LOD; otherwise ring_lod_why says why not. */
+static fs_status plan_ring_lod(const scene *sc, const plan_options *o, plan *out)
+{
+    if (o->ring_lod.kind != RING_LOD_OFF && !out->reference) {
+        if (ring_lod_active(&o->ring_lod, &out->layout) || o->ring_lod.kind == RING_LOD_EXPLICIT) {
             fs_status st = scene_cards_count(sc, &out->ring_lod_prims, &out->ring_lod_cards);
             if (st != FS_OK)
                 return st;
@@ -296,74 +319,104 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
             snprintf(out->ring_lod_why, sizeof out->ring_lod_why, "every ring keeps all cards");
         }
     }
-    out->ring_lod_spec = out->ring_lod ? o.ring_lod : (ring_lod_spec){0};
+    out->ring_lod_spec = out->ring_lod ? o->ring_lod : (ring_lod_spec){0};
     for (int i = 0; i < out->pass_count && out->ring_lod; i++)
         if (out->passes[i].kind == PLAN_PASS_FORWARD_MASK)
             add_define(&out->passes[i], "RING_LOD", 1);
-    if (out->taa) {
-        plan_pass *t = &out->taa_pass;
-        fullscreen_pass(t, "taa", "shaders/taa.frag");
-        /* A still camera needs no reprojection through depth (simulate only what the scene needs). */
-        if (out->camera_motion)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_CAMERA_MOTION 1");
-        /* Swaying instances: through depth and each fragment's own motion. */
-        if (out->velocity)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_OBJECT_MOTION 1");
-        /* The rings a pixel that left its own ring's footprint may take history from: where the
-         * alpha tests are stochastic, a coarser ring's history is closer to the converged image
-         * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
-        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_COUNT %d", out->layout.count);
-        /* The resolve's variants (docs/taa.md, "A leaner resolve"). */
-        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NEIGHBOURS %d",
-                 out->taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS ? 5 : 9);
-        if (out->taa_controls.history == TAA_HISTORY_CATMULL)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_HISTORY_CATMULL_ROM 1");
-        if (out->taa_controls.nan_check == TAA_NAN_SET)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
-        out->taa_coarse_history = out->layout.count > 1 && has_mask(out, true);
-        /* The sparse-coverage rule (docs/taa.md, "Sparse coverage"): wherever a surface is
-         * alpha-tested, a pixel's coverage sample is a binary draw (a stochastic or hashed
-         * threshold, or a jittered sub-pixel leaf under any test), which its neighbours cannot
-         * refute. Scenes without MASK surfaces keep the plain clamp. */
-        out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out, false);
-        if (out->taa_sparse)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
-        /* Disocclusion (docs/taa.md): only where pixels move, i.e. where TAA reprojects through
-         * depth; a still camera without sway keeps every surface on its pixel. */
-        out->taa_disocclusion = (out->camera_motion || out->velocity) && !out->taa_controls.no_disocclusion;
-        if (out->taa_disocclusion)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_DISOCCLUSION 1");
-        /* Rings that skip instances in their hole: history from there is not whole. */
-        if (out->ring_cull)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_CULL 1");
-        if (out->taa_coarse_history)
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_COARSE_HISTORY 1");
-        qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
-    }
+    return FS_OK;
+}
+
+/* Phase 6: the TAA resolve's pass and its defines (when TAA runs): which reprojections, which
+ * history rules and which of the resolve's variants the scene and the options call for. */
+static void plan_taa_pass(plan *out)
+{
+    if (!out->taa)
+        return;
+    plan_pass *t = &out->taa_pass;
+    fullscreen_pass(t, "taa", "shaders/taa.frag");
+    /* A still camera needs no reprojection through depth (simulate only what the scene needs). */
+    if (out->camera_motion)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_CAMERA_MOTION 1");
+    /* Swaying instances: through depth and each fragment's own motion. */
+    if (out->velocity)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_OBJECT_MOTION 1");
+    /* The rings a pixel that left its own ring's footprint may take history from: where the
+     * alpha tests are stochastic, a coarser ring's history is closer to the converged image
+     * than the noisy current sample; where they are not, it is not (docs/taa.md, "Saccades"). */
+    snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_COUNT %d", out->layout.count);
+    /* The resolve's variants (docs/taa.md, "A leaner resolve"). */
+    snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NEIGHBOURS %d",
+             out->taa_controls.neighbourhood == TAA_NEIGHBOURHOOD_CROSS ? 5 : 9);
+    if (out->taa_controls.history == TAA_HISTORY_CATMULL)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_HISTORY_CATMULL_ROM 1");
+    if (out->taa_controls.nan_check == TAA_NAN_SET)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_NAN_PER_SET 1");
+    out->taa_coarse_history = out->layout.count > 1 && has_mask(out, ALPHA_TRAIT_NOISE);
+    /* The sparse-coverage rule (docs/taa.md, "Sparse coverage"): wherever a surface is
+     * alpha-tested, a pixel's coverage sample is a binary draw (a stochastic or hashed
+     * threshold, or a jittered sub-pixel leaf under any test), which its neighbours cannot
+     * refute. Scenes without MASK surfaces keep the plain clamp. */
+    out->taa_sparse = out->taa_controls.sparse > 0.0f && has_mask(out, 0);
+    if (out->taa_sparse)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_SPARSE_COVERAGE 1");
+    /* Disocclusion (docs/taa.md): only where pixels move, i.e. where TAA reprojects through
+     * depth; a still camera without sway keeps every surface on its pixel. */
+    out->taa_disocclusion = (out->camera_motion || out->velocity) && !out->taa_controls.no_disocclusion;
+    if (out->taa_disocclusion)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_DISOCCLUSION 1");
+    /* Rings that skip instances in their hole: history from there is not whole. */
+    if (out->ring_cull)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_RING_CULL 1");
+    if (out->taa_coarse_history)
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "TAA_COARSE_HISTORY 1");
+    qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
+}
+
+/* Phase 7: the full-screen passes after the rings: the exact reference's list resolve, and the
+ * composite (with its tile variant, for pixels whose ring is known from their tile). */
+static void plan_display_passes(const plan_options *o, plan *out)
+{
     out->list_resolve = plan_find(out, PLAN_PASS_FORWARD_LIST, ALPHA_MODE_DEFAULT) != NULL;
     if (out->list_resolve)
         fullscreen_pass(&out->list_resolve_pass, "list resolve", "shaders/list_resolve.frag");
-    if (out->composite) {
-        plan_pass *c = &out->composite_pass;
-        fullscreen_pass(c, "composite", "shaders/composite.frag");
-        snprintf(c->defines[c->define_count++], sizeof c->defines[0], "FOV_RING_COUNT %d", out->layout.count);
-        if (o.overlay)
-            snprintf(c->defines[c->define_count++], sizeof c->defines[0], "OVERLAY 1");
-        if (o.debug_channels)
-            snprintf(c->defines[c->define_count++], sizeof c->defines[0], "DEBUG_CHANNELS 1");
-        c->vs = "shaders/composite.vert";
-        qsort(c->defines, (size_t)c->define_count, sizeof c->defines[0], cmp_str);
-        /* Pixels whose ring is known from their tile skip the search (the overlay draws ring borders
-         * per pixel, so it keeps the search everywhere). */
-        out->composite_tiles = out->rings && !o.overlay && !o.composite_per_pixel;
-        if (out->composite_tiles) {
-            plan_pass *t = &out->composite_tile_pass;
-            *t = *c;
-            snprintf(t->name, sizeof t->name, "composite (tiles of one ring)");
-            snprintf(t->defines[t->define_count++], sizeof t->defines[0], "COMPOSITE_TILE 1");
-            qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
-        }
+    if (!out->composite)
+        return;
+    plan_pass *c = &out->composite_pass;
+    fullscreen_pass(c, "composite", "shaders/composite.frag");
+    snprintf(c->defines[c->define_count++], sizeof c->defines[0], "FOV_RING_COUNT %d", out->layout.count);
+    if (o->overlay)
+        snprintf(c->defines[c->define_count++], sizeof c->defines[0], "OVERLAY 1");
+    if (o->debug_channels)
+        snprintf(c->defines[c->define_count++], sizeof c->defines[0], "DEBUG_CHANNELS 1");
+    c->vs = "shaders/composite.vert";
+    qsort(c->defines, (size_t)c->define_count, sizeof c->defines[0], cmp_str);
+    /* Pixels whose ring is known from their tile skip the search (the overlay draws ring borders
+     * per pixel, so it keeps the search everywhere). */
+    out->composite_tiles = out->rings && !o->overlay && !o->composite_per_pixel;
+    if (out->composite_tiles) {
+        plan_pass *t = &out->composite_tile_pass;
+        *t = *c;
+        snprintf(t->name, sizeof t->name, "composite (tiles of one ring)");
+        snprintf(t->defines[t->define_count++], sizeof t->defines[0], "COMPOSITE_TILE 1");
+        qsort(t->defines, (size_t)t->define_count, sizeof t->defines[0], cmp_str);
     }
+}
+
+fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
+{
+    plan_options o = opt ? *opt : (plan_options){0};
+    memset(out, 0, sizeof *out);
+    plan_settings(sc, &o, out);
+    fs_status st = plan_forward_passes(sc, out);
+    if (st != FS_OK)
+        return st;
+    plan_time(sc, &o, out);
+    plan_rings(&o, out);
+    st = plan_ring_lod(sc, &o, out);
+    if (st != FS_OK)
+        return st;
+    plan_taa_pass(out);
+    plan_display_passes(&o, out);
     return FS_OK;
 }
 
@@ -399,8 +452,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     fprintf(f, "alpha mode %s (global; per-material overrides shown per pass)\n", alpha_mode_name(p->global_mode));
     bool hashed = false;
     for (int i = 0; i < p->pass_count; i++)
-        hashed |= p->passes[i].kind == PLAN_PASS_FORWARD_MASK &&
-                  (p->passes[i].mode == ALPHA_MODE_HASHED || p->passes[i].mode == ALPHA_MODE_HASHED_A2C);
+        hashed |= p->passes[i].kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(p->passes[i].mode, ALPHA_TRAIT_HASH);
     if (hashed)
     {
         char fade[64];

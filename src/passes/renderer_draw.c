@@ -444,7 +444,7 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
                 glColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
             glDepthMask(GL_TRUE);
             glDisable(GL_BLEND);
-        } else if (ps->kind == PLAN_PASS_FORWARD_MASK && ps->mode == ALPHA_MODE_A2C) {
+        } else if (ps->kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(ps->mode, ALPHA_TRAIT_GL_A2C)) {
             glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
             glEnable(GL_SAMPLE_ALPHA_TO_ONE);
             draw_instanced(r, pg, ps);

@@ -185,7 +185,7 @@ static fs_status material_fade(const plan *pl, const material *m, const asset *a
     alpha_mode mode = plan_material_mode(pl, m);
     *out = 0.0f;
     if (m->alpha_kind != ALPHA_KIND_MASK || m->base_color_image < 0 || pl->alpha.no_fade ||
-        (mode != ALPHA_MODE_HASHED && mode != ALPHA_MODE_HASHED_A2C))
+        !alpha_mode_has(mode, ALPHA_TRAIT_HASH))
         return FS_OK;
     mip_chain mc;
     fs_status st = mip_chain_build(&as->images[m->base_color_image], &mc);
@@ -276,7 +276,7 @@ fs_status renderer_upload_scene(renderer *r)
             if (fst != FS_OK)
                 return fst;
             if (mt->alpha_kind == ALPHA_KIND_MASK && mt->base_color_image >= 0 &&
-                plan_material_mode(&r->pl, mt) == ALPHA_MODE_CASTANO) {
+                alpha_mode_has(plan_material_mode(&r->pl, mt), ALPHA_TRAIT_COVERAGE_MIPS)) {
                 fs_status st;
                 ga->castano[m] = upload_chain(&as->images[mt->base_color_image], mt->alpha_cutoff, true, &st);
                 if (st != FS_OK)

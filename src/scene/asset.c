@@ -1,36 +1,9 @@
-/* asset.c: helpers shared by every asset source (glTF shim, generators), and alpha-mode names. */
+/* asset.c: helpers shared by every asset source (glTF shim, generators). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "scene/scene.h"
-
-static const char *const k_alpha_mode_names[ALPHA_MODE_COUNT] = {
-    [ALPHA_MODE_DEFAULT] = "default",       [ALPHA_MODE_TRADITIONAL] = "traditional",
-    [ALPHA_MODE_STOCHASTIC] = "stochastic", [ALPHA_MODE_HASHED] = "hashed",
-    [ALPHA_MODE_A2C] = "a2c",               [ALPHA_MODE_HASHED_A2C] = "hashed_a2c",
-    [ALPHA_MODE_CASTANO] = "castano",       [ALPHA_MODE_MIPSCALE] = "mipscale",
-};
-
-const char *alpha_mode_name(alpha_mode m)
-{
-    return (unsigned)m < ALPHA_MODE_COUNT ? k_alpha_mode_names[m] : NULL;
-}
-
-alpha_mode alpha_mode_parse(const char *name)
-{
-    if (!name)
-        return ALPHA_MODE_DEFAULT;
-    for (int m = ALPHA_MODE_TRADITIONAL; m < ALPHA_MODE_COUNT; m++)
-        if (strcmp(name, k_alpha_mode_names[m]) == 0)
-            return (alpha_mode)m;
-    return ALPHA_MODE_DEFAULT;
-}
-
-const char *alpha_mode_list(void)
-{
-    return "traditional, stochastic, hashed, a2c, hashed_a2c, castano, mipscale";
-}
 
 bool material_is_alpha_mapped(const material *m)
 {

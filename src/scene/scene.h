@@ -26,6 +26,7 @@
 #include "core/fmath.h"
 #include "core/status.h"
 #include "fov/fov_ring.h"
+#include "common/shared_defs.h" /* FS_ALPHA_MODES, the table of alpha modes */
 
 #ifdef __cplusplus
 extern "C" {
@@ -40,25 +41,29 @@ typedef enum alpha_kind {
     ALPHA_KIND_BLEND,
 } alpha_kind;
 
-/* Alpha-test strategy for MASK materials (docs/design.md "Alpha-test strategies", docs/alpha-modes.md). */
+/* Alpha-test strategy for MASK materials (docs/design.md "Alpha-test strategies",
+ * docs/alpha-modes.md): one per row of FS_ALPHA_MODES (common/shared_defs.h),
+ * ALPHA_MODE_TRADITIONAL = 1 and so on in the table's order. */
+#define FS_ALPHA_MODE_ENUM(NAME, name, colour, traits) ALPHA_MODE_##NAME,
 typedef enum alpha_mode {
     ALPHA_MODE_DEFAULT = 0, /* "not set": inherit the scene's or CLI's mode */
-    ALPHA_MODE_TRADITIONAL,
-    ALPHA_MODE_STOCHASTIC,
-    ALPHA_MODE_HASHED,
-    ALPHA_MODE_A2C,
-    ALPHA_MODE_HASHED_A2C,
-    ALPHA_MODE_CASTANO,
-    ALPHA_MODE_MIPSCALE,
+    FS_ALPHA_MODES(FS_ALPHA_MODE_ENUM)
     ALPHA_MODE_COUNT
 } alpha_mode;
+#undef FS_ALPHA_MODE_ENUM
 
-/* "traditional" etc.; NULL for an out-of-range value. */
+/* "traditional" etc. (the table's `name`), "default" for DEFAULT; NULL for an out-of-range value. */
 const char *alpha_mode_name(alpha_mode m);
 /* Parses a mode name; returns ALPHA_MODE_DEFAULT for an unknown name. */
 alpha_mode alpha_mode_parse(const char *name);
 /* Comma-separated list of every mode name, for error messages and --help. */
 const char *alpha_mode_list(void);
+/* The mode's ALPHA_TRAIT_* (common/shared_defs.h) or'ed; 0 for DEFAULT and out-of-range values. */
+unsigned alpha_mode_traits(alpha_mode m);
+/* Whether the mode has every trait in `traits`. */
+bool alpha_mode_has(alpha_mode m, unsigned traits);
+/* The mode's colour in plots as "#rrggbb" into buf (8 bytes); black for DEFAULT. Returns buf. */
+const char *alpha_mode_colour(alpha_mode m, char buf[8]);
 
 typedef enum tex_wrap { TEX_WRAP_REPEAT = 0, TEX_WRAP_CLAMP, TEX_WRAP_MIRROR } tex_wrap;
 typedef enum tex_filter { TEX_FILTER_LINEAR = 0, TEX_FILTER_NEAREST } tex_filter;
