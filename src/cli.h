@@ -87,7 +87,7 @@ typedef struct run_desc {
         taa_history_kind history; /* --taa-history catmull|bilinear */
         taa_nan_kind nan;         /* --taa-nan tap|set */
     } taa;
-    alpha_mode bench_modes[ALPHA_MODE_COUNT]; /* bench, compare, demo: --modes a,b,c or all */
+    alpha_mode bench_modes[ALPHA_MODE_MAX]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;
     struct {                      /* fovsim bench */
         int warmup;               /* --warmup, default 5 (compare --first-frame: frames of history) */

@@ -51,6 +51,12 @@ typedef enum alpha_mode {
     ALPHA_MODE_COUNT
 } alpha_mode;
 #undef FS_ALPHA_MODE_ENUM
+/* Room for the modes in structs whose size is checked (run_desc): a new row of the table does not
+ * change their layout. */
+#define ALPHA_MODE_MAX 16
+#ifndef __cplusplus
+_Static_assert(ALPHA_MODE_COUNT <= ALPHA_MODE_MAX, "more alpha modes than ALPHA_MODE_MAX");
+#endif
 
 /* "traditional" etc. (the table's `name`), "default" for DEFAULT; NULL for an out-of-range value. */
 const char *alpha_mode_name(alpha_mode m);
