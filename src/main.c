@@ -2,7 +2,7 @@
 #include <malloc.h>
 #include <stdlib.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 #include "commands/commands.h"
 
 /* The frame loop allocates nothing of its own that lives shorter than the session, but Mesa's

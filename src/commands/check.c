@@ -16,7 +16,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 #include "core/file_read.h"
 #include "core/log.h"
 #include "output/out_path.h"

@@ -13,7 +13,7 @@
 #ifndef FOVSIM_COMMANDS_H
 #define FOVSIM_COMMANDS_H
 
-#include "cli.h"
+#include "cli/cli.h"
 
 /* Runs d->cmd (help, version and --list-gpus included). */
 fs_status command_run(const run_desc *d);

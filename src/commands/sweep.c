@@ -34,7 +34,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 #include "core/config.h"
 #include "core/file_read.h"
 #include "core/grow.h"

@@ -22,7 +22,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 #include "session/session.h"
 
 #define RUN_RECORD_FILE "fovsim-run.txt"

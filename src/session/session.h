@@ -6,7 +6,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 #include "core/progress.h"
 #include "gaze/gaze.h"
 #include "output/exr_write.h"

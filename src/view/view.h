@@ -19,7 +19,7 @@
 #ifndef FOVSIM_VIEW_H
 #define FOVSIM_VIEW_H
 
-#include "cli.h"
+#include "cli/cli.h"
 
 /* Runs the viewer until its window is closed (or the script quits). Bad input (scene, trace,
  * script, layout) is rejected before a window opens; no X server / no GL 4.5: FS_ERR_GL. */

@@ -3,8 +3,8 @@
 
 #include <stdlib.h>
 
-#include "cli.h"
-#include "cli_internal.h"
+#include "cli/cli.h"
+#include "cli/cli_internal.h"
 #include "core/log.h"
 #include "session/run_record.h"
 #include "session/session.h"

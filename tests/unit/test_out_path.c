@@ -12,7 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 #include "core/log.h"
 #include "output/exr_write.h"
 #include "output/out_path.h"

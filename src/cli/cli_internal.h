@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 
-#include "cli.h"
+#include "cli/cli.h"
 
 /* Where an option applies: one bit per command, and two bits for a command with a switch that
  * widens what it accepts (bench --accuracy takes the reference's options, compare --first-frame

@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "cli_internal.h"
+#include "cli/cli_internal.h"
 #include "core/config.h"
 
 static const char *command_intro(command cmd)

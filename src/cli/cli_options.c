@@ -3,7 +3,7 @@
  * run record holds it and whether it belongs to the machine. cli.c parses with it, cli_help.c
  * prints --help from it, run_record.c and fovsim check classify options by its flags.
  * The table's order is the order of --help. docs/design-notes.md, "The command line from one table". */
-#include "cli_internal.h"
+#include "cli/cli_internal.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,6 +1,6 @@
 /* cli.c: argv -> run_desc through the option table (cli_options.c): the command, the options and
  * the positional scene, then the checks across options. */
-#include "cli.h"
+#include "cli/cli.h"
 
 #include <errno.h>
 #include <math.h>
@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cli_internal.h"
+#include "cli/cli_internal.h"
 #include "core/config.h"
 #include "core/log.h"
 #include "output/out_path.h"
