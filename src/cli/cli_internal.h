@@ -71,4 +71,9 @@ unsigned cli_context(command cmd, const run_desc *d);
 /* The commands and their one-line summaries, as `fovsim --help` lists them. */
 void cli_print_commands(void);
 
+/* A number used as a 32-bit float, in (lo, hi] or [lo, hi] with lo_closed, and normal or 0 as
+ * that float (cli_values.c); else one line naming `opt` and `expected` (NULL: the range). */
+bool cli_parse_float_in(const char *opt, const char *v, float lo, bool lo_closed, float hi, float *out,
+                        const char *expected);
+
 #endif

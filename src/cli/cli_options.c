@@ -15,9 +15,6 @@
 #include "core/log.h"
 #include "fov/fov_ring.h"
 
-bool cli_parse_float_in(const char *opt, const char *v, float lo, bool lo_closed, float hi, float *out,
-                        const char *expected);
-
 /* >>setters: the options a range or a list of names does not describe */
 
 static bool set_builtin(const cli_option *o, run_desc *d, const char *v)

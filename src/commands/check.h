@@ -27,7 +27,7 @@
 #include "core/config.h"
 #include "core/status.h"
 
-/* >>tolerances (check_judge.c) */
+/* >>tolerances (check_tol.c) */
 
 typedef enum check_metric {
     CHECK_COVERAGE = 0, /* |coverage_ratio now - baseline| (either way: erosion and bloat) */
