@@ -11,6 +11,7 @@
 #include "cli/cli_internal.h"
 #include "core/config.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "output/out_path.h"
 
 /* >>values */
@@ -114,6 +115,7 @@ void cli_begin(run_desc *d, command cmd)
     d->taa.mode = TAA_SWITCH_SCENE;
     d->fps = 24.0f;
     d->bench.warmup = 5;
+    d->progress_interval = (float)PROGRESS_INTERVAL_DEFAULT;
 }
 
 static fs_status apply(run_desc *d, const cli_option *o, const char *value)

@@ -204,6 +204,7 @@ static const cli_choice k_format[] = {{"text", 0}, {"json", 1}, {NULL, 0}};
 #define ONLY_FVVDP "--export-fvvdp and --fvvdp are options of fovsim compare and demo"
 #define ONLY_VIEW "--script, --record and --split are options of fovsim view"
 #define ALL_BUT_VIEW (CMDS_DRAWING & ~ON(CMD_VIEW))
+#define CMDS_PROGRESS (ALL_BUT_VIEW & ~ON(CMD_PLAN)) /* those with a progress line */
 
 const cli_option k_cli_options[] = {
     /* what to draw */
@@ -326,6 +327,10 @@ const cli_option k_cli_options[] = {
     {"--gl-debug", ARG_FLAG, CMDS_DRAWING, NULL, "GL debug output on stderr (always on in debug builds)",
      FIELD(gl_debug), .flags = OPT_MACHINE},
     {"--quiet", ARG_FLAG, CMDS_DRAWING, NULL, "no progress line", FIELD(quiet), .flags = OPT_MACHINE},
+    {"--progress-interval", ARG_FLOAT, CMDS_PROGRESS, "S",
+     "when stderr is not a terminal, a progress line every S seconds,\n0 to 86400 (default 10; 0: every frame)",
+     FIELD(progress_interval), .lo = 0, .hi = 86400, .flags = OPT_LO_CLOSED | OPT_MACHINE,
+     .misuse = "--progress-interval is an option of fovsim render, reference, compare, demo and bench"},
     {"--verbose", ARG_FLAG, CMDS_DRAWING, NULL, "print the renderer and what is loaded", FIELD(verbose),
      .flags = OPT_MACHINE},
     {"--asset-root", ARG_CUSTOM, CMDS_DRAWING, "DIR",

@@ -315,7 +315,7 @@ static fs_status bench_measure(bench_run *b, fs_status st)
     const run_desc *d = b->d;
     int n = b->n;
     b->span = b->s.sc.duration;
-    progress pr = progress_begin("bench", d->bench.warmup + n, d->quiet);
+    progress pr = progress_begin("bench", d->bench.warmup + n, d->quiet, d->progress_interval);
     for (int i = 0; i < d->bench.warmup + n && st == FS_OK; i++) {
         int k = i < d->bench.warmup ? -1 : i - d->bench.warmup;
         int kk = k < 0 ? i : k;

@@ -365,7 +365,7 @@ static fs_status acc_begin_measuring(acc_run *a, fs_status st)
     if (st == FS_OK)
         out_dir_remove_stale_temps(a->out);
     session_catch_sigint();
-    a->pr = progress_begin("accuracy frame", a->n + a->warm, d->quiet);
+    a->pr = progress_begin("accuracy frame", a->n + a->warm, d->quiet, d->progress_interval);
     a->rp.pr.enabled = false; /* one progress line: frames */
     a->band_n = (size_t)a->s.pl.width * (size_t)a->s.pl.height;
     a->band_buf = st == FS_OK ? malloc(sizeof(float) * 12 * a->band_n) : NULL;

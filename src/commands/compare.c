@@ -19,6 +19,7 @@
 #include "output/fvvdp_export.h"
 #include "output/out_path.h"
 #include "session/run_record.h"
+#include "commands/look_hints.h"
 #include "commands/measure.h"
 #include "session/session.h"
 
@@ -443,7 +444,9 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
         st = temporal_begin(&c->te, s);
     session_catch_sigint();
     c->rp.pr = progress_begin(c->co->demo ? "demo (reference passes)" : "compare (reference passes)",
-                              (frames - (d->compare.first_frame < frames ? d->compare.first_frame : frames)) * c->passes, d->quiet);
+                              (frames - (d->compare.first_frame < frames ? d->compare.first_frame : frames)) * c->passes, d->quiet,
+                              d->progress_interval);
+    progress_per_frame(&c->rp.pr, c->passes, c->co->demo ? "demo" : "compare");
     c->t0 = time_now();
     /* The frame just before F also gets its reference, the previous frame of F's temporal metrics. */
     c->first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
@@ -719,6 +722,10 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
             st = fst;
     }
     st = compare_report(c, st, el);
+    if (st == FS_OK)
+        look_hints_print(&(look_hints_desc){.out = c->out, .name = d->name, .first_frame = c->first,
+                                            .mode = alpha_mode_name(c->runs[0].mode),
+                                            .video = co->demo ? "demo.mp4" : "compare.mp4", .fps = d->fps});
     compare_free(c);
     free(c);
     return st;
@@ -746,26 +753,5 @@ fs_status cmd_demo(const run_desc *d)
         dd.ref.supersample = DEMO_SUPERSAMPLE;
     if (!dd.ref.samples)
         dd.ref.samples = DEMO_SAMPLES;
-    fs_status st = compare_run(&dd, &(compare_opts){.default_out = "out/demo", .demo = true});
-    if (st != FS_OK)
-        return st;
-    const char *out = d->out_dir ? d->out_dir : "out/demo";
-    /* The paths in these commands are shell-quoted: they are for copying into a shell. */
-    char p0[PATH_MAX + 64], seq[PATH_MAX + 64], mp4[PATH_MAX + 16];
-    snprintf(p0, sizeof p0, "%s/%s.0000.exr", out, d->name);
-    snprintf(seq, sizeof seq, "%s/%s.%%04d.exr", out, d->name);
-    snprintf(mp4, sizeof mp4, "%s/demo.mp4", out);
-    sbuf a = {0}, b = {0}, c = {0};
-    shell_quote(&a, p0);
-    shell_quote(&b, seq);
-    shell_quote(&c, mp4);
-    printf("\nlook at it (part 0 of each frame is the side-by-side grid; part 'layers' has every image):\n"
-           "  oiiotool --info -v %s                 # parts, layers, header attributes\n"
-           "  ffmpeg -framerate %g -apply_trc iec61966_2_1 -i %s -pix_fmt yuv420p %s\n"
-           "  oiiotool %s --subimage layers --ch hashed.coverage -o coverage.png\n",
-           a.p ? a.p : "", d->fps, b.p ? b.p : "", c.p ? c.p : "", a.p ? a.p : "");
-    free(a.p);
-    free(b.p);
-    free(c.p);
-    return FS_OK;
+    return compare_run(&dd, &(compare_opts){.default_out = "out/demo", .demo = true});
 }

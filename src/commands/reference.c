@@ -35,7 +35,8 @@ fs_status cmd_reference(const run_desc *d)
     long overflow = 0, long_lists = 0;
     uint64_t nodes = 0;
     session_catch_sigint();
-    rp.pr = progress_begin("reference pass", (frames - fo.kept_count) * passes, d->quiet);
+    rp.pr = progress_begin("reference pass", (frames - fo.kept_count) * passes, d->quiet, d->progress_interval);
+    progress_per_frame(&rp.pr, passes, "reference");
     double t0 = time_now();
     for (int i = 0; i < frames && st == FS_OK; i++) {
         if (session_interrupted()) {

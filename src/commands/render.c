@@ -52,7 +52,7 @@ fs_status cmd_render(const run_desc *d)
         st = FS_ERR_NOMEM;
     draw_range dr = st == FS_OK ? frames_to_draw(&rf, &s, d->fps, s.pl.taa) : (draw_range){0, 0, false};
     session_catch_sigint();
-    progress pr = progress_begin("frame", dr.end - dr.start, d->quiet);
+    progress pr = progress_begin("frame", dr.end - dr.start, d->quiet, d->progress_interval);
     double t0 = time_now(), redrawn_s = 0;
     int done = 0, redrawn = 0;
     for (int i = dr.start; i < dr.end && st == FS_OK; i++) {
