@@ -17,9 +17,10 @@ static const char *command_intro(command cmd)
                "Prints which passes, shader variants and targets the scene needs, without drawing.\n\n";
     case CMD_DEMO:
         return "usage: fovsim demo [options]\n\n"
-               "Renders the built-in forest (camera dollying back through trees and a fence) with foveation\n"
-               "following a built-in trace of fixations and saccades, to ./out/demo/, and prints how to look\n"
-               "at the frames. Accepts the render options below.\n\n";
+               "fovsim compare with defaults: the built-in forest (camera dollying back through trees and a\n"
+               "fence) at 640x360, foveated around builtin:demo_tour (fixations, saccades, a smooth pursuit),\n"
+               "TAA on, traditional and hashed against an exact reference (2x2 sub-samples), to ./out/demo/;\n"
+               "prints the table and how to look at the frames. Accepts compare's options below.\n\n";
     case CMD_BENCH:
         return "usage: fovsim bench [SCENE | --scene FILE | --builtin NAME] [--frames N] [--warmup W] [--markdown FILE]\n\n"
                "Draws N frames spread over the camera path after W warm-up frames and reports median and\n"
