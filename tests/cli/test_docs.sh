@@ -5,7 +5,8 @@
 # a wrapper appends --width 96 --height 54 --frames 3 (and a 1x1 reference) to the commands that
 # draw, so a block runs as written, only smaller. Before the blocks, the folders they read are
 # made the same way: out/demo (`fovsim demo`) and out/render (`fovsim render --out out/render`).
-# Every PNG a block writes must be one display-sized image (96x54), not a grid or a padded layer.
+# Every PNG a block writes from frames must be one display-sized image (96x54), not a grid or a
+# padded layer.
 # About 10 s.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
@@ -70,13 +71,15 @@ mapfile -t docs < <(cd "$SRC" && ls README.md docs/*.md)
 run_blocks "$T/blocks" "${docs[@]}"
 check "every runnable block of README.md and docs/*.md exits 0" [ $? -eq 0 ]
 # Guards against testing nothing: the recipes that matter are marked.
-for f in README.md docs/compare.md docs/check.md; do
+for f in README.md docs/compare.md docs/check.md docs/cluster.md; do
   check "$f has runnable blocks, and they ran" grep -q "^$f:" "$T/blocks/ran.txt"
 done
 
-# Every PNG a recipe writes is display-sized: a layer, not part 0's grid-sized canvas.
-pngs=$(cd "$T/work" && find . -name '*.png' | sort)
+# Every PNG a recipe writes from the frames is display-sized: a layer, not part 0's grid-sized
+# canvas (merge's accuracy.png is a plot).
+pngs=$(cd "$T/work" && find . -name '*.png' ! -name 'accuracy*.png' | sort)
 check "the recipes wrote PNGs" [ -n "$pngs" ]
+check "the sweep recipe's merge wrote its table" [ -s "$T/work/out/sweep/tiny/metrics.csv" ]
 while read -r p; do
   [ -n "$p" ] || continue
   size=$(/usr/bin/python3 -c "import struct,sys; d=open(sys.argv[1],'rb').read(24); print('%dx%d' % struct.unpack('>II', d[16:24]))" "$T/work/$p")
