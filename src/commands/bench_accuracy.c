@@ -425,9 +425,7 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
         st = temporal_measure(&a->te, &vi, prev ? &vp : NULL, &f->vr, &f->mask,
                               temporal_reference_noise2(a->rf, still, f->ri.error, a->prev_err), rm);
     measure_accumulate(mr, rm, a->ml.count, f->measured && still);
-    exr_image_free(&mr->prev);
-    mr->prev = mr->img;
-    memset(&mr->img, 0, sizeof mr->img);
+    exr_image_move(&mr->prev, &mr->img);
     mr->have_prev = true;
     return st;
 }
@@ -455,9 +453,7 @@ static fs_status acc_run_frame(acc_run *a, int i)
     if (f.measured) {
         temporal_next(&a->te, &f.base);
         a->prev_err = f.ri.error;
-        exr_image_free(&a->prev_ref);
-        a->prev_ref = a->ref;
-        memset(&a->ref, 0, sizeof a->ref);
+        exr_image_move(&a->prev_ref, &a->ref);
         a->have_prev_ref = true;
     }
     return st;

@@ -527,14 +527,10 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
 {
     for (int m = 0; m < c->nm; m++) {
         mode_run *mr = &c->runs[m];
-        exr_image_free(&mr->prev);
-        mr->prev = mr->img;
-        memset(&mr->img, 0, sizeof mr->img);
+        exr_image_move(&mr->prev, &mr->img);
         mr->have_prev = true;
     }
-    exr_image_free(&c->prev_ref);
-    c->prev_ref = c->ref;
-    memset(&c->ref, 0, sizeof c->ref);
+    exr_image_move(&c->prev_ref, &c->ref);
     c->have_prev_ref = true;
     temporal_next(&c->te, &f->fr);
 }

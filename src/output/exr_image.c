@@ -184,3 +184,10 @@ void exr_image_free(exr_image *img)
         free(node);
     }
 }
+
+void exr_image_move(exr_image *dst, exr_image *src)
+{
+    exr_image_free(dst);
+    *dst = *src;
+    memset(src, 0, sizeof *src);
+}

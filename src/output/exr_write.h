@@ -116,6 +116,8 @@ int exr_image_part_count(const exr_image *img);
 exr_image *exr_image_part(const exr_image *img, int index);
 /* Frees planes and every further part; no-op on a zeroed image. */
 void exr_image_free(exr_image *img);
+/* Frees *dst and moves *src into it; *src is left empty (a frame becoming the previous one). */
+void exr_image_move(exr_image *dst, exr_image *src);
 
 /* f as exr_write_file stores it, read back: rounded to the nearest half-float (ties to even), NaN
  * as 0, clamped to +-65504. Lets a value computed now equal the same value read from a file. */
