@@ -301,7 +301,8 @@ const cli_option k_cli_options[] = {
      "binocular traces: left, right or average (default: average of valid eyes)", FIELD(eye), .choices = k_eye,
      .flags = OPT_RECORDED},
     /* output */
-    {"--overlay", ARG_FLAG, CMDS_DRAWING, NULL, "draw ring borders and the gaze marker into the frames",
+    {"--overlay", ARG_FLAG, CMDS_DRAWING, NULL, "draw ring borders and the gaze marker into the frames (compare:\ninto the measured images; the grid's "
+     "annotation is the clean way)",
      FIELD(overlay), .flags = OPT_RECORDED},
     {"--debug-channels", ARG_FLAG, CMDS_DRAWING, NULL, "add ring.id and eccentricity (degrees) channels to the EXR",
      FIELD(debug_channels), .flags = OPT_RECORDED},

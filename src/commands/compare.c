@@ -680,6 +680,9 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         free(c);
         return st;
     }
+    if (d->overlay) /* allowed (it shows what a viewer would), but it is measured */
+        log_warn("--overlay draws ring borders and the gaze marker into every mode's frame, so the metrics include "
+                 "them; the grid's annotation (--grid-annotate, on by default) shows them without that");
     st = compare_build_modes(c);
     st = compare_open_outputs(c, st);
     st = compare_begin_frames(c, st);
