@@ -24,7 +24,26 @@ typedef struct grid {
     float *p[4]; /* R, G, B, A of the grid */
     int stride;  /* grid width */
     int w, h;    /* tile size */
+    const float (*lut)[3]; /* diff_lut */
 } grid;
+
+/* annot_diverging at DIFF_STEPS + 1 points over [-1, 1], made per grid (no shared state): its three
+ * powf per pixel were a third of the grid's time (62 ms at 640x360 with two modes before);
+ * steps of 1/1024 are below half-float's resolution near 1. */
+#define DIFF_STEPS 2048
+typedef float diff_lut[DIFF_STEPS + 1][3];
+
+static void diff_lut_fill(diff_lut lut)
+{
+    for (int i = 0; i <= DIFF_STEPS; i++)
+        annot_diverging(-1.0f + 2.0f * (float)i / DIFF_STEPS, lut[i]);
+}
+
+static const float *diff_colour(const float (*lut)[3], float t)
+{
+    t = isnan(t) ? 0.0f : fminf(fmaxf(t, -1.0f), 1.0f);
+    return lut[(int)lrintf((t + 1.0f) * 0.5f * DIFF_STEPS)];
+}
 
 /* Fills tile (col, row) from a, b (w x h planes): TILE_IMAGE a = R, G, B planes; TILE_HEAT
  * heat(a[0]); TILE_GREY a[0] as grey; TILE_DIFF annot_diverging(a[0] - b[0]). */
@@ -42,7 +61,7 @@ static void put_tile(const grid *g, int col, int row, tile_kind kind, const floa
                 break;
             case TILE_HEAT: heat(a[0][s], rgb); break;
             case TILE_GREY: rgb[0] = rgb[1] = rgb[2] = a[0][s]; break;
-            case TILE_DIFF: annot_diverging(a[0][s] - b[s], rgb); break;
+            case TILE_DIFF: memcpy(rgb, diff_colour(g->lut, a[0][s] - b[s]), sizeof rgb); break;
             case TILE_BLACK: break;
             }
             for (int c = 0; c < 3; c++)
@@ -123,10 +142,17 @@ fs_status compare_grid_build(const compare_grid_desc *d, exr_image *out)
     if (!exr_image_init(out, w * (nm + 1), h * COMPARE_GRID_ROWS))
         return FS_ERR_NOMEM;
     exr_image_set_part_name(out, "compare");
-    grid g = {.stride = out->width, .w = w, .h = h};
+    float (*lut)[3] = malloc(sizeof(diff_lut));
+    if (!lut) {
+        exr_image_free(out);
+        return FS_ERR_NOMEM;
+    }
+    diff_lut_fill(lut);
+    grid g = {.stride = out->width, .w = w, .h = h, .lut = (const float (*)[3])lut};
     static const char *const names[4] = {"R", "G", "B", "A"};
     for (int c = 0; c < 4; c++)
         if (!(g.p[c] = exr_image_add_channel(out, names[c]))) {
+            free(lut);
             exr_image_free(out);
             return FS_ERR_NOMEM;
         }
@@ -144,6 +170,7 @@ fs_status compare_grid_build(const compare_grid_desc *d, exr_image *out)
         put_tile(&g, m, 1, TILE_HEAT, fl, NULL);
         put_tile(&g, m, 2, TILE_DIFF, cov, ref_cov[0]);
     }
+    free(lut);
     if (!d->annotate)
         return FS_OK;
     for (int m = 0; m <= nm; m++) {
