@@ -115,6 +115,7 @@ typedef struct run_desc {
         int first_frame;          /* --first-frame F, frames before F drawn only for the TAA history */
         bool export_fvvdp;        /* --export-fvvdp, FovVideoVDP's inputs in DIR/fvvdp/ */
         bool run_fvvdp;           /* --fvvdp, export and run the user's FovVideoVDP */
+        bool no_grid_annotate;    /* --grid-annotate off: no labels, gaze marker or ring borders in the grid */
     } compare;
     struct {                      /* fovsim view */
         const char *script;       /* --script FILE, scripted input events (docs/viewer.md) */

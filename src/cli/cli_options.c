@@ -306,7 +306,8 @@ const cli_option k_cli_options[] = {
      "binocular traces: left, right or average (default: average of valid eyes)", FIELD(eye), .choices = k_eye,
      .flags = OPT_RECORDED},
     /* output */
-    {"--overlay", ARG_FLAG, CMDS_DRAWING, NULL, "draw ring borders and the gaze marker into the frames",
+    {"--overlay", ARG_FLAG, CMDS_DRAWING, NULL, "draw ring borders and the gaze marker into the frames (compare:\ninto the measured images; the grid's "
+     "annotation is the clean way)",
      FIELD(overlay), .flags = OPT_RECORDED},
     {"--debug-channels", ARG_FLAG, CMDS_DRAWING, NULL, "add ring.id and eccentricity (degrees) channels to the EXR",
      FIELD(debug_channels), .flags = OPT_RECORDED},
@@ -395,6 +396,10 @@ const cli_option k_cli_options[] = {
      "--export-fvvdp, then run it with the python3 on PATH when that\nimports pyfvvdp, and put each mode's JOD "
      "into summary.json\n(a failed run: exit 6, its output in DIR/fvvdp/fvvdp.log)", FIELD(compare.run_fvvdp),
      .misuse = ONLY_FVVDP},
+    {"--grid-annotate", ARG_CHOICE, ON(CMD_COMPARE) | ON(CMD_DEMO), "on|off",
+     "labels, gaze marker and ring borders on part 0's grid (default on;\noff for a clean grid; never in the "
+     "layers the metrics read)", FIELD(compare.no_grid_annotate), .choices = k_off_on, .flags = OPT_RECORDED,
+     .misuse = "--grid-annotate is an option of fovsim compare and demo"},
     /* bench */
     {"--warmup", ARG_INT, ON(CMD_BENCH), "W", "frames drawn before timing (default 5)", FIELD(bench.warmup), .lo = 0,
      .hi = 10000, GIVEN(bench.warmup_set), .flags = OPT_RECORDED /* with --first-frame */,

@@ -2,6 +2,7 @@
  * jitter and seeds, measured against the reference per frame and ring, written as two-part EXR
  * frames (a grid to look at, layers to analyse), a metrics CSV, a JSON summary and a table. */
 #include "commands/commands.h"
+#include "commands/compare_grid.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -25,15 +26,6 @@
 
 /* >>frame image */
 
-/* Heat colour of t in [0, 1]: black, red, yellow, white (linear). */
-static void heat(float t, float rgb[3])
-{
-    t = isfinite(t) ? fminf(fmaxf(t, 0.0f), 1.0f) : 1.0f;
-    rgb[0] = fminf(3.0f * t, 1.0f);
-    rgb[1] = fminf(fmaxf(3.0f * t - 1.0f, 0.0f), 1.0f);
-    rgb[2] = fminf(fmaxf(3.0f * t - 2.0f, 0.0f), 1.0f);
-}
-
 /* Per-pixel RMS over linear RGB of a - b (planes R, G, B of each). */
 static float pixel_error(const float *const a[3], const float *const b[3], size_t i)
 {
@@ -45,41 +37,43 @@ static float pixel_error(const float *const a[3], const float *const b[3], size_
     return (float)sqrt(s / 3.0);
 }
 
-/* Copies a w x h picture into grid cell (col, row) of the grid's R, G, B (A = 1). `rgb` NULL:
- * the cell shows value v as grey. */
-static void put_cell(exr_image *grid, int col, int row, int w, int h, const float *const rgb[3], const float *grey)
+/* The grid's inputs for this frame (compare_grid.h). */
+static compare_grid_desc grid_of(const mode_run *runs, int nm, const exr_image *ref, const ring_mask *mask,
+                                 const float gaze_px[2], bool annotate, alpha_mode modes[ALPHA_MODE_COUNT],
+                                 const exr_image *images[ALPHA_MODE_COUNT], const float *flip[ALPHA_MODE_COUNT])
 {
-    static const char *const names[4] = {"R", "G", "B", "A"};
-    for (int c = 0; c < 4; c++) {
-        float *dst = exr_image_channel(grid, names[c]);
-        for (int y = 0; y < h; y++)
-            for (int x = 0; x < w; x++) {
-                size_t s = (size_t)y * (size_t)w + (size_t)x;
-                size_t d = ((size_t)row * (size_t)h + (size_t)y) * (size_t)grid->width + (size_t)col * (size_t)w + (size_t)x;
-                dst[d] = c == 3 ? 1.0f : rgb ? rgb[c][s] : grey[s];
-            }
+    for (int m = 0; m < nm; m++) {
+        modes[m] = runs[m].mode;
+        images[m] = &runs[m].img;
+        flip[m] = runs[m].flip;
     }
+    return (compare_grid_desc){.mode_count = nm, .modes = modes, .images = images, .flip = flip, .ref = ref,
+                               .rings = mask ? mask->ring : NULL, .gaze_px = {gaze_px[0], gaze_px[1]},
+                               .annotate = annotate};
 }
 
-/* The two-part comparison frame: part "compare" (grid: row 0 each mode then the reference, row 1
- * each mode's error heat map then the reference's coverage), part "layers". Takes nothing over:
- * copies planes. */
+/* The two-part comparison frame: part "compare" (the grid, compare_grid.h), part "layers" (every
+ * image and map the metrics read, never annotated). Takes nothing over: copies planes. */
 static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref, const ring_mask *mask,
-                             exr_image *out)
+                             const float gaze_px[2], bool annotate, exr_image *out)
 {
-    int w = ref->width, h = ref->height, cols = nm + 1;
+    int w = ref->width, h = ref->height;
     size_t n = (size_t)w * (size_t)h;
+    alpha_mode modes[ALPHA_MODE_COUNT];
+    const exr_image *images[ALPHA_MODE_COUNT];
+    const float *flips[ALPHA_MODE_COUNT];
+    compare_grid_desc gd = grid_of(runs, nm, ref, mask, gaze_px, annotate, modes, images, flips);
+    fs_status st = compare_grid_build(&gd, out);
+    if (st != FS_OK)
+        return st;
     exr_image layers;
-    if (!exr_image_init(out, w * cols, h * 2) || !exr_image_init(&layers, w, h))
+    if (!exr_image_init(&layers, w, h)) {
+        exr_image_free(out);
         return FS_ERR_NOMEM;
-    exr_image_set_part_name(out, "compare");
+    }
     exr_image_set_part_name(&layers, "layers");
     static const char *const rgba[5] = {"R", "G", "B", "A", "coverage"};
     bool ok = true;
-    for (int c = 0; c < 4 && ok; c++)
-        ok = exr_image_add_channel(out, rgba[c]) != NULL;
-    float *hr = malloc(3 * n * sizeof *hr); /* one heat map at a time, planar R, G, B */
-    ok = ok && hr;
     const float *ref_rgb[3] = {exr_image_channel(ref, "R"), exr_image_channel(ref, "G"), exr_image_channel(ref, "B")};
     for (int m = 0; m <= nm && ok; m++) {
         const exr_image *src = m < nm ? &runs[m].img : ref;
@@ -92,38 +86,24 @@ static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref,
             if (ok)
                 memcpy(p, exr_image_channel(src, rgba[c]), n * sizeof *p);
         }
-        if (!ok)
+        if (!ok || m == nm)
             break;
         const float *pic[3] = {exr_image_channel(src, "R"), exr_image_channel(src, "G"), exr_image_channel(src, "B")};
-        put_cell(out, m, 0, w, h, pic, NULL);
-        if (m == nm) {
-            put_cell(out, m, 1, w, h, NULL, exr_image_channel(ref, "coverage"));
-            break;
-        }
         char ch[64];
         snprintf(ch, sizeof ch, "%s.error", name);
         float *e = exr_image_add_channel(&layers, ch);
         snprintf(ch, sizeof ch, "%s.flip", name);
         float *fl = e ? exr_image_add_channel(&layers, ch) : NULL;
         ok = e && fl;
-        /* Row 1 shows the FLIP map (white = 1, the largest difference); the RMS error stays a layer. */
         for (size_t i = 0; i < n && ok; i++) {
             e[i] = pixel_error(pic, ref_rgb, i);
             fl[i] = runs[m].flip[i];
-            float rgb[3];
-            heat(fl[i], rgb);
-            for (int c = 0; c < 3; c++)
-                hr[(size_t)c * n + i] = rgb[c];
         }
-        const float *hp[3] = {hr, hr + n, hr + 2 * n};
-        if (ok)
-            put_cell(out, m, 1, w, h, hp, NULL);
     }
     float *ring = ok ? exr_image_add_channel(&layers, "ring.id") : NULL;
     ok = ok && ring;
     for (size_t i = 0; i < n && ok; i++)
         ring[i] = (float)mask->ring[i];
-    free(hr);
     if (ok)
         ok = exr_image_append_part(out, &layers);
     if (!ok) {
@@ -135,17 +115,17 @@ static fs_status build_frame(const mode_run *runs, int nm, const exr_image *ref,
 }
 
 static void frame_attrs(exr_image *img, const session *s, const frame_record *fr, const mode_run *runs, int nm,
-                        const reference *rf, const reference_info *ri)
+                        const exr_image *ref, bool annotate, const reference *rf, const reference_info *ri)
 {
     session_frame_attrs(img, s, fr);
     char buf[512];
-    int o = snprintf(buf, sizeof buf, "%d columns x 2 rows of %dx%d tiles; row 0:", nm + 1, s->pl.width, s->pl.height);
-    for (int m = 0; m < nm; m++)
-        o += snprintf(buf + o, sizeof buf - (size_t)o, " %s |", alpha_mode_name(runs[m].mode));
-    o += snprintf(buf + o, sizeof buf - (size_t)o, " reference; row 1: the LDR-FLIP map of each mode against the "
-                  "reference (white = 1) | reference coverage");
+    alpha_mode modes[ALPHA_MODE_COUNT];
+    const exr_image *images[ALPHA_MODE_COUNT];
+    const float *flips[ALPHA_MODE_COUNT];
+    compare_grid_desc gd = grid_of(runs, nm, ref, NULL, fr->gaze_px, annotate, modes, images, flips);
+    compare_grid_describe(&gd, buf, sizeof buf);
     exr_image_set_string(img, "fovsim:grid", buf);
-    o = 0;
+    int o = 0;
     for (int m = 0; m < nm; m++)
         o += snprintf(buf + o, sizeof buf - (size_t)o, "%s%s", m ? "," : "", alpha_mode_name(runs[m].mode));
     exr_image_set_string(img, "fovsim:modes", buf);
@@ -506,14 +486,14 @@ static fs_status compare_write_frame(cmp_run *c, cmp_frame *f, fs_status st)
     }
     exr_image frame;
     if (st == FS_OK)
-        st = build_frame(c->runs, c->nm, &c->ref, &f->mask, &frame);
+        st = build_frame(c->runs, c->nm, &c->ref, &f->mask, f->fr.gaze_px, !c->d->compare.no_grid_annotate, &frame);
     ring_mask_free(&f->mask);
     if (st != FS_OK)
         return st;
     if (c->fo.kept[i] || !f->measured) {
         exr_image_free(&frame);
     } else {
-        frame_attrs(&frame, &c->s, &f->fr, c->runs, c->nm, c->rf, &f->ri);
+        frame_attrs(&frame, &c->s, &f->fr, c->runs, c->nm, &c->ref, !c->d->compare.no_grid_annotate, c->rf, &f->ri);
         char path[1200];
         snprintf(path, sizeof path, "%s/%s.%04d.exr", c->out, c->d->name, i);
         st = exr_writer_submit(c->w, path, &frame);
@@ -699,6 +679,9 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         free(c);
         return st;
     }
+    if (d->overlay) /* allowed (it shows what a viewer would), but it is measured */
+        log_warn("--overlay draws ring borders and the gaze marker into every mode's frame, so the metrics include "
+                 "them; the grid's annotation (--grid-annotate, on by default) shows them without that");
     st = compare_build_modes(c);
     st = compare_open_outputs(c, st);
     st = compare_begin_frames(c, st);

@@ -168,6 +168,8 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
             d->ref.samples, d->ref.memory_mb);
     if (d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO)
         sb_printf(&t, "fvvdp export: %d\n", d->compare.export_fvvdp);
+    if (d->compare.no_grid_annotate) /* absent when on: folders written before the option stay valid */
+        sb_printf(&t, "grid annotation: off\n");
     if (d->compare.first_frame)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);
     /* Not recorded (no OPT_RECORDED in cli_options.c), because they change nothing a run writes:

@@ -86,7 +86,7 @@ check "fence, TAA without the sparse-coverage rule: hashed keeps only $r (measur
 F=$T/forest/compare.0000.exr
 check "12 frames written, no temporary files left" bash -c "[ \$(ls '$T/forest'/compare.*.exr | wc -l) -eq 12 ] && ! ls -a '$T/forest' | grep -q tmp"
 check "two parts: compare (grid) and layers" bash -c "exrinfo_reads '$F' 'part 1: compare' 'part 2: layers' && exrheader '$F' | grep -q 'part 1'"
-check "grid is 3 columns x 2 rows of 320x180" bash -c "oiiotool --info '$F' | head -1 | grep -q '960 x  *360'"
+check "grid is 3 columns x 3 rows of 320x180" bash -c "oiiotool --info '$F' | head -1 | grep -q '960 x  *540'"
 check "layers part holds mode, reference and ring channels" bash -c "oiiotool --info -v -a '$F' > '$T/info.txt' && grep -q 'hashed.coverage' '$T/info.txt' && grep -q 'reference.R' '$T/info.txt' && grep -q 'traditional.error' '$T/info.txt' && grep -q 'ring.id' '$T/info.txt'"
 check "same channel layout in every frame" bash -c "for f in '$T/forest'/compare.*.exr; do exrheader \"\$f\" | grep -A80 channels | grep -E '^ +[a-z.A-Z]+,' ; done | sort | uniq -c | awk '{print \$1}' | sort -u | wc -l | grep -qx 1"
 check "header describes the grid" bash -c "exrheader '$F' | grep -q 'fovsim:grid.*traditional | hashed | reference'"
