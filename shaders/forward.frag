@@ -57,6 +57,13 @@ uniform vec3 u_eye;
 uniform float u_alpha_lod_max;
 #endif
 
+#ifdef COUNT_FRAGMENTS
+// Covered fragments of each ring and pass (COUNT_FRAGMENTS_BINDING): helper invocations (the
+// rest of a 2x2 quad or a 4x4 llvmpipe block) are not covered and do not count.
+layout(std430, binding = COUNT_FRAGMENTS_BINDING) buffer fragment_counts { uint u_covered[]; };
+uniform uint u_count_slot;
+#endif
+
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage; // .r stored; .a drives blending of the coverage target
 #ifdef OBJECT_MOTION
@@ -65,6 +72,11 @@ layout(location = 2) out vec4 o_motion;   // .xyz: world position last frame - n
 
 void main()
 {
+#ifdef COUNT_FRAGMENTS
+    // Before the alpha test: every fragment the primitive covers counts, kept or discarded.
+    if (!gl_HelperInvocation)
+        atomicAdd(u_covered[u_count_slot], 1u);
+#endif
     vec4 tex = u_has_base_tex ? texture(u_base_tex, v_uv, u_mip_bias) : vec4(1.0);
     float alpha = tex.a * u_base_color.a * v_color.a;
     vec3 albedo = tex.rgb / max(tex.a, PREMUL_ALPHA_EPS) * u_base_color.rgb * v_color.rgb;

@@ -149,4 +149,9 @@
 #define ABUFFER_FLAG_LONG 1.0
 #define ABUFFER_FLAG_OVERFLOW 2.0
 
+/* Work counts (docs/benchmarks.md "Work counts"): the counting variant of the forward passes
+ * (define COUNT_FRAGMENTS; bench draws it in a frame of its own, never in a timed one) adds 1 per
+ * covered fragment to slot u_count_slot (ring * pass count + pass) of this shader storage buffer. */
+#define COUNT_FRAGMENTS_BINDING 1
+
 #endif

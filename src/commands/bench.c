@@ -30,6 +30,8 @@
 enum { BENCH_FULL, BENCH_RINGS, BENCH_RINGS_LOD, BENCH_LAYOUTS };
 static const char *const k_layout_names[BENCH_LAYOUTS] = {"full resolution", "foveated", "foveated + ring LOD"};
 
+#define BENCH_COUNTS_MAX 5 /* work counts per stage (BENCH_COUNTS) */
+
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
     char name[64];
@@ -42,16 +44,23 @@ typedef struct bench_config {
     double *wall, *stage_wall, *stage_gl, *shaded; /* n, n * stages, n * stages, n */
     double *cpu, *faults; /* n each: process CPU time (ms) and minor page faults of the timed draw */
     double *instances;    /* n * MAX_FOV_RINGS: instances each ring drew (ring-major) */
-    /* Pipeline statistics (BENCH_COUNTS order), -1 = unknown: per frame (n) and per stage (n * stages). */
-    double *count[3], *stage_count[3];
-    renderer_stats names; /* stage names */
+    /* Work counts (BENCH_COUNTS order), -1 = unknown: per frame (n) and per stage (n * stages). */
+    double *count[BENCH_COUNTS_MAX], *stage_count[BENCH_COUNTS_MAX];
+    /* covered fragments of each ring's (rings off: the frame's) forward passes, summed over the frames */
+    double ring_pass_covered[MAX_FOV_RINGS][PLAN_MAX_PASSES];
+    renderer_stats names; /* stage names, and which stages draw the scene (pass_geometry) */
 } bench_config;
 
-/* The pipeline statistics bench reports: names in the JSON and in the text. */
-enum { BENCH_COUNTS = 3 };
-static const char *const k_count_keys[BENCH_COUNTS] = {"vs_invocations", "primitives", "fs_invocations"};
+/* The work counts bench reports (docs/benchmarks.md "Work counts"): names in the JSON and in the
+ * text. The first four are the timed frame's pipeline statistics; covered fragments come from a
+ * frame of their own drawn with the counting variant (renderer_set_counting). */
+enum { COUNT_VS, COUNT_PRIMS, COUNT_FS, COUNT_CLIPPED, COUNT_COVERED, BENCH_COUNTS };
+_Static_assert(BENCH_COUNTS == BENCH_COUNTS_MAX, "BENCH_COUNTS_MAX sizes the count arrays");
+static const char *const k_count_keys[BENCH_COUNTS] = {"vs_invocations", "primitives", "fs_invocations",
+                                                       "clipped_primitives", "covered_fragments"};
 static const char *const k_count_names[BENCH_COUNTS] = {"vertex shader invocations", "primitives submitted",
-                                                        "fragment shader invocations"};
+                                                        "fragment shader invocations", "primitives after clipping",
+                                                        "covered fragments"};
 
 typedef struct summary {
     double median, p10, p90, min, max;
@@ -125,11 +134,22 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
     c->names = rs;
     if (k < 0)
         return;
+    /* The counting variant, in a frame of its own: the timed frame above has no counter. */
+    renderer_set_counting(c->r, true);
+    renderer_draw(c->r, &fr);
+    renderer_stats cs = renderer_last_stats(c->r);
+    renderer_set_counting(c->r, false);
+    memcpy(c->names.pass_geometry, cs.pass_geometry, sizeof cs.pass_geometry);
+    for (int i = 0; i < MAX_FOV_RINGS; i++)
+        for (int p = 0; p < PLAN_MAX_PASSES; p++)
+            c->ring_pass_covered[i][p] += (double)cs.ring_pass_covered[i][p];
     c->wall[k] = (t1 - t0) * 1e3;
     c->cpu[k] = pd.cpu_ms;
     c->faults[k] = (double)pd.minor_faults;
-    const long long *stage_counts[BENCH_COUNTS] = {rs.pass_vs_invocations, rs.pass_primitives, rs.pass_fs_invocations};
-    const long long frame_counts[BENCH_COUNTS] = {rs.vs_invocations, rs.primitives, rs.fragments};
+    const long long *stage_counts[BENCH_COUNTS] = {rs.pass_vs_invocations, rs.pass_primitives, rs.pass_fs_invocations,
+                                                   rs.pass_clipped, cs.pass_covered};
+    const long long frame_counts[BENCH_COUNTS] = {rs.vs_invocations, rs.primitives, rs.fragments, rs.clipped,
+                                                  cs.covered};
     for (int p = 0; p < rs.pass_count; p++) {
         size_t at = (size_t)p * (size_t)n + (size_t)k;
         c->stage_wall[at] = sync.pass_wall_ms[p];
@@ -210,6 +230,13 @@ static int stage_ring(const char *name)
     return sscanf(name, "ring %d (%n", &ring, &at) == 1 && at > 0 ? ring : -1;
 }
 
+/* What one fragment-shader invocation of the pipeline statistics is: GPUs shade 2x2 quads,
+ * llvmpipe whole 4x4 blocks (docs/benchmarks.md "Work counts"). */
+static const char *bench_invocation_unit(void)
+{
+    return strstr(gl_device_renderer(), "llvmpipe") ? "4x4 blocks (llvmpipe)" : "2x2 quads (GPU)";
+}
+
 /* >>phases: cmd_bench runs them in order, sharing one bench_run. */
 
 enum { BENCH_MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) };
@@ -226,8 +253,13 @@ typedef struct bench_summaries {
     double count_all[BENCH_MAX_CFG][BENCH_COUNTS], stage_count_all[BENCH_MAX_CFG][RENDERER_STATS_MAX][BENCH_COUNTS];
     /* each configuration's median frame time / traditional's in the same layout (0: not measured) */
     double rel[BENCH_MAX_CFG];
-    /* foveation's speedup (the first mode, full resolution vs foveated) and its ideal */
-    double speedup, ideal;
+    /* the stages that draw the scene (renderer_stats.pass_geometry), summed over the frames:
+     * covered fragments and fragment-shader invocations, -1 = unknown */
+    double geom_covered[BENCH_MAX_CFG], geom_fs[BENCH_MAX_CFG];
+    /* foveation's speedup (the first mode, full resolution vs foveated) and its ideals: display
+     * pixels / shaded pixels, and full resolution's covered fragments / the foveated frame's (the
+     * stages that draw the scene, over the same frames; -1 = unknown) */
+    double speedup, ideal, covered_ideal;
     bool has_fov;
 } bench_summaries;
 
@@ -299,7 +331,8 @@ static fs_status bench_build_configs(bench_run *b)
             po.ring_lod = b->s.pl.ring_lod_spec;
         st = plan_build(&b->s.sc, &po, &cf->pl);
         if (st == FS_OK)
-            cf->r = renderer_create(&(renderer_desc){.scene = &b->s.sc, .plan = &cf->pl, .timers = true}, &st);
+            cf->r = renderer_create(
+                &(renderer_desc){.scene = &b->s.sc, .plan = &cf->pl, .timers = true, .count_fragments = true}, &st);
     }
     for (int c = 0; c < b->ncfg && st == FS_OK; c++)
         if (!bench_alloc(&b->cfg[c], b->n))
@@ -354,11 +387,19 @@ static void bench_summarise(bench_run *b)
                 u->stage_count[c][p][q] = summarise(v, n);
             }
         }
+        u->geom_covered[c] = u->geom_fs[c] = 0;
+        for (int p = 0; p < cf->names.pass_count; p++)
+            if (cf->names.pass_geometry[p]) {
+                double cv = u->stage_count_all[c][p][COUNT_COVERED], fs = u->stage_count_all[c][p][COUNT_FS];
+                u->geom_covered[c] = cv < 0 || u->geom_covered[c] < 0 ? -1.0 : u->geom_covered[c] + cv;
+                u->geom_fs[c] = fs < 0 || u->geom_fs[c] < 0 ? -1.0 : u->geom_fs[c] + fs;
+            }
     }
     /* Foveation's speedup: the first mode, full resolution vs foveated. */
     u->has_fov = b->s.pl.rings;
     u->speedup = u->has_fov ? u->wall[0].median / u->wall[b->per_layout].median : 1.0;
     u->ideal = u->has_fov ? b->px / u->shaded[b->per_layout].median : 1.0;
+    u->covered_ideal = u->has_fov ? ratio_known(u->geom_covered[0], u->geom_covered[b->per_layout]) : 1.0;
     /* Each configuration's frame time relative to traditional in the same layout (seed 000
      * Table 1's comparison); 0 when traditional was not measured. */
     for (int c = 0; c < b->ncfg; c++)
@@ -398,13 +439,29 @@ static void bench_json_config(bench_run *b, int c)
         OUT("%s%.0f", i ? ", " : "", u->instances[c][i].median);
     OUT("],\n");
     double frags = u->count[c][2].median;
-    OUT("     \"fragments_per_pixel\": %.3f,\n     \"stages\": [", frags >= 0 ? frags / b->px : -1.0);
+    OUT("     \"fragments_per_pixel\": %.3f,\n", frags >= 0 ? frags / b->px : -1.0);
+    OUT("     \"geometry_covered_fragments_all_frames\": %.0f, \"geometry_fs_invocations_per_covered\": %.4f,\n",
+        u->geom_covered[c], ratio_known(u->geom_fs[c], u->geom_covered[c]));
+    OUT("     \"stages\": [");
+    int ring = 0;
     for (int p = 0; p < cf->names.pass_count; p++) {
-        OUT("%s\n       {\"name\": \"%s\", \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f", p ? "," : "",
-            cf->names.pass_names[p], u->stage_wall[c][p].median, u->stage_gl[c][p].median);
+        bool geom = cf->names.pass_geometry[p];
+        OUT("%s\n       {\"name\": \"%s\", \"geometry\": %s, \"wall_ms_median\": %.3f, \"gl_timer_ms_median\": %.3f",
+            p ? "," : "", cf->names.pass_names[p], geom ? "true" : "false", u->stage_wall[c][p].median,
+            u->stage_gl[c][p].median);
         for (int q = 0; q < BENCH_COUNTS; q++)
             OUT(",\n        \"%s_median\": %.0f, \"%s_all_frames\": %.0f", k_count_keys[q],
                 u->stage_count[c][p][q].median, k_count_keys[q], u->stage_count_all[c][p][q]);
+        OUT(",\n        \"fs_invocations_per_covered\": %.4f",
+            ratio_known(u->stage_count_all[c][p][COUNT_FS], u->stage_count_all[c][p][COUNT_COVERED]));
+        if (geom && cf->pl.composite) { /* a ring: its forward passes' covered fragments */
+            OUT(",\n        \"covered_fragments_by_pass\": [");
+            for (int i = 0; i < cf->pl.pass_count; i++)
+                OUT("%s{\"pass\": \"%s\", \"all_frames\": %.0f}", i ? ", " : "", cf->pl.passes[i].name,
+                    cf->ring_pass_covered[ring][i]);
+            OUT("]");
+            ring++;
+        }
         OUT("}");
     }
     OUT("]}%s\n", c + 1 < b->ncfg ? "," : "");
@@ -451,6 +508,7 @@ static void bench_report_json(bench_run *b, const char *cpu_name)
         sysconf(_SC_NPROCESSORS_ONLN));
     OUT("  \"ring_lod\": \"%s\",\n", b->lod_text);
     OUT("  \"pipeline_statistics\": %s,\n", gl_device_has_pipeline_stats() ? "true" : "false");
+    OUT("  \"fs_invocation_unit\": \"%s\",\n", bench_invocation_unit());
     OUT("  \"frames\": %d,\n  \"warmup\": %d,\n  \"display_pixels\": %.0f,\n  \"configs\": [\n", b->n,
         b->d->bench.warmup, b->px);
     for (int c = 0; c < b->ncfg; c++)
@@ -458,8 +516,10 @@ static void bench_report_json(bench_run *b, const char *cpu_name)
     OUT("  ],\n");
     if (b->lod)
         bench_json_ring_lod(b);
-    OUT("  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f\n}\n", u->speedup,
+    OUT("  \"speedup\": %.4f,\n  \"ideal_speedup\": %.4f,\n  \"achieved_fraction_of_ideal\": %.4f,\n", u->speedup,
         u->ideal, u->speedup / u->ideal);
+    OUT("  \"covered_fragment_ideal_speedup\": %.4f,\n  \"achieved_fraction_of_covered_fragment_ideal\": %.4f\n}\n",
+        u->covered_ideal, u->covered_ideal > 0 ? u->speedup / u->covered_ideal : -1.0);
 }
 
 /* The text report's first table: every measure of configuration c, one row each. */
@@ -544,20 +604,27 @@ static void bench_report_text(bench_run *b, const char *cpu_name)
     OUT("| configuration | measure | median | p10 | p90 | min | max |\n|---|---|---|---|---|---|---|\n");
     for (int c = 0; c < b->ncfg; c++)
         bench_text_measures(b, c);
-    OUT("\nWork per stage (medians over the frames; the frame row is the median of the per-frame totals):\n\n"
-        "| configuration | stage | vertex shader invocations | primitives submitted | fragment shader "
-        "invocations |\n|---|---|---|---|---|\n");
+    OUT("\nWork per stage (medians over the frames; the frame row is the median of the per-frame totals). "
+        "Covered fragments come from a frame drawn with the counting variant (not the timed one); "
+        "full-screen stages cover the pixels they draw. A fragment shader invocation here is one pixel "
+        "of the %s the rasteriser shades; invocations / covered is over all frames:\n\n"
+        "| configuration | stage |", bench_invocation_unit());
+    for (int q = 0; q < BENCH_COUNTS; q++)
+        OUT(" %s |", k_count_names[q]);
+    OUT(" invocations / covered |\n|---|---|---|---|---|---|---|---|\n");
     for (int c = 0; c < b->ncfg; c++) {
-        for (int p = 0; p < b->cfg[c].names.pass_count; p++) {
-            OUT("| %s | %s |", b->cfg[c].name, b->cfg[c].names.pass_names[p]);
+        for (int p = 0; p <= b->cfg[c].names.pass_count; p++) {
+            bool frame = p == b->cfg[c].names.pass_count;
+            OUT("| %s | %s |", b->cfg[c].name, frame ? "**frame**" : b->cfg[c].names.pass_names[p]);
             for (int q = 0; q < BENCH_COUNTS; q++)
-                out_count(b->report, &b->o, u->stage_count[c][p][q].median);
-            OUT("\n");
+                out_count(b->report, &b->o, frame ? u->count[c][q].median : u->stage_count[c][p][q].median);
+            double r = frame ? ratio_known(u->count_all[c][COUNT_FS], u->count_all[c][COUNT_COVERED])
+                             : ratio_known(u->stage_count_all[c][p][COUNT_FS], u->stage_count_all[c][p][COUNT_COVERED]);
+            if (r < 0)
+                OUT(" n/a |\n");
+            else
+                OUT(" %.2f |\n", r);
         }
-        OUT("| %s | **frame** |", b->cfg[c].name);
-        for (int q = 0; q < BENCH_COUNTS; q++)
-            out_count(b->report, &b->o, u->count[c][q].median);
-        OUT("\n");
     }
     if (b->ncfg > 1) {
         OUT("\n| configuration | frame (ms, median) | relative to traditional |\n|---|---|---|\n");
@@ -576,6 +643,10 @@ static void bench_report_text(bench_run *b, const char *cpu_name)
         OUT("\nfoveated vs full resolution (%s): speedup %.2fx (median frame times), ideal %.2fx (display pixels / "
             "shaded pixels), achieved %.0f %% of ideal\n", alpha_mode_name(b->cfg[0].mode), u->speedup, u->ideal,
             100.0 * u->speedup / u->ideal);
+    if (u->has_fov && u->covered_ideal > 0)
+        OUT("covered-fragment ideal %.2fx (full resolution's covered fragments / the foveated frame's, over the "
+            "stages that draw the scene): achieved %.0f %% of it\n", u->covered_ideal,
+            100.0 * u->speedup / u->covered_ideal);
 }
 
 #undef OUT

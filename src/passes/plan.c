@@ -99,6 +99,17 @@ static bool plan_has_define(const plan_pass *ps, const char *define)
     return false;
 }
 
+bool plan_pass_counting(const plan_pass *ps, plan_pass *out)
+{
+    *out = *ps;
+    if (out->define_count >= PLAN_MAX_DEFINES) {
+        log_error("plan: pass %s: no room for the counting variant's define", ps->name);
+        return false;
+    }
+    add_define(out, "COUNT_FRAGMENTS", 1);
+    return true;
+}
+
 static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
 {
     plan_pass *ps = (plan_pass *)plan_find(p, kind, mode);

@@ -164,6 +164,10 @@ typedef struct plan {
 fs_status plan_build(const scene *sc, const plan_options *opt, plan *out);
 /* The pass of a kind (and mode for MASK), or NULL when the scene does not need it. */
 const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode);
+/* The counting variant of forward pass `ps` (docs/benchmarks.md "Work counts"): the same pass with
+ * COUNT_FRAGMENTS defined, so its fragment shader counts covered fragments. False (and a logged
+ * error) when the pass has no room for another define. */
+bool plan_pass_counting(const plan_pass *ps, plan_pass *out);
 /* The effective alpha mode of a material under this plan. */
 alpha_mode plan_material_mode(const plan *p, const material *m);
 /* The mip level at most at which a MASK material's alpha test reads alpha under this plan (its

@@ -41,7 +41,7 @@ static const uniform_slot k_pass_uniforms[] = {
     PASS(u_mip_bias), PASS(u_mip_scale), PASS(u_eye), PASS(u_light_dir), PASS(u_light_color), PASS(u_ambient),
     PASS(u_hash_scale), PASS(u_hash_kind), PASS(u_hash_aniso), PASS(u_fade_n), PASS(u_frame), PASS(u_time),
     PASS(u_prev_time), PASS(u_draw_order), PASS(u_list_capacity), PASS(u_hash_instance), PASS(u_hash_primitive),
-    PASS(u_ring_lod), PASS(u_ring_lod_instance), PASS(u_ring_lod_px), PASS(u_alpha_lod_max),
+    PASS(u_ring_lod), PASS(u_ring_lod_instance), PASS(u_ring_lod_px), PASS(u_alpha_lod_max), PASS(u_count_slot),
 };
 #undef PASS
 
@@ -135,6 +135,16 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
     fs_status st = FS_OK;
     for (int i = 0; i < r->pl.pass_count && st == FS_OK; i++)
         st = program_create(&r->pl.passes[i], &r->programs[i]);
+    for (int i = 0; i < r->pl.pass_count && st == FS_OK && desc->count_fragments; i++) {
+        plan_pass counting;
+        st = plan_pass_counting(&r->pl.passes[i], &counting) ? program_create(&counting, &r->count_programs[i])
+                                                              : FS_ERR_INTERNAL;
+    }
+    if (st == FS_OK && desc->count_fragments) {
+        glCreateBuffers(1, &r->count_buf);
+        glNamedBufferStorage(r->count_buf, sizeof(GLuint) * MAX_FOV_RINGS * PLAN_MAX_PASSES, NULL,
+                             GL_DYNAMIC_STORAGE_BIT);
+    }
     if (st == FS_OK && r->pl.composite)
         st = composite_create(&r->pl.composite_pass, &r->comp);
     if (st == FS_OK && r->pl.composite_tiles)
@@ -153,7 +163,7 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         glGenQueries(r->stage_count, r->time_queries);
         r->stat_queries_on = gl_device_has_pipeline_stats();
         if (r->stat_queries_on)
-            glGenQueries(r->stage_count * 3, &r->stat_queries[0][0]);
+            glGenQueries(r->stage_count * RENDERER_STAT_TARGETS, &r->stat_queries[0][0]);
     }
     if (st != FS_OK) {
         renderer_destroy(r);
@@ -244,7 +254,10 @@ void renderer_destroy(renderer *r)
     if (r->timers) {
         glDeleteQueries(r->stage_count, r->time_queries);
         if (r->stat_queries_on)
-            glDeleteQueries(r->stage_count * 3, &r->stat_queries[0][0]);
+            glDeleteQueries(r->stage_count * RENDERER_STAT_TARGETS, &r->stat_queries[0][0]);
     }
+    for (int i = 0; i < r->pl.pass_count; i++)
+        glDeleteProgram(r->count_programs[i].id);
+    glDeleteBuffers(1, &r->count_buf);
     free(r);
 }

@@ -31,6 +31,8 @@ typedef struct renderer_desc {
     const plan *plan;   /* copied */
     bool timers;        /* GL timer queries around each stage (for bench), and pipeline statistics
                          * queries where GL_ARB_pipeline_statistics_query is supported */
+    bool count_fragments; /* also build the counting variant of the forward passes
+                           * (renderer_set_counting; docs/benchmarks.md "Work counts") */
     uint64_t list_nodes; /* plan.reference_lists: nodes the list store starts with (0 = 4 per pixel;
                           * at most renderer_list_nodes_max) */
 } renderer_desc;
@@ -54,10 +56,18 @@ typedef struct renderer_stats {
     long long pass_vs_invocations[RENDERER_STATS_MAX];
     long long pass_primitives[RENDERER_STATS_MAX];
     long long pass_fs_invocations[RENDERER_STATS_MAX];
+    long long pass_clipped[RENDERER_STATS_MAX]; /* primitives after clipping (GL_CLIPPING_OUTPUT_PRIMITIVES_ARB) */
+    /* Covered fragments (docs/benchmarks.md "Work counts"), -1 = not counted (the last frame was
+     * not drawn with renderer_set_counting on): the forward passes' from the counting variant's
+     * counter; full-screen stages (TAA resolve, list resolve, composite) cover the pixels they
+     * draw. ring_pass_covered: each ring's (stage's, rings off) forward passes, in plan order. */
+    long long pass_covered[RENDERER_STATS_MAX];
+    bool pass_geometry[RENDERER_STATS_MAX]; /* the stage draws the scene (forward passes), not a full-screen pass */
+    long long ring_pass_covered[MAX_FOV_RINGS][PLAN_MAX_PASSES];
     int ring_count;                          /* rings of the plan (1 when foveation is off) */
     int ring_instances[MAX_FOV_RINGS];       /* instances each ring drew (frustum and hole culling) */
     /* The frame's: sums of the stages above, -1 = unknown. `fragments` = fragment-shader invocations. */
-    long long vs_invocations, primitives, fragments;
+    long long vs_invocations, primitives, fragments, clipped, covered;
 } renderer_stats;
 
 renderer *renderer_create(const renderer_desc *desc, fs_status *status);
@@ -78,6 +88,10 @@ fs_status renderer_read_opaque(renderer *r, exr_image *img);
 /* With `on`, every later renderer_draw finishes the GPU after each pass and records its wall time
  * (renderer_stats.pass_wall_ms). Adds sync overhead: bench measures frame time without it. */
 void renderer_set_pass_sync(renderer *r, bool on);
+/* With `on` (and renderer_desc.count_fragments), later frames draw the forward passes' counting
+ * variant and renderer_last_stats reports covered fragments; the timed frames of bench keep it
+ * off, so the frame they measure is the one without the counter. */
+void renderer_set_counting(renderer *r, bool on);
 /* Blocks until the GPU has finished all submitted work (glFinish), for wall-clock timing. */
 void renderer_finish(renderer *r);
 /* The exact reference's fragment lists (plan.reference_lists, abuffer.h). The store holds a fixed

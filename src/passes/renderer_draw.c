@@ -235,9 +235,12 @@ static void draw_blend_sorted(renderer *r, const gpu_program *pg, const plan_pas
 /* What each stage counts (GL_ARB_pipeline_statistics_query), in renderer_stats order. Primitives:
  * GL_PRIMITIVES_SUBMITTED_ARB, what the draw calls send, rather than GL_CLIPPING_INPUT_PRIMITIVES_ARB:
  * it is fixed by the draw calls alone (index counts x instances the CPU culling lets through), so
- * any GPU reports the same number, while what reaches the clipper is implementation-defined. */
-static const GLenum k_stat_targets[3] = {GL_VERTEX_SHADER_INVOCATIONS_ARB, GL_PRIMITIVES_SUBMITTED_ARB,
-                                         GL_FRAGMENT_SHADER_INVOCATIONS_ARB};
+ * any GPU reports the same number, while what reaches the clipper is implementation-defined.
+ * Beside it, GL_CLIPPING_OUTPUT_PRIMITIVES_ARB: what is left after clipping (and, where the
+ * implementation culls there, culling; docs/benchmarks.md "Work counts"). */
+static const GLenum k_stat_targets[RENDERER_STAT_TARGETS] = {
+    GL_VERTEX_SHADER_INVOCATIONS_ARB, GL_PRIMITIVES_SUBMITTED_ARB, GL_FRAGMENT_SHADER_INVOCATIONS_ARB,
+    GL_CLIPPING_OUTPUT_PRIMITIVES_ARB};
 
 /* Timed stage boundaries: GL timer and pipeline statistics queries (when timers are on; one query
  * per target may be active at a time, and stages never nest), wall clock with glFinish when
@@ -247,7 +250,7 @@ static void stage_begin(renderer *r, int k)
     if (r->timers)
         glBeginQuery(GL_TIME_ELAPSED, r->time_queries[k]);
     if (r->stat_queries_on)
-        for (int q = 0; q < 3; q++)
+        for (int q = 0; q < RENDERER_STAT_TARGETS; q++)
             glBeginQuery(k_stat_targets[q], r->stat_queries[k][q]);
 }
 
@@ -256,7 +259,7 @@ static void stage_end(renderer *r, int k, double *t_prev)
     if (r->timers)
         glEndQuery(GL_TIME_ELAPSED);
     if (r->stat_queries_on)
-        for (int q = 0; q < 3; q++)
+        for (int q = 0; q < RENDERER_STAT_TARGETS; q++)
             glEndQuery(k_stat_targets[q]);
     r->stage_wall_ms[k] = -1.0;
     if (r->pass_sync) {
@@ -426,11 +429,13 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     }
     for (int i = 0; i < r->pl.pass_count; i++) {
         const plan_pass *ps = &r->pl.passes[i];
-        const gpu_program *pg = &r->programs[i];
+        const gpu_program *pg = r->counting ? &r->count_programs[i] : &r->programs[i];
         if (stage >= 0)
             stage_begin(r, stage + i);
         glUseProgram(pg->id);
         set_frame_uniforms(r, pg, fr, ring);
+        if (r->counting) /* this ring's and pass's counter (COUNT_FRAGMENTS_BINDING) */
+            glProgramUniform1ui(pg->id, pg->u_count_slot, (GLuint)(ring * r->pl.pass_count + i));
         r->list_draw_order = 0;
         if (ps->kind == PLAN_PASS_FORWARD_BLEND) {
             glEnable(GL_BLEND);
@@ -572,18 +577,29 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         glFinish();
     double t_prev = time_now();
     r->shaded_pixels = 0;
+    r->counted = r->counting;
+    if (r->counting) {
+        const GLuint zero = 0;
+        glClearNamedBufferData(r->count_buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, COUNT_FRAGMENTS_BINDING, r->count_buf);
+    }
+    for (int k = 0; k < r->stage_count; k++)
+        r->fullscreen_px[k] = -1;
+    long long display_px = (long long)r->width * r->height;
     if (!r->pl.composite) {
         draw_ring(r, fr, 0, 0, &t_prev);
         if (r->pl.list_resolve) {
             stage_begin(r, r->pl.pass_count);
             list_resolve(r);
             stage_end(r, r->pl.pass_count, &t_prev);
+            r->fullscreen_px[r->pl.pass_count] = display_px;
         }
         if (r->pl.taa) {
             int k = r->pl.pass_count + r->pl.list_resolve;
             stage_begin(r, k);
             taa_resolve_ring(r, fr, 0);
             stage_end(r, k, &t_prev);
+            r->fullscreen_px[k] = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
         }
         r->shaded_pixels = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
     } else {
@@ -598,6 +614,7 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
             if (r->pl.taa) {
                 stage_begin(r, k);
                 taa_resolve_ring(r, fr, i);
+                r->fullscreen_px[k] = (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
                 stage_end(r, k++, &t_prev);
             }
             r->shaded_pixels += (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
@@ -605,6 +622,7 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         stage_begin(r, k);
         draw_composite(r, fr);
         stage_end(r, k, &t_prev);
+        r->fullscreen_px[k] = display_px; /* its rectangles tile the display */
     }
     if (r->pl.taa) {
         for (int i = 0; i < fr->ring_count; i++) {
@@ -642,6 +660,49 @@ void renderer_set_pass_sync(renderer *r, bool on)
     r->pass_sync = on;
 }
 
+void renderer_set_counting(renderer *r, bool on)
+{
+    r->counting = on && r->count_buf != 0;
+}
+
+/* The last frame's covered fragments (renderer_stats.pass_covered and ring_pass_covered), when it
+ * was drawn with the counting variant. Stage order as name_stages (renderer.c): rings off, one
+ * stage per pass (ring 0), then the full-screen stages; rings on, each ring's passes as one stage,
+ * then its TAA resolve, then the composite. */
+static void read_covered(renderer *r, renderer_stats *s)
+{
+    for (int i = 0; i < r->stage_count; i++) {
+        s->pass_covered[i] = -1;
+        s->pass_geometry[i] = r->fullscreen_px[i] < 0;
+    }
+    for (int i = 0; i < MAX_FOV_RINGS; i++)
+        for (int p = 0; p < PLAN_MAX_PASSES; p++)
+            s->ring_pass_covered[i][p] = -1;
+    s->covered = -1;
+    if (!r->counted)
+        return;
+    GLuint c[MAX_FOV_RINGS * PLAN_MAX_PASSES];
+    glGetNamedBufferSubData(r->count_buf, 0, sizeof c, c);
+    int rings = r->pl.composite ? r->pl.layout.count : 1, n = r->pl.pass_count;
+    for (int i = 0; i < rings; i++)
+        for (int p = 0; p < n; p++)
+            s->ring_pass_covered[i][p] = c[i * n + p];
+    s->covered = 0;
+    for (int k = 0, ring = 0; k < r->stage_count; k++) {
+        if (!s->pass_geometry[k])
+            s->pass_covered[k] = r->fullscreen_px[k];
+        else if (!r->pl.composite)
+            s->pass_covered[k] = c[k];
+        else {
+            s->pass_covered[k] = 0;
+            for (int p = 0; p < n; p++)
+                s->pass_covered[k] += c[ring * n + p];
+            ring++;
+        }
+        s->covered += s->pass_covered[k];
+    }
+}
+
 void renderer_finish(renderer *r)
 {
     (void)r;
@@ -656,7 +717,8 @@ renderer_stats renderer_last_stats(renderer *r)
     s.ring_count = r->pl.layout.count;
     memcpy(s.ring_instances, r->ring_instances, sizeof s.ring_instances);
     bool counts = r->stats_pending && r->stat_queries_on;
-    s.vs_invocations = s.primitives = s.fragments = counts ? 0 : -1;
+    s.vs_invocations = s.primitives = s.fragments = s.clipped = counts ? 0 : -1;
+    read_covered(r, &s);
     for (int i = 0; i < r->stage_count; i++) {
         snprintf(s.pass_names[i], sizeof s.pass_names[i], "%s", r->stage_names[i]);
         s.pass_ms[i] = -1.0;
@@ -666,9 +728,10 @@ renderer_stats renderer_last_stats(renderer *r)
             glGetQueryObjectui64v(r->time_queries[i], GL_QUERY_RESULT, &ns);
             s.pass_ms[i] = (double)ns * 1e-6;
         }
-        long long *dst[3] = {&s.pass_vs_invocations[i], &s.pass_primitives[i], &s.pass_fs_invocations[i]};
-        long long *sum[3] = {&s.vs_invocations, &s.primitives, &s.fragments};
-        for (int q = 0; q < 3; q++) {
+        long long *dst[RENDERER_STAT_TARGETS] = {&s.pass_vs_invocations[i], &s.pass_primitives[i],
+                                                 &s.pass_fs_invocations[i], &s.pass_clipped[i]};
+        long long *sum[RENDERER_STAT_TARGETS] = {&s.vs_invocations, &s.primitives, &s.fragments, &s.clipped};
+        for (int q = 0; q < RENDERER_STAT_TARGETS; q++) {
             *dst[q] = -1;
             if (counts) {
                 GLuint64 v = 0;

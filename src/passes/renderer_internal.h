@@ -40,7 +40,7 @@ typedef struct gpu_program {
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
         u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive, u_ring_lod,
-        u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max;
+        u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max, u_count_slot;
 } gpu_program;
 
 typedef struct composite_program {
@@ -96,6 +96,8 @@ typedef struct ring_targets {
 } ring_targets;
 
 #define RENDERER_MAX_STAGES (2 * MAX_FOV_RINGS + PLAN_MAX_PASSES + 1)
+/* Pipeline statistics queried per stage (k_stat_targets in renderer_draw.c). */
+#define RENDERER_STAT_TARGETS 4
 
 /* One blended instance to draw, farthest first. */
 typedef struct sort_item {
@@ -127,9 +129,15 @@ struct renderer {
     double stage_wall_ms[RENDERER_MAX_STAGES];
     /* Pipeline statistics queries of each stage (GL_ARB_pipeline_statistics_query), one per
      * k_stat_targets entry; 0 when the extension is missing or timers are off. */
-    GLuint stat_queries[RENDERER_MAX_STAGES][3];
+    GLuint stat_queries[RENDERER_MAX_STAGES][RENDERER_STAT_TARGETS];
     bool stat_queries_on;
     bool stats_pending;
+    /* >>counting: renderer_desc.count_fragments builds count_programs (COUNT_FRAGMENTS, one per
+     * plan pass) and count_buf (one counter per ring and pass); renderer_set_counting picks them. */
+    gpu_program count_programs[PLAN_MAX_PASSES];
+    GLuint count_buf;
+    bool counting, counted;                /* draw with them / the last frame was drawn with them */
+    long long fullscreen_px[RENDERER_MAX_STAGES]; /* pixels each full-screen stage drew, last frame */
     /* >>taa state: resolved rings ping-pong between two pairs of arrays (no read/write of one
      * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
     taa_program taa;
