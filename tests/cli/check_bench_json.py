@@ -11,6 +11,13 @@ or FOVSIM_NO_PIPELINE_STATS): every count is -1. Either way CPU time and minor p
 numbers >= 0 (faults integers). --foveation-saves-fragments: the foveated configuration of the
 first mode shades fewer fragments than full resolution over the same frames.
 
+Covered fragments (docs/benchmarks.md "Work counts") are counted by the counting variant, with or
+without the extension: integers >= 0, stages add up to the configuration, full-screen stages (not
+"geometry") cover the pixels they draw (the composite and the list resolve: the display), each
+ring's covered_fragments_by_pass adds up to the ring, geometry_covered_fragments_all_frames is the
+geometry stages' sum, and covered_fragment_ideal_speedup is full resolution's geometry covered
+fragments / the first foveated configuration's.
+
 --ring-lod U1,...: the run had ring LOD with these keep fractions (known counts). Every mode has
 "M, foveated" (drawn without it) and "M, foveated + ring LOD" over the same stages, and an entry in
 ring_lod_vs_rings whose count ratios are the configurations' totals' ratios. Counts, never times:
@@ -22,7 +29,8 @@ outermost ring, when simplified, shades fewer fragments (on llvmpipe every sub-p
 import json
 import sys
 
-COUNTS = ("vs_invocations", "primitives", "fs_invocations")
+COUNTS = ("vs_invocations", "primitives", "fs_invocations", "clipped_primitives")  # pipeline statistics
+COVERED = "covered_fragments"  # the counting variant's
 SUMMARY = ("median", "p10", "p90", "min", "max")
 
 
@@ -58,7 +66,7 @@ def check_ring_lod(j, u):
             a, b = ps[k], ls[k]
             ia, ib = plain["ring_instances_median"][i], lod["ring_instances_median"][i]
             if float(u[i]) == 1.0:
-                if any(a[q + "_all_frames"] != b[q + "_all_frames"] for q in COUNTS) or ia != ib:
+                if any(a[q + "_all_frames"] != b[q + "_all_frames"] for q in COUNTS + (COVERED,)) or ia != ib:
                     fail("%s: ring %d keeps every card but its work differs: %r / %r" % (lod["name"], i, a, b))
             elif ib < ia:
                 fail("%s: ring %d draws %r instances, %r without ring LOD" % (lod["name"], i, ib, ia))
@@ -79,6 +87,30 @@ def check_ring_lod(j, u):
             fail("ring_lod_vs_rings: %s: stages" % e["name"])
         if not all(s["wall_ms_ratio"] > 0 and s["fs_invocations_ratio"] > 0 for s in e["stages"]):
             fail("ring_lod_vs_rings: %s: %r" % (e["name"], e["stages"]))
+
+
+def check_covered(j, c):
+    """Covered fragments of configuration c (known with or without pipeline statistics)."""
+    name, frames, px = c["name"], j["frames"], j["display_pixels"]
+    cq = c[COVERED]
+    vals = [cq[s] for s in SUMMARY] + [cq["all_frames"]] + [st[COVERED + "_all_frames"] for st in c["stages"]]
+    if not all(is_int(v) and v >= 0 for v in vals):
+        fail("%s: covered fragments: not all integers >= 0: %r" % (name, vals))
+    if sum(st[COVERED + "_all_frames"] for st in c["stages"]) != cq["all_frames"]:
+        fail("%s: covered fragments: stages do not add up to %d" % (name, cq["all_frames"]))
+    geom = 0
+    for st in c["stages"]:
+        v = st[COVERED + "_all_frames"]
+        if st["geometry"]:
+            geom += v
+            byp = st.get("covered_fragments_by_pass")
+            if byp is not None and sum(p["all_frames"] for p in byp) != v:
+                fail("%s: %s: covered fragments by pass %r do not add up to %d" % (name, st["name"], byp, v))
+        elif st["name"] in ("composite", "list resolve") and v != frames * px:
+            fail("%s: %s covers %d fragments, expected %d frames x %d pixels" % (name, st["name"], v, frames, px))
+    if geom != c["geometry_covered_fragments_all_frames"]:
+        fail("%s: geometry_covered_fragments_all_frames %r, the stages say %d" % (
+            name, c["geometry_covered_fragments_all_frames"], geom))
 
 
 def main():
@@ -122,6 +154,7 @@ def main():
                 fail("%s: %s: stages add up to %d, the configuration says %d" % (name, q, stage_sum, cq["all_frames"]))
             if not cq["min"] <= cq["median"] <= cq["max"] or cq["all_frames"] < frames * cq["min"]:
                 fail("%s: %s: inconsistent summary %r" % (name, q, cq))
+        check_covered(j, c)
         if mode == "known":
             if c["fs_invocations"]["median"] <= 0 or c["primitives"]["median"] <= 0:
                 fail("%s: nothing drawn? %r" % (name, c))
@@ -136,6 +169,12 @@ def main():
                 fail("%s: fragments_per_pixel disagrees with fs_invocations" % name)
         elif c["fragments_per_pixel"] != -1:
             fail("%s: fragments_per_pixel must be -1 when unknown" % name)
+    fovs = [c for c in j["configs"] if c["rings"] != "*:1:0"]
+    if fovs:
+        full, fov = j["configs"][0], fovs[0]
+        ideal = full["geometry_covered_fragments_all_frames"] / fov["geometry_covered_fragments_all_frames"]
+        if abs(j["covered_fragment_ideal_speedup"] - ideal) > 1e-3 * ideal:
+            fail("covered_fragment_ideal_speedup %r, the configurations say %r" % (j["covered_fragment_ideal_speedup"], ideal))
     if saves:
         full = [c for c in j["configs"] if c["rings"] == "*:1:0"][0]
         fov = [c for c in j["configs"] if c["rings"] != "*:1:0"][0]
