@@ -30,7 +30,7 @@
 enum { BENCH_FULL, BENCH_RINGS, BENCH_RINGS_LOD, BENCH_LAYOUTS };
 static const char *const k_layout_names[BENCH_LAYOUTS] = {"full resolution", "foveated", "foveated + ring LOD"};
 
-#define BENCH_COUNTS_MAX 5 /* work counts per stage (BENCH_COUNTS) */
+#define BENCH_COUNTS_MAX 7 /* work counts per stage (BENCH_COUNTS) */
 
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
@@ -53,14 +53,17 @@ typedef struct bench_config {
 
 /* The work counts bench reports (docs/benchmarks.md "Work counts"): names in the JSON and in the
  * text. The first four are the timed frame's pipeline statistics; covered fragments come from a
- * frame of their own drawn with the counting variant (renderer_set_counting). */
-enum { COUNT_VS, COUNT_PRIMS, COUNT_FS, COUNT_CLIPPED, COUNT_COVERED, BENCH_COUNTS };
+ * frame of their own drawn with the counting variant (renderer_set_counting); bytes from the
+ * targets' footprints (passes/pass_bytes.h). */
+enum { COUNT_VS, COUNT_PRIMS, COUNT_FS, COUNT_CLIPPED, COUNT_COVERED, COUNT_READ, COUNT_WRITTEN, BENCH_COUNTS };
 _Static_assert(BENCH_COUNTS == BENCH_COUNTS_MAX, "BENCH_COUNTS_MAX sizes the count arrays");
 static const char *const k_count_keys[BENCH_COUNTS] = {"vs_invocations", "primitives", "fs_invocations",
-                                                       "clipped_primitives", "covered_fragments"};
+                                                       "clipped_primitives", "covered_fragments", "bytes_read",
+                                                       "bytes_written"};
 static const char *const k_count_names[BENCH_COUNTS] = {"vertex shader invocations", "primitives submitted",
                                                         "fragment shader invocations", "primitives after clipping",
-                                                        "covered fragments"};
+                                                        "covered fragments", "bytes read (footprints)",
+                                                        "bytes written (footprints)"};
 
 typedef struct summary {
     double median, p10, p90, min, max;
@@ -147,9 +150,10 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
     c->cpu[k] = pd.cpu_ms;
     c->faults[k] = (double)pd.minor_faults;
     const long long *stage_counts[BENCH_COUNTS] = {rs.pass_vs_invocations, rs.pass_primitives, rs.pass_fs_invocations,
-                                                   rs.pass_clipped, cs.pass_covered};
+                                                   rs.pass_clipped, cs.pass_covered, rs.pass_bytes_read,
+                                                   rs.pass_bytes_written};
     const long long frame_counts[BENCH_COUNTS] = {rs.vs_invocations, rs.primitives, rs.fragments, rs.clipped,
-                                                  cs.covered};
+                                                  cs.covered, rs.bytes_read, rs.bytes_written};
     for (int p = 0; p < rs.pass_count; p++) {
         size_t at = (size_t)p * (size_t)n + (size_t)k;
         c->stage_wall[at] = sync.pass_wall_ms[p];
@@ -611,7 +615,7 @@ static void bench_report_text(bench_run *b, const char *cpu_name)
         "| configuration | stage |", bench_invocation_unit());
     for (int q = 0; q < BENCH_COUNTS; q++)
         OUT(" %s |", k_count_names[q]);
-    OUT(" invocations / covered |\n|---|---|---|---|---|---|---|---|\n");
+    OUT(" invocations / covered |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for (int c = 0; c < b->ncfg; c++) {
         for (int p = 0; p <= b->cfg[c].names.pass_count; p++) {
             bool frame = p == b->cfg[c].names.pass_count;

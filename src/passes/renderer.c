@@ -159,6 +159,7 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = renderer_upload_scene(r);
     if (st == FS_OK)
         st = renderer_create_targets(r);
+    r->target_bpp = renderer_target_bytes(r);
     if (st == FS_OK && r->timers) {
         glGenQueries(r->stage_count, r->time_queries);
         r->stat_queries_on = gl_device_has_pipeline_stats();

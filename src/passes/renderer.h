@@ -64,10 +64,13 @@ typedef struct renderer_stats {
     long long pass_covered[RENDERER_STATS_MAX];
     bool pass_geometry[RENDERER_STATS_MAX]; /* the stage draws the scene (forward passes), not a full-screen pass */
     long long ring_pass_covered[MAX_FOV_RINGS][PLAN_MAX_PASSES];
+    /* Bytes each stage read and wrote, from its targets' footprints (passes/pass_bytes.h), -1 = not
+     * modelled (the exact reference's list passes). Rings off: the forward passes' on the first. */
+    long long pass_bytes_read[RENDERER_STATS_MAX], pass_bytes_written[RENDERER_STATS_MAX];
     int ring_count;                          /* rings of the plan (1 when foveation is off) */
     int ring_instances[MAX_FOV_RINGS];       /* instances each ring drew (frustum and hole culling) */
     /* The frame's: sums of the stages above, -1 = unknown. `fragments` = fragment-shader invocations. */
-    long long vs_invocations, primitives, fragments, clipped, covered;
+    long long vs_invocations, primitives, fragments, clipped, covered, bytes_read, bytes_written;
 } renderer_stats;
 
 renderer *renderer_create(const renderer_desc *desc, fs_status *status);

@@ -583,11 +583,21 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         glClearNamedBufferData(r->count_buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, COUNT_FRAGMENTS_BINDING, r->count_buf);
     }
-    for (int k = 0; k < r->stage_count; k++)
+    for (int k = 0; k < r->stage_count; k++) {
         r->fullscreen_px[k] = -1;
-    long long display_px = (long long)r->width * r->height;
+        r->stage_bytes[k] = (pass_bytes){0, 0};
+    }
+    long long display_px = (long long)r->width * r->height, ring_px[MAX_FOV_RINGS];
+    for (int i = 0; i < fr->ring_count; i++)
+        ring_px[i] = (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
+    const target_bytes *tb = &r->target_bpp;
+    bool history = taa_history_valid(r, fr);
     if (!r->pl.composite) {
         draw_ring(r, fr, 0, 0, &t_prev);
+        r->stage_bytes[0] = pass_bytes_forward(tb, ring_px[0]); /* the targets, on the first pass */
+        if (r->pl.reference_lists)
+            for (int k = 0; k < r->stage_count; k++)
+                r->stage_bytes[k] = (pass_bytes){-1, -1};
         if (r->pl.list_resolve) {
             stage_begin(r, r->pl.pass_count);
             list_resolve(r);
@@ -599,7 +609,8 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
             stage_begin(r, k);
             taa_resolve_ring(r, fr, 0);
             stage_end(r, k, &t_prev);
-            r->fullscreen_px[k] = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
+            r->fullscreen_px[k] = ring_px[0];
+            r->stage_bytes[k] = pass_bytes_taa(tb, ring_px[0], history ? ring_px[0] : 0);
         }
         r->shaded_pixels = (long long)fr->ring_rect[0].width * fr->ring_rect[0].height;
     } else {
@@ -610,11 +621,14 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         for (int i = 0; i < r->pl.layout.count; i++) {
             stage_begin(r, k);
             draw_ring(r, fr, i, -1, &t_prev);
+            r->stage_bytes[k] = pass_bytes_forward(tb, ring_px[i]);
             stage_end(r, k++, &t_prev);
             if (r->pl.taa) {
                 stage_begin(r, k);
                 taa_resolve_ring(r, fr, i);
-                r->fullscreen_px[k] = (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
+                r->fullscreen_px[k] = ring_px[i];
+                r->stage_bytes[k] = pass_bytes_taa(
+                    tb, ring_px[i], history ? (long long)r->prev_rect[i].width * r->prev_rect[i].height : 0);
                 stage_end(r, k++, &t_prev);
             }
             r->shaded_pixels += (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
@@ -623,6 +637,7 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         draw_composite(r, fr);
         stage_end(r, k, &t_prev);
         r->fullscreen_px[k] = display_px; /* its rectangles tile the display */
+        r->stage_bytes[k] = pass_bytes_composite(tb, ring_px, fr->ring_count, display_px);
     }
     if (r->pl.taa) {
         for (int i = 0; i < fr->ring_count; i++) {
@@ -719,6 +734,14 @@ renderer_stats renderer_last_stats(renderer *r)
     bool counts = r->stats_pending && r->stat_queries_on;
     s.vs_invocations = s.primitives = s.fragments = s.clipped = counts ? 0 : -1;
     read_covered(r, &s);
+    s.bytes_read = s.bytes_written = 0;
+    for (int i = 0; i < r->stage_count; i++) {
+        s.pass_bytes_read[i] = r->stage_bytes[i].read;
+        s.pass_bytes_written[i] = r->stage_bytes[i].written;
+        s.bytes_read = s.bytes_read < 0 || s.pass_bytes_read[i] < 0 ? -1 : s.bytes_read + s.pass_bytes_read[i];
+        s.bytes_written =
+            s.bytes_written < 0 || s.pass_bytes_written[i] < 0 ? -1 : s.bytes_written + s.pass_bytes_written[i];
+    }
     for (int i = 0; i < r->stage_count; i++) {
         snprintf(s.pass_names[i], sizeof s.pass_names[i], "%s", r->stage_names[i]);
         s.pass_ms[i] = -1.0;

@@ -18,6 +18,8 @@
 
 #include <epoxy/gl.h>
 
+#include "passes/pass_bytes.h"
+
 /* >>resources: what the passes read and write (the tables are in renderer_upload.c) */
 typedef struct pass_resource {
     const char *name, *desc;
@@ -138,6 +140,8 @@ struct renderer {
     GLuint count_buf;
     bool counting, counted;                /* draw with them / the last frame was drawn with them */
     long long fullscreen_px[RENDERER_MAX_STAGES]; /* pixels each full-screen stage drew, last frame */
+    pass_bytes stage_bytes[RENDERER_MAX_STAGES];  /* each stage's footprint bytes, last frame (-1: not modelled) */
+    target_bytes target_bpp;                      /* bytes per pixel of the targets (renderer_target_bytes) */
     /* >>taa state: resolved rings ping-pong between two pairs of arrays (no read/write of one
      * texture in a pass); the previous frame's unjittered ring matrices and footprints. */
     taa_program taa;
@@ -177,5 +181,7 @@ struct renderer {
 /* >>create: renderer_create's steps after the programs (renderer_upload.c) */
 fs_status renderer_upload_scene(renderer *r);
 fs_status renderer_create_targets(renderer *r);
+/* Bytes per pixel of the targets the plan creates, from the resource tables (pass_bytes.h). */
+target_bytes renderer_target_bytes(const renderer *r);
 
 #endif

@@ -298,6 +298,45 @@ fs_status renderer_upload_scene(renderer *r)
 }
 
 /* >>targets */
+/* Bytes per pixel of the formats the targets use (0 for any other). */
+static int format_bytes(GLenum f)
+{
+    switch (f) {
+    case GL_RGBA16F: return 8;
+    case GL_R16F: return 2;
+    case GL_R32F: return 4;
+    case GL_RG32F: return 8;
+    case GL_RGBA32F: return 16;
+    case GL_R32UI: return 4;
+    case GL_DEPTH_COMPONENT24: return 4; /* stored in 32 bits */
+    default: return 0;
+    }
+}
+
+/* History formats (renderer_create_targets). */
+#define TAA_HISTORY_COLOR GL_RGBA16F
+#define TAA_HISTORY_COVERAGE GL_R16F
+#define TAA_HISTORY_DEPTH GL_R32F
+
+target_bytes renderer_target_bytes(const renderer *r)
+{
+    const plan *p = &r->pl;
+    return (target_bytes){
+        .color = format_bytes(k_forward_resources[RES_COLOR].format),
+        .coverage = format_bytes(k_forward_resources[RES_COVERAGE].format),
+        .depth = format_bytes(k_forward_resources[RES_DEPTH].format),
+        .motion = p->velocity ? format_bytes(k_forward_resources[RES_MOTION].format) : 0,
+        .history_color = p->taa ? format_bytes(TAA_HISTORY_COLOR) : 0,
+        .history_coverage = p->taa ? format_bytes(TAA_HISTORY_COVERAGE) : 0,
+        .history_depth = p->taa && p->taa_disocclusion ? format_bytes(TAA_HISTORY_DEPTH) : 0,
+        .out_color = p->composite ? format_bytes(k_composite_resources[OUT_COLOR].format) : 0,
+        .out_coverage = p->composite ? format_bytes(k_composite_resources[OUT_COVERAGE].format) : 0,
+        .out_debug = p->composite && p->debug_channels ? format_bytes(k_composite_resources[OUT_DEBUG].format) : 0,
+        .msaa_samples = p->msaa ? MSAA_SAMPLES : 0,
+        .taa = p->taa,
+    };
+}
+
 static fs_status check_fbo(GLuint fbo, const char *what, int w, int h)
 {
     GLenum s = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
@@ -357,12 +396,12 @@ fs_status renderer_create_targets(renderer *r)
         int outputs = r->pl.taa_disocclusion ? 3 : 2;
         for (int k = 0; k < 2; k++) {
             glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_color[k]);
-            glTextureStorage3D(r->taa_color[k], 1, GL_RGBA16F, r->width, r->height, n);
+            glTextureStorage3D(r->taa_color[k], 1, TAA_HISTORY_COLOR, r->width, r->height, n);
             glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_coverage[k]);
-            glTextureStorage3D(r->taa_coverage[k], 1, GL_R16F, r->width, r->height, n);
+            glTextureStorage3D(r->taa_coverage[k], 1, TAA_HISTORY_COVERAGE, r->width, r->height, n);
             if (r->pl.taa_disocclusion) { /* each history pixel's nearest depth (taa.frag) */
                 glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &r->taa_depth[k]);
-                glTextureStorage3D(r->taa_depth[k], 1, GL_R32F, r->width, r->height, n);
+                glTextureStorage3D(r->taa_depth[k], 1, TAA_HISTORY_DEPTH, r->width, r->height, n);
                 glTextureParameteri(r->taa_depth[k], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
                 glTextureParameteri(r->taa_depth[k], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
                 glTextureParameteri(r->taa_depth[k], GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -16,7 +16,8 @@ without the extension: integers >= 0, stages add up to the configuration, full-s
 "geometry") cover the pixels they draw (the composite and the list resolve: the display), each
 ring's covered_fragments_by_pass adds up to the ring, geometry_covered_fragments_all_frames is the
 geometry stages' sum, and covered_fragment_ideal_speedup is full resolution's geometry covered
-fragments / the first foveated configuration's.
+fragments / the first foveated configuration's. Footprint bytes (bytes_read, bytes_written) are
+known integers that add up over the stages.
 
 --ring-lod U1,...: the run had ring LOD with these keep fractions (known counts). Every mode has
 "M, foveated" (drawn without it) and "M, foveated + ring LOD" over the same stages, and an entry in
@@ -31,6 +32,7 @@ import sys
 
 COUNTS = ("vs_invocations", "primitives", "fs_invocations", "clipped_primitives")  # pipeline statistics
 COVERED = "covered_fragments"  # the counting variant's
+BYTES = ("bytes_read", "bytes_written")  # from the targets' footprints
 SUMMARY = ("median", "p10", "p90", "min", "max")
 
 
@@ -66,7 +68,7 @@ def check_ring_lod(j, u):
             a, b = ps[k], ls[k]
             ia, ib = plain["ring_instances_median"][i], lod["ring_instances_median"][i]
             if float(u[i]) == 1.0:
-                if any(a[q + "_all_frames"] != b[q + "_all_frames"] for q in COUNTS + (COVERED,)) or ia != ib:
+                if any(a[q + "_all_frames"] != b[q + "_all_frames"] for q in COUNTS + (COVERED,) + BYTES) or ia != ib:
                     fail("%s: ring %d keeps every card but its work differs: %r / %r" % (lod["name"], i, a, b))
             elif ib < ia:
                 fail("%s: ring %d draws %r instances, %r without ring LOD" % (lod["name"], i, ib, ia))
@@ -92,6 +94,10 @@ def check_ring_lod(j, u):
 def check_covered(j, c):
     """Covered fragments of configuration c (known with or without pipeline statistics)."""
     name, frames, px = c["name"], j["frames"], j["display_pixels"]
+    for q in BYTES:  # footprint bytes: known integers, stages add up to the configuration
+        vals = [c[q]["all_frames"]] + [st[q + "_all_frames"] for st in c["stages"]]
+        if not all(is_int(v) and v >= 0 for v in vals) or sum(vals[1:]) != vals[0]:
+            fail("%s: %s: %r" % (name, q, vals))
     cq = c[COVERED]
     vals = [cq[s] for s in SUMMARY] + [cq["all_frames"]] + [st[COVERED + "_all_frames"] for st in c["stages"]]
     if not all(is_int(v) and v >= 0 for v in vals):

@@ -44,6 +44,15 @@ eq() { [ "$1" = "$2" ] || { echo "  got $1, expected $2" >&2; return 1; }; }
 "$BIN" bench "$T/opaque.json" --frames 3 --warmup 0 --rings off --taa off --format json >"$T/opaque_b.json" 2>"$T/err.txt"
 check "opaque 32x16 quad: 512 covered fragments per frame" eq "$(covered "$T/opaque_b.json" 0 forward.opaque)" $((3 * 512))
 check "opaque quad: the frame's covered fragments are the pass's" eq "$(covered "$T/opaque_b.json" 0 frame)" $((3 * 512))
+# footprint bytes (passes/pass_bytes.h): rings off, TAA off, the forward targets of the 256 x 256
+# display, RGBA16F colour + R16F coverage + 32-bit depth written once (14 bytes), depth read once (4)
+bytes() {
+  /usr/bin/python3 -c "
+import json, sys
+s = json.load(open(sys.argv[1]))['configs'][0]['stages'][0]
+print(s['bytes_read_all_frames'], s['bytes_written_all_frames'])" "$1"
+}
+check "opaque quad: footprint bytes of the forward pass" eq "$(bytes "$T/opaque_b.json")" "$((3 * 65536 * 4)) $((3 * 65536 * 14))"
 check "opaque quad: bench JSON consistent" /usr/bin/python3 "$SRC/tests/cli/check_bench_json.py" "$T/opaque_b.json" known
 "$BIN" bench "$T/mask.json" --frames 2 --warmup 0 --rings off --taa off --modes traditional,hashed \
   --format json >"$T/mask_b.json" 2>"$T/err.txt"
@@ -73,6 +82,6 @@ sys.exit(abs(j['covered_fragment_ideal_speedup'] - 256 / 272) > 1e-4)" "$T/cull_
 # ---- the text report: the counts' columns and the covered-fragment ideal
 "$BIN" bench "$T/small.json" --frames 2 --warmup 0 --rings "20:1:0,*:1/4:0" --taa off >"$T/text.md" 2>"$T/err.txt"
 check "text: work table has primitives after clipping, covered fragments and their ratio" \
-  grep -q '| primitives after clipping | covered fragments | invocations / covered |' "$T/text.md"
+  grep -q "| primitives after clipping | covered fragments | bytes read (footprints) | bytes written (footprints) | invocations / covered |" "$T/text.md"
 check "text: the covered-fragment ideal beside the pixel ideal" grep -q '^covered-fragment ideal 1.00x' "$T/text.md"
 summary
