@@ -39,11 +39,15 @@ static const char *const k_layout_names[ACC_LAYOUTS] = {"off", "default", "defau
 static const int k_band_slot[ACC_LAYOUTS] = {0, 1, 1, 2};
 
 /* Per-frame counts of bench --accuracy besides the frame time, in CSV column order: process CPU
- * time (ms) and minor page faults of the draw, then its pipeline statistics (-1 = unknown). */
-enum { ACC_CPU, ACC_FAULTS, ACC_VS, ACC_PRIMS, ACC_FS, ACC_COUNTS };
-static const char *const k_acc_count_columns[ACC_COUNTS] = {"cpu_ms_median", "minor_faults_median",
-                                                            "vs_invocations_median", "primitives_median",
-                                                            "fs_invocations_median"};
+ * time (ms) and minor page faults of the draw, then its pipeline statistics (-1 = unknown); the
+ * work counts of docs/benchmarks.md "Work counts" (ACC_CLIPPED on) are the CSV's last columns:
+ * primitives after clipping, covered fragments (a counting frame drawn after the measured one is
+ * read back) and the footprint bytes. */
+enum { ACC_CPU, ACC_FAULTS, ACC_VS, ACC_PRIMS, ACC_FS, ACC_CLIPPED, ACC_COVERED, ACC_READ, ACC_WRITTEN, ACC_COUNTS };
+static const char *const k_acc_count_columns[ACC_COUNTS] = {
+    "cpu_ms_median",         "minor_faults_median",       "vs_invocations_median",    "primitives_median",
+    "fs_invocations_median", "clipped_primitives_median", "covered_fragments_median", "bytes_read_median",
+    "bytes_written_median"};
 
 typedef struct acc_config {
     mode_run run;   /* renderer, images and sums (frame_ms: measured frames only) */
@@ -343,7 +347,8 @@ static fs_status acc_build_configs(acc_run *a)
                 st = plan_build(&a->s.sc, &po, &c->run.pl);
                 if (st == FS_OK)
                     c->run.r = renderer_create(
-                        &(renderer_desc){.scene = &a->s.sc, .plan = &c->run.pl, .timers = true}, &st);
+                        &(renderer_desc){.scene = &a->s.sc, .plan = &c->run.pl, .timers = true,
+                                         .count_fragments = true}, &st);
                 if (st == FS_OK && !(c->run.frame_ms = calloc((size_t)n, sizeof(double))))
                     st = FS_ERR_NOMEM;
                 for (int q = 0; q < ACC_COUNTS && st == FS_OK; q++)
@@ -399,11 +404,19 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
     if (!f->measured || st != FS_OK)
         return st;
     mr->frame_ms[i - warm] = ms;
+    st = renderer_read(mr->r, &mr->img);
+    renderer_stats cs = {0}; /* covered fragments: the counting variant, once the frame is read back */
+    if (st == FS_OK) {
+        renderer_set_counting(mr->r, true);
+        st = renderer_draw(mr->r, &fr);
+        cs = renderer_last_stats(mr->r);
+        renderer_set_counting(mr->r, false);
+    }
     const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,
-                                       (double)rs.primitives, (double)rs.fragments};
+                                       (double)rs.primitives, (double)rs.fragments, (double)rs.clipped,
+                                       (double)cs.covered, (double)rs.bytes_read, (double)rs.bytes_written};
     for (int q = 0; q < ACC_COUNTS; q++)
         cf->counts[q][i - warm] = counts[q];
-    st = renderer_read(mr->r, &mr->img);
     ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
     metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
     bool prev = mr->have_prev && a->have_prev_ref && !fr.cut;
@@ -535,7 +548,7 @@ static void acc_csv_header(acc_run *a)
 {
     int rings = a->ml.count;
     CSV("mode,rings,taa,frame_ms_median,frame_ms_p10,frame_ms_p90,speedup,rmse,psnr,temporal_error,pareto");
-    for (int q = 0; q < ACC_COUNTS; q++)
+    for (int q = 0; q < ACC_CLIPPED; q++)
         CSV(",%s", k_acc_count_columns[q]);
     CSV(",pareto_fragments");
     for (int k = 0; k < rings; k++)
@@ -546,6 +559,8 @@ static void acc_csv_header(acc_run *a)
     CSV(",flip");
     for (int k = 0; k < rings; k++)
         CSV(",flip_ring%d", k);
+    for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
+        CSV(",%s", k_acc_count_columns[q]);
     CSV("\n");
 }
 
@@ -623,6 +638,8 @@ static void acc_row(acc_run *a, int c)
         CSV(",%.6f", measure_mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
     for (int k = 0; k <= a->ml.count; k++)
         CSV(",%.6f", measure_mean_or(mr->flip_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
+    for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
+        CSV(",%.0f", cm[q]);
     CSV("\n");
     MD("\n");
 }

@@ -9,6 +9,7 @@
  *   fovsim view       src/view/view.c   fovsim merge      merge.c
  *
  * bench.c writes its report with bench_report.c (bench_internal.h).
+ *
  * dispatch.c maps a run_desc to its command (cli_parse's, or one check and sweep build with
  * cli_begin ... cli_finish); sweep, merge and check get their own arguments (run_desc.own). */
 #ifndef FOVSIM_COMMANDS_H

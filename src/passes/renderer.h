@@ -93,7 +93,9 @@ fs_status renderer_read_opaque(renderer *r, exr_image *img);
 void renderer_set_pass_sync(renderer *r, bool on);
 /* With `on` (and renderer_desc.count_fragments), later frames draw the forward passes' counting
  * variant and renderer_last_stats reports covered fragments; the timed frames of bench keep it
- * off, so the frame they measure is the one without the counter. */
+ * off, so the frame they measure is the one without the counter. A counting frame leaves TAA's
+ * state (history, previous frame) as it was, so it may be drawn between two frames of a sequence
+ * (after reading the first back: it overwrites the targets). */
 void renderer_set_counting(renderer *r, bool on);
 /* Blocks until the GPU has finished all submitted work (glFinish), for wall-clock timing. */
 void renderer_finish(renderer *r);

@@ -639,7 +639,7 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         r->fullscreen_px[k] = display_px; /* its rectangles tile the display */
         r->stage_bytes[k] = pass_bytes_composite(tb, ring_px, fr->ring_count, display_px);
     }
-    if (r->pl.taa) {
+    if (r->pl.taa && !r->counting) { /* a counting frame leaves the history as it was */
         for (int i = 0; i < fr->ring_count; i++) {
             r->prev_vp[i] = fr->ring_view_proj[i];
             r->prev_rect[i] = fr->ring_rect[i];
@@ -697,6 +697,9 @@ static void read_covered(renderer *r, renderer_stats *s)
     if (!r->counted)
         return;
     GLuint c[MAX_FOV_RINGS * PLAN_MAX_PASSES];
+    /* The shaders' atomics are incoherent writes: make them visible to the read-back (without
+     * it llvmpipe may return the counters before the last pass has run). */
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(r->count_buf, 0, sizeof c, c);
     int rings = r->pl.composite ? r->pl.layout.count : 1, n = r->pl.pass_count;
     for (int i = 0; i < rings; i++)

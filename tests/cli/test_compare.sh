@@ -215,6 +215,10 @@ for r in rows:
         assert int(r[k]) >= 0, (k, r)
     assert int(r['fs_invocations_median']) > 0 and int(r['primitives_median']) > 0, r
     assert r['pareto_fragments'] in ('0', '1'), r
+    # work counts (docs/benchmarks.md 'Work counts'): every configuration covers fragments (counted
+    # in the counting frame, which must see the last pass's atomics) and touches its targets
+    for k in ('clipped_primitives_median', 'covered_fragments_median', 'bytes_read_median', 'bytes_written_median'):
+        assert int(r[k]) > 0, (k, r)
 assert any(r['pareto_fragments'] == '1' for r in rows)
 key = lambda r: (r['mode'], r['rings'])
 off = {key(r): int(r['fs_invocations_median']) for r in rows if r['taa'] == 'off'}
