@@ -7,6 +7,7 @@
  *                      primitives, instances), the render targets, the exact reference's list store
  *   renderer_draw.c    one frame: each ring's culling and forward passes, the list pass and its
  *                      resolve, the TAA resolve, the composite; stage timing and statistics
+ *   renderer_stats.c   renderer_last_stats: the stages' queries, covered fragments, footprint bytes
  *   renderer_read.c    read-back (images, depth, fragment lists) and the framebuffer the viewer blits
  *
  * What it does NOT do: anything a caller outside src/passes/ may use.
