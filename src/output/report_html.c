@@ -430,6 +430,11 @@ static const char k_script[] =
     "      no.textContent = String(f);\n"
     "    });\n"
     "  }\n"
+    "  function bad(img) { document.body.dataset.error = 'cannot load ' + img.getAttribute('src'); }\n"
+    "  document.querySelectorAll('img').forEach(function (img) {\n"
+    "    img.addEventListener('error', function () { bad(img); });\n"
+    "    if (img.complete && img.naturalWidth === 0) bad(img);\n"
+    "  });\n"
     "  document.body.dataset.ok = '1';\n"
     "})();\n"
     "</script>\n";
