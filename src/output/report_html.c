@@ -155,74 +155,112 @@ static void settings_rows(sbuf *b, const cJSON *o, const char *prefix)
     }
 }
 
-/* compare's summary.json as a table: per mode, its ring rows; keys as "PREFIXmodes.M.rings.K.F". */
+/* The header of a summary field: what it is and which way is better. */
+static const char *field_label(const char *f)
+{
+    static const char *const k[][2] = {
+        {"frame_ms_median", "frame ms (median; lower is better)"}, {"relative_time", "relative time"},
+        {"fvvdp_jod", "FovVideoVDP JOD (higher is better)"}, {"outer_deg", "outer (deg)"},
+        {"coverage_ratio", "coverage / reference (1 = same)"}, {"rmse", "RMSE (lower is better)"},
+        {"alpha_rmse", "alpha RMSE (lower is better)"}, {"flip", "FLIP (lower is better)"},
+        {"psnr", "PSNR dB (higher is better)"}, {"temporal_error", "temporal error (lower is better)"},
+        {"static_flicker", "static flicker (lower is better)"}, {"coverage_px", "coverage px (summed)"},
+        {"ref_coverage_px", "reference coverage px (summed)"}};
+    for (size_t i = 0; i < sizeof k / sizeof *k; i++)
+        if (strcmp(k[i][0], f) == 0)
+            return k[i][1];
+    return f;
+}
+
+/* The fields of `o` that are columns: every member but `skip` and arrays; the first object with
+ * the most such fields sets the columns. */
+static int columns_of(const cJSON *list, const char *skip, const char **cols, int cap)
+{
+    int best = 0;
+    for (const cJSON *o = list ? list->child : NULL; o; o = o->next) {
+        const char *c[64];
+        int n = 0;
+        for (const cJSON *v = o->child; v && n < 64; v = v->next)
+            if (v->string && !cJSON_IsArray(v) && !cJSON_IsObject(v) && strcmp(v->string, skip) != 0)
+                c[n++] = v->string;
+        if (n > best) {
+            best = n < cap ? n : cap;
+            memcpy(cols, c, sizeof *c * (size_t)best);
+        }
+    }
+    return best;
+}
+
+static void field_cell(sbuf *b, const cJSON *o, const char *f, const char *key, int span)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, f);
+    if (span > 1)
+        sb_printf(b, "<td rowspan=\"%d\"", span);
+    else
+        sb_puts(b, "<td");
+    if (cJSON_IsNumber(v)) {
+        sb_puts(b, " class=\"num\" data-k=\"");
+        html_escape(b, key);
+        sb_printf(b, "\">%.15g</td>", v->valuedouble);
+    } else if (cJSON_IsString(v)) {
+        sb_puts(b, ">");
+        html_escape(b, v->valuestring);
+        sb_puts(b, "</td>");
+    } else {
+        sb_puts(b, ">n/a</td>");
+    }
+}
+
+/* compare's summary.json as a table: per mode its fields, then a row per ring with every field;
+ * cells keyed "PREFIXmodes.M.F" and "PREFIXmodes.M.rings.K.F" (ring -1: the whole display). */
 static void summary_table(sbuf *b, const cJSON *sum, const char *prefix)
 {
-    static const char *const ring_f[] = {"ring", "outer_deg", "coverage_ratio", "rmse", "alpha_rmse", "flip",
-                                         "psnr", "temporal_error", "static_flicker", "frames_measured"};
-    static const char *const ring_h[] = {"ring", "outer (deg)", "coverage / reference (1 = same)",
-                                         "RMSE (lower is better)", "alpha RMSE (lower is better)",
-                                         "FLIP (lower is better)", "PSNR dB (higher is better)",
-                                         "temporal error (lower is better)", "static flicker (lower is better)",
-                                         "frames"};
-    static const char *const mode_f[] = {"frame_ms_median", "relative_time", "fvvdp_jod"};
-    enum { NR = sizeof ring_f / sizeof *ring_f, NM = sizeof mode_f / sizeof *mode_f };
     const cJSON *modes = cJSON_GetObjectItemCaseSensitive(sum, "modes");
-    bool jod = false;
-    for (const cJSON *m = modes ? modes->child : NULL; m; m = m->next)
-        jod = jod || cJSON_GetObjectItemCaseSensitive(m, "fvvdp_jod");
-    sb_puts(b, "<table class=\"summary\"><thead><tr><th>mode</th><th>frame ms (median)</th><th>relative time</th>");
-    if (jod)
-        sb_puts(b, "<th>FovVideoVDP JOD (higher is better)</th>");
-    for (int k = 0; k < NR; k++)
-        sb_printf(b, "<th>%s</th>", ring_h[k]);
+    const char *mc[64], *rc[64];
+    int nmc = columns_of(modes, "mode", mc, 64), nrc = 0;
+    for (const cJSON *m = modes ? modes->child : NULL; m; m = m->next) {
+        const char *c[64];
+        int n = columns_of(cJSON_GetObjectItemCaseSensitive(m, "rings"), "", c, 64);
+        if (n > nrc) {
+            nrc = n;
+            memcpy(rc, c, sizeof *c * (size_t)n);
+        }
+    }
+    sb_puts(b, "<table class=\"summary\"><thead><tr><th>mode</th>");
+    for (int k = 0; k < nmc + nrc; k++) {
+        sb_puts(b, "<th>");
+        html_escape(b, field_label(k < nmc ? mc[k] : rc[k - nmc]));
+        sb_puts(b, "</th>");
+    }
     sb_puts(b, "</tr></thead>\n<tbody>\n");
     int mi = 0;
     for (const cJSON *m = modes ? modes->child : NULL; m; m = m->next, mi++) {
         const cJSON *rings = cJSON_GetObjectItemCaseSensitive(m, "rings");
+        int span = cJSON_GetArraySize(rings) > 0 ? cJSON_GetArraySize(rings) : 1;
+        const char *mode = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(m, "mode"));
+        char col[8], key[256];
+        alpha_mode_colour(alpha_mode_parse(mode ? mode : ""), col);
+        sb_printf(b, "<tr><th rowspan=\"%d\"><span class=\"sw\" style=\"background:%s\"></span>", span, col);
+        html_escape(b, mode ? mode : "?");
+        sb_puts(b, "</th>");
+        for (int k = 0; k < nmc; k++) {
+            snprintf(key, sizeof key, "%smodes.%d.%s", prefix, mi, mc[k]);
+            field_cell(b, m, mc[k], key, span);
+        }
         int ri = 0;
         for (const cJSON *r = rings ? rings->child : NULL; r; r = r->next, ri++) {
-            sb_puts(b, "<tr>");
-            if (ri == 0) {
-                int span = cJSON_GetArraySize(rings);
-                char mode[32];
-                snprintf(mode, sizeof mode, "%s", cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(m, "mode"))
-                                                      ? cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(m, "mode"))
-                                                      : "?");
-                char col[8];
-                alpha_mode_colour(alpha_mode_parse(mode), col);
-                sb_printf(b, "<th rowspan=\"%d\"><span class=\"sw\" style=\"background:%s\"></span>", span, col);
-                html_escape(b, mode);
-                sb_puts(b, "</th>");
-                for (int k = 0; k < NM; k++) {
-                    if (k == 2 && !jod)
-                        continue;
-                    char key[256];
-                    snprintf(key, sizeof key, "%smodes.%d.%s", prefix, mi, mode_f[k]);
-                    sb_printf(b, "<td rowspan=\"%d\"", span);
-                    const cJSON *v = cJSON_GetObjectItemCaseSensitive(m, mode_f[k]);
-                    if (cJSON_IsNumber(v)) {
-                        sb_puts(b, " class=\"num\" data-k=\"");
-                        html_escape(b, key);
-                        sb_printf(b, "\">%.15g</td>", v->valuedouble);
-                    } else {
-                        sb_puts(b, ">n/a</td>");
-                    }
-                }
-            }
-            for (int k = 0; k < NR; k++) {
-                char key[256];
-                snprintf(key, sizeof key, "%smodes.%d.rings.%d.%s", prefix, mi, ri, ring_f[k]);
-                const cJSON *v = cJSON_GetObjectItemCaseSensitive(r, ring_f[k]);
-                if (k == 0 && cJSON_IsNumber(v) && v->valuedouble < 0)
-                    sb_printf(b, "<td class=\"num\" data-k=\"%s\">all (-1)</td>", key);
-                else
-                    json_cell(b, v, key);
+            if (ri)
+                sb_puts(b, "<tr>");
+            for (int k = 0; k < nrc; k++) {
+                snprintf(key, sizeof key, "%smodes.%d.rings.%d.%s", prefix, mi, ri, rc[k]);
+                field_cell(b, r, rc[k], key, 1);
             }
             sb_puts(b, "</tr>\n");
         }
+        if (!ri)
+            sb_puts(b, "</tr>\n");
     }
-    sb_puts(b, "</tbody></table>\n");
+    sb_puts(b, "</tbody></table>\n<p>ring -1 is the whole display; -1 elsewhere: not measured.</p>\n");
 }
 
 /* A whole CSV as a table; cells keyed "NAME.ROW.COLUMN". */
@@ -399,7 +437,7 @@ static void accuracy_chart(sbuf *b, const csv *c, const char *err, const char *l
     se[nm] = (svg_series){.name = "Pareto front", .colour = "#000000", .x = fx, .y = fy, .n = nf, .line = true};
     sb_puts(b, "<h2>Accuracy against cost</h2>\n");
     char yl[200];
-    snprintf(yl, sizeof yl, "%s (lower is better)", label);
+    snprintf(yl, sizeof yl, strstr(label, "lower is better") ? "%s" : "%s (lower is better)", label);
     svg_chart(b, &(svg_chart_desc){.title = "accuracy vs frame time", .xlabel = "frame time, median (ms; lower is "
                                    "better)", .ylabel = yl, .width = 760, .height = 380, .series = se,
                                    .count = nm + 1, .id = "accuracy"});
@@ -516,7 +554,7 @@ fs_status report_html_write(const report_html_desc *d)
         coverage_charts(&b, &metrics);
     if (have_acc) {
         accuracy_chart(&b, &acc, d->acc_error ? d->acc_error : "flip",
-                       d->acc_error_label ? d->acc_error_label : "FLIP vs reference (mean)");
+                       d->acc_error_label ? d->acc_error_label : "FLIP vs reference (mean; lower is better)");
         sb_puts(&b, "<h2>accuracy.csv</h2>\n");
         csv_table(&b, &acc, "accuracy");
     }
