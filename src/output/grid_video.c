@@ -30,6 +30,8 @@ struct grid_video {
     char tmp[PATH_MAX + 64], tmp_base[PATH_MAX + 72];
     unsigned char *rgb; /* one rgb24 frame */
     uint8_t *lut;
+    struct sigaction old_pipe; /* SIGPIPE's action before ffmpeg started (restored at the end) */
+    bool pipe_saved;
 };
 
 static void path_in(const grid_video *v, const char *name, char *out, size_t n)
@@ -96,7 +98,7 @@ static fs_status start_ffmpeg(grid_video *v)
                     "-movflags", "+faststart", "-f", "mp4", v->tmp_base, NULL};
     /* A dead ffmpeg must make write() fail (EPIPE), not end fovsim. */
     struct sigaction ign = {.sa_handler = SIG_IGN};
-    sigaction(SIGPIPE, &ign, NULL);
+    v->pipe_saved = sigaction(SIGPIPE, &ign, &v->old_pipe) == 0;
     int rc = spawn_start_writer(argv, &(spawn_opts){.dir = v->dir, .output = "ffmpeg.log"}, &v->pid, &v->fd);
     if (rc != 0) {
         log_error("%s: cannot run ffmpeg: %s", mp4, rc == SPAWN_NOT_FOUND ? "not found" : strerror(errno));
@@ -229,6 +231,8 @@ fs_status grid_video_end(grid_video *v, bool ok)
     }
     if (ok && v->failed)
         st = FS_ERR_IO;
+    if (v->pipe_saved)
+        sigaction(SIGPIPE, &v->old_pipe, NULL);
     if (!ok && v->previews)
         remove_previews(v->dir);
     free(v->rgb);
