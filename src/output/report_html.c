@@ -115,6 +115,13 @@ static double num(const char *s)
     return e != s ? v : NAN;
 }
 
+/* A small whole number field (a frame, a ring), or INT_MIN when it is none. */
+static int whole(const char *s)
+{
+    double v = num(s);
+    return isfinite(v) && fabs(v) < 1e9 && v == floor(v) ? (int)v : INT_MIN;
+}
+
 /* >>page parts */
 
 /* A cell holding a JSON value: numbers as %.15g (the test reads them back), tagged with its key. */
@@ -334,10 +341,14 @@ static void coverage_charts(sbuf *b, const csv *c)
             k++;
         if (k == nm && nm < 64)
             modes[nm++] = m;
-        int ring = (int)num(csv_at(c, r, cr));
+        int ring = whole(csv_at(c, r, cr));
+        if (ring == INT_MIN)
+            continue;
         rmin = ring < rmin ? ring : rmin;
         rmax = ring > rmax ? ring : rmax;
     }
+    if (rmin > rmax || rmax - rmin > 64) /* no rings, or not compare's metrics.csv */
+        return;
     double *x = malloc(sizeof(double) * (size_t)c->rows * 2);
     if (!x) {
         b->oom = true;
@@ -351,7 +362,7 @@ static void coverage_charts(sbuf *b, const csv *c)
         for (int k = 0; k < nm; k++) {
             int n0 = used, n = 0;
             for (int r = 0; r < c->rows; r++)
-                if ((int)num(csv_at(c, r, cr)) == ring && strcmp(csv_at(c, r, cm), modes[k]) == 0) {
+                if (whole(csv_at(c, r, cr)) == ring && strcmp(csv_at(c, r, cm), modes[k]) == 0) {
                     double v = num(csv_at(c, r, cv));
                     x[used + n] = num(csv_at(c, r, cf));
                     y[used + n] = v >= 0 ? v : NAN;
@@ -369,7 +380,7 @@ static void coverage_charts(sbuf *b, const csv *c)
             snprintf(title, sizeof title, "ring %d", ring);
         snprintf(id, sizeof id, "coverage-ring%d", ring);
         svg_chart(b, &(svg_chart_desc){.title = title, .xlabel = "frame", .ylabel = "coverage / reference",
-                                       .series = se, .count = nm, .id = id});
+                                       .series = se, .count = nm, .id = id, .x_whole = true});
     }
     free(x);
 }

@@ -61,6 +61,8 @@ void svg_chart(sbuf *b, const svg_chart_desc *d)
     sb_printf(b, "</text>\n<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" stroke=\"#888\"/>\n",
               ml, mt, pw, ph);
     double sx = tick_step(x1 - x0), sy = tick_step(y1 - y0);
+    if (d->x_whole && sx < 1.0)
+        sx = 1.0;
     for (double t = ceil(x0 / sx) * sx; t <= x1 + sx * 1e-9; t += sx)
         sb_printf(b, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
                      "text-anchor=\"middle\">%.6g</text>\n", PX(t), mt, PX(t), mt + ph, PX(t), mt + ph + 14,

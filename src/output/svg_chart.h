@@ -22,6 +22,7 @@ typedef struct svg_chart_desc {
     const svg_series *series;
     int count;
     const char *id; /* the <svg> element's id (for tests), NULL for none */
+    bool x_whole;   /* x ticks at whole numbers only (frames) */
 } svg_chart_desc;
 
 /* Appends `s` with & < > " ' as entities (text and attribute values alike). */
