@@ -18,7 +18,7 @@
 #include "output/out_path.h"
 #include "output/png_write.h"
 
-#define PREVIEW_MAX_WIDTH 960 /* the previews are box-filtered down to at most this width */
+#define PREVIEW_MAX_WIDTH 640 /* the previews are box-filtered down to at most this width */
 #define SRGB_LUT 65536        /* linear [0, 1] in steps of 1/65535 to sRGB 8 bit */
 
 struct grid_video {
