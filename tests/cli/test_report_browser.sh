@@ -66,6 +66,7 @@ if bad or len(want) < 10:
 print("  %d numbers equal" % len(want), file=sys.stderr)
 PY
 }
+export -f table_matches; export T
 is_png() { [ -s "$1" ] && [ "$(head -c 8 "$1" | od -An -c | tr -d ' ')" = '211PNG\r\n032\n' ]; }
 
 # ---- a compare without a video: the scrubber over the previews
@@ -93,6 +94,19 @@ check "video page: the script ran without an error or console message" page_ok v
 check "video page: the table's numbers equal summary.json's" table_matches video "$T/v/summary.json"
 check "video page: the video element" grep -q '<video id="video" src="video.mp4"' "$T/video.dom"
 check "video page: a screenshot ($T/video.png)" is_png "$T/video.png"
+
+# ---- FovVideoVDP's JODs (the stand-in pyfvvdp of tests/cli/fake_fvvdp, as test_security.sh runs it)
+if /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+  SRC=$(cd "$(dirname "$0")/../.." && pwd)
+  mkdir -p "$T/fakebin"; ln -sf /usr/bin/python3 "$T/fakebin/python3"
+  env PATH="$T/fakebin:$PATH" PYTHONPATH="$SRC/tests/cli/fake_fvvdp" PYTHONDONTWRITEBYTECODE=1 \
+    "$BIN" compare fence --width 32 --height 18 --frames 2 "${REF[@]}" --fvvdp --out "$T/j" --quiet >"$T/j.txt" 2>&1
+  check "compare --fvvdp (stand-in) exits 0" test $? -eq 0
+  browse "$T/j" jod
+  check "JOD page: the script ran without an error or console message" page_ok jod
+  check "JOD page: the table holds the JODs, equal to summary.json's" bash -c \
+    "grep -q 'FovVideoVDP JOD' '$T/jod.dom' && grep -q 'data-k=\"modes.1.fvvdp_jod\"' '$T/jod.dom' && table_matches jod '$T/j/summary.json'"
+fi
 
 # ---- bench --accuracy: the accuracy plot with its Pareto front
 "$BIN" bench fence --accuracy --modes traditional,hashed --width 64 --height 36 --frames 3 --warmup 1 "${REF[@]}" \
