@@ -312,7 +312,7 @@ static fs_status pictures(sbuf *b, const char *dir)
     if (n == 0) {
         sb_puts(b, "<p>No video.mp4 and no previews in this folder.</p>\n");
     } else {
-        sb_printf(b, "<p>No video.mp4 (ffmpeg was not installed, or --video off): the frames' previews. "
+        sb_printf(b, "<p>No video.mp4 here (--video off, no ffmpeg, or it failed): the frames' previews. "
                      "<input type=\"range\" id=\"scrub\" min=\"0\" max=\"%d\" value=\"0\"> frame <span id=\"frameno\">"
                      "%d</span></p>\n<img id=\"frame\" src=\"preview/frame.%04d.png\" alt=\"the grid of a frame\">\n"
                      "<script type=\"application/json\" id=\"frames\">[", n - 1, idx[0], idx[0]);
