@@ -18,7 +18,8 @@ packages=(
   libglfw3-dev                                                      # the interactive viewer
   xvfb xauth                                                        # tests: the viewer under a virtual X server
   libopenexr-dev openexr openimageio-tools                          # EXR output + external readers for tests
-  ffmpeg                                                            # tests: ffmpeg's EXR decoder reads our files
+  ffmpeg                                                            # compare --video (the program); tests: ffprobe, EXR decoding
+  chromium                                                          # tests only: report.html in headless Chromium (big)
   libtinygltf-dev nlohmann-json3-dev libstb-dev                     # glTF 2.0
   libcjson-dev                                                      # scene files
   zlib1g-dev                                                        # PNG export (FovVideoVDP input)

@@ -116,6 +116,7 @@ typedef struct run_desc {
         bool export_fvvdp;        /* --export-fvvdp, FovVideoVDP's inputs in DIR/fvvdp/ */
         bool run_fvvdp;           /* --fvvdp, export and run the user's FovVideoVDP */
         bool no_grid_annotate;    /* --grid-annotate off: no labels, gaze marker or ring borders in the grid */
+        bool video, video_set;    /* --video on|off (video_set: given; else on for demo only) */
     } compare;
     struct {                      /* fovsim view */
         const char *script;       /* --script FILE, scripted input events (docs/viewer.md) */

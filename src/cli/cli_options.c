@@ -400,6 +400,10 @@ const cli_option k_cli_options[] = {
      "labels, gaze marker and ring borders on part 0's grid (default on;\noff for a clean grid; never in the "
      "layers the metrics read)", FIELD(compare.no_grid_annotate), .choices = k_off_on, .flags = OPT_RECORDED,
      .misuse = "--grid-annotate is an option of fovsim compare and demo"},
+    {"--video", ARG_CHOICE, ON(CMD_COMPARE) | ON(CMD_DEMO), "on|off",
+     "write DIR/video.mp4 of the grid through the ffmpeg program (default:\non for demo, off for compare); "
+     "without ffmpeg, or off, DIR/preview/\nholds small PNGs of each frame for report.html", FIELD(compare.video),
+     .choices = k_on_off, GIVEN(compare.video_set), .misuse = "--video is an option of fovsim compare and demo"},
     /* bench */
     {"--warmup", ARG_INT, ON(CMD_BENCH), "W", "frames drawn before timing (default 5)", FIELD(bench.warmup), .lo = 0,
      .hi = 10000, GIVEN(bench.warmup_set), .flags = OPT_RECORDED /* with --first-frame */,

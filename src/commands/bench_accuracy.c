@@ -17,6 +17,7 @@
 #include "gl/gl_device.h"
 #include "metrics/metrics.h"
 #include "output/gnuplot.h"
+#include "output/report_html.h"
 #include "output/out_path.h"
 #include "commands/measure.h"
 #include "session/session.h"
@@ -85,10 +86,10 @@ static void pareto(const double *t, const double *e, int n, bool *front)
 
 /* Which error bench --accuracy plots and takes its Pareto fronts on (--error). */
 static const char *const k_error_names[4] = {"flip", "alpha_rmse", "rmse", "temporal_error"};
-static const char *const k_error_labels[4] = {"FLIP vs reference (mean)",
-                                              "alpha RMSE vs band-limited reference (linear RGB)",
-                                              "RMSE vs reference (linear RGB)",
-                                              "temporal error, motion-compensated (linear RGB)"};
+static const char *const k_error_labels[4] = {"FLIP vs reference (mean; lower is better)",
+                                              "alpha RMSE vs band-limited reference (linear RGB; lower is better)",
+                                              "RMSE vs reference (linear RGB; lower is better)",
+                                              "temporal error, motion-compensated (linear RGB; lower is better)"};
 
 /* Plots the error (CSV column y_col) against x_expr (a gnuplot column expression) into
  * OUT/STEM.png through OUT/STEM.gp. Colour = alpha mode, shape = ring layout (those with
@@ -696,7 +697,7 @@ static fs_status acc_write(acc_run *a)
     if (st == FS_OK) {
         snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s->sc.path, s->pl.width, s->pl.height,
                  gl_device_renderer());
-        st = plot_accuracy(out, "accuracy", title, "frame time, median (ms)", "4", y_col, k_error_labels[d->bench.error],
+        st = plot_accuracy(out, "accuracy", title, "frame time, median (ms; lower is better)", "4", y_col, k_error_labels[d->bench.error],
                            a->tx, a->front, a->csv, a->row_at, a->nc, a->modes, a->nmodes, a->use_layout);
     }
     /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
@@ -705,7 +706,7 @@ static fs_status acc_write(acc_run *a)
         snprintf(title, sizeof title, "accuracy vs fragment work: %s %dx%d", s->sc.path, s->pl.width, s->pl.height);
         snprintf(x_expr, sizeof x_expr, "($16/%d.0)", s->pl.width * s->pl.height);
         st = plot_accuracy(out, "accuracy-fragments", title,
-                           "fragment-shader invocations per display pixel, median per frame", x_expr, y_col,
+                           "fragment-shader invocations per display pixel, median per frame (lower is better)", x_expr, y_col,
                            k_error_labels[d->bench.error], a->fx, a->front_fs, a->csv, a->row_at, a->nc, a->modes,
                            a->nmodes, a->use_layout);
     } else if (st == FS_OK) {
@@ -773,6 +774,10 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         st = acc_summarise(a);
     if (st == FS_OK)
         st = acc_write(a);
+    if (st == FS_OK)
+        st = report_html_write(&(report_html_desc){.dir = a->out, .kind = "bench --accuracy",
+                                                   .acc_error = k_error_names[d->bench.error],
+                                                   .acc_error_label = k_error_labels[d->bench.error]});
     acc_free(a);
     free(a);
     return st;

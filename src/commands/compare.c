@@ -18,6 +18,8 @@
 #include "gl/gl_device.h"
 #include "metrics/metrics.h"
 #include "output/fvvdp_export.h"
+#include "output/grid_video.h"
+#include "output/report_html.h"
 #include "output/out_path.h"
 #include "session/run_record.h"
 #include "commands/look_hints.h"
@@ -319,6 +321,7 @@ typedef struct cmp_run {
     exr_writer *w;
     const char *seq_names[ALPHA_MODE_COUNT + 1]; /* the modes', then "reference" */
     fvvdp_export *fx;                            /* --export-fvvdp */
+    grid_video *gv;                              /* video.mp4 or the previews (--video) */
     fov_layout ml;                               /* the measurement rings */
     double *ref_err;                             /* per frame: the reference's error estimate */
     int passes, done, ref_cached;                /* reference passes a frame; frames written; cached */
@@ -385,6 +388,9 @@ static fs_status compare_open_outputs(cmp_run *c, fs_status st)
      * frames it lacks; the reference of the frames drawn before comes from the cache. */
     if (st == FS_OK)
         st = run_folder_open(&c->fo, c->out, d, &c->s, c->frames);
+    if (st == FS_OK && !(c->gv = grid_video_begin(&(grid_video_desc){
+                             .dir = c->out, .fps = d->fps, .video = d->compare.video_set ? d->compare.video : c->co->demo})))
+        st = FS_ERR_NOMEM;
     if (st == FS_OK && !(c->csv = c->csv_tmp_ok ? fopen(c->csv_tmp, "w") : NULL)) {
         log_error("%s: cannot create: %s", c->csv_tmp, strerror(errno));
         st = FS_ERR_IO;
@@ -490,6 +496,12 @@ static fs_status compare_write_frame(cmp_run *c, cmp_frame *f, fs_status st)
     ring_mask_free(&f->mask);
     if (st != FS_OK)
         return st;
+    if (f->measured)
+        st = grid_video_frame(c->gv, i, &frame);
+    if (st != FS_OK) {
+        exr_image_free(&frame);
+        return st;
+    }
     if (c->fo.kept[i] || !f->measured) {
         exr_image_free(&frame);
     } else {
@@ -694,6 +706,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     }
     progress_end(&c->rp.pr);
     st = compare_close_outputs(c, st);
+    fs_status vst = grid_video_end(c->gv, st == FS_OK);
+    c->gv = NULL;
     double el = time_now() - c->t0;
     if (c->fx) {
         fs_status fst = fvvdp_export_end(c->fx);
@@ -702,6 +716,11 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     }
     st = compare_report(c, st, el);
     if (st == FS_OK)
+        st = report_html_write(&(report_html_desc){.dir = c->out, .kind = c->co->demo ? "demo" : "compare",
+                                                   .fps = d->fps});
+    if (st == FS_OK)
+        st = vst;
+    if (st == FS_OK) /* after report.html: the hints name it first */
         look_hints_print(&(look_hints_desc){.out = c->out, .name = d->name, .first_frame = c->first,
                                             .mode = alpha_mode_name(c->runs[0].mode),
                                             .video = co->demo ? "demo.mp4" : "compare.mp4", .fps = d->fps});

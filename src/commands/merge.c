@@ -13,6 +13,7 @@
 #include "core/grow.h"
 #include "core/log.h"
 #include "output/gnuplot.h"
+#include "output/report_html.h"
 #include "output/out_path.h"
 #include "core/strbuf.h"
 #include "metrics/metrics.h"
@@ -328,8 +329,8 @@ static fs_status plot(const char *dir, const points *ps)
     sbuf gp = {0};
     sb_puts(&gp, "set terminal pngcairo size 1100,750 noenhanced\nset output '.accuracy.png.tmp'\n"
                  "set datafile separator ','\nset title 'fovsim sweep: error vs frame time, one point per "
-                 "configuration and mode'\nset xlabel 'frame time, median (ms)'\n"
-                 "set ylabel 'FLIP vs reference (mean over frames)'\nset grid\nset key outside right top\nplot ");
+                 "configuration and mode'\nset xlabel 'frame time, median (ms; lower is better)'\n"
+                 "set ylabel 'FLIP vs reference (mean over frames; lower is better)'\nset grid\nset key outside right top\nplot ");
     /* One series per mode, in the order they first appear. */
     for (int i = 0, first = 1; i < ps->n; i++) {
         bool seen = false;
@@ -478,6 +479,9 @@ fs_status cmd_merge(int argc, char **argv)
         st = text ? out_write_atomic(path, text) : FS_ERR_NOMEM;
         cJSON_free(text);
     }
+    if (st == FS_OK)
+        st = report_html_write(&(report_html_desc){.dir = dir, .kind = "merge", .acc_error = "flip_mean",
+                                                   .acc_error_label = "FLIP vs reference (mean over frames)"});
     if (st == FS_OK) {
         printf("merged %d of %d tasks into %s/metrics.csv, summary.json and accuracy.csv%s\n", done, m.ntasks, dir,
                done ? "" : " (no task has finished)");

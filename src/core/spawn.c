@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,9 +42,14 @@ bool spawn_find(const char *prog, char *out, size_t n)
 
 /* In the child: only async-signal-safe calls (the parent may have threads). A failure writes errno
  * into `report` (close-on-exec, so a successful exec closes it empty). */
-static void child(const char *exe, char *const argv[], const spawn_opts *o, int report)
+static void child(const char *exe, char *const argv[], const spawn_opts *o, int report, int in)
 {
     int fd = -1;
+    if (in >= 0) { /* spawn_start_writer: the pipe becomes stdin (dup2 drops close-on-exec) */
+        struct sigaction sa = {.sa_handler = SIG_DFL};
+        if (dup2(in, STDIN_FILENO) < 0 || sigaction(SIGPIPE, &sa, NULL) != 0)
+            goto fail;
+    }
     if (o && o->dir && chdir(o->dir) != 0)
         goto fail;
     if (o && (o->output || o->quiet)) {
@@ -73,7 +79,7 @@ int spawn_run(char *const argv[], const spawn_opts *o)
     fflush(NULL);
     pid_t pid = fork();
     if (pid == 0)
-        child(exe, argv, o, pfd[1]);
+        child(exe, argv, o, pfd[1], -1);
     close(pfd[1]);
     if (pid < 0) {
         int e = errno;
@@ -94,6 +100,82 @@ int spawn_run(char *const argv[], const spawn_opts *o)
         errno = child_errno;
         return SPAWN_FAILED;
     }
+    return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
+}
+
+/* pipe() with both ends close-on-exec. */
+static int pipe_cloexec(int fd[2])
+{
+    if (pipe(fd) != 0)
+        return -1;
+    fcntl(fd[0], F_SETFD, FD_CLOEXEC);
+    fcntl(fd[1], F_SETFD, FD_CLOEXEC);
+    return 0;
+}
+
+/* Whether the child of `report` (a pipe whose write end the child holds close-on-exec) started:
+ * 0, or SPAWN_FAILED with the child's errno (the child is reaped). */
+static int started(int pid, int report)
+{
+    int child_errno = 0;
+    ssize_t got;
+    while ((got = read(report, &child_errno, sizeof child_errno)) < 0 && errno == EINTR)
+        ;
+    close(report);
+    if (got != (ssize_t)sizeof child_errno)
+        return 0;
+    int ws;
+    while (waitpid(pid, &ws, 0) < 0 && errno == EINTR)
+        ;
+    errno = child_errno;
+    return SPAWN_FAILED;
+}
+
+int spawn_start_writer(char *const argv[], const spawn_opts *o, int *pid, int *in_fd)
+{
+    char exe[4096];
+    if (!spawn_find(argv[0], exe, sizeof exe))
+        return SPAWN_NOT_FOUND;
+    int pfd[2], data[2];
+    if (pipe_cloexec(pfd) != 0)
+        return SPAWN_FAILED;
+    if (pipe_cloexec(data) != 0) {
+        int e = errno;
+        close(pfd[0]);
+        close(pfd[1]);
+        errno = e;
+        return SPAWN_FAILED;
+    }
+    fflush(NULL);
+    pid_t p = fork();
+    if (p == 0)
+        child(exe, argv, o, pfd[1], data[0]);
+    int e = errno;
+    close(pfd[1]);
+    close(data[0]);
+    if (p < 0) {
+        close(pfd[0]);
+        close(data[1]);
+        errno = e;
+        return SPAWN_FAILED;
+    }
+    if (started((int)p, pfd[0]) != 0) {
+        e = errno;
+        close(data[1]);
+        errno = e;
+        return SPAWN_FAILED;
+    }
+    *pid = (int)p;
+    *in_fd = data[1];
+    return 0;
+}
+
+int spawn_wait(int pid)
+{
+    int ws;
+    while (waitpid((pid_t)pid, &ws, 0) < 0)
+        if (errno != EINTR)
+            return SPAWN_FAILED;
     return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
 }
 

@@ -24,6 +24,14 @@ typedef struct spawn_opts {
 bool spawn_find(const char *prog, char *out, size_t n);
 /* Runs argv (argv[0] looked up as spawn_find does) without a shell and waits for it. o may be NULL. */
 int spawn_run(char *const argv[], const spawn_opts *o);
+/* Starts argv (looked up as spawn_find does) without a shell, its stdin the read end of a new pipe,
+ * and does not wait: *pid is the child, *in_fd the pipe's write end (close-on-exec, so no later
+ * child holds it open; closing it is the child's end of input). The child starts with SIGPIPE at
+ * its default; the caller should ignore SIGPIPE (a child that dies makes write fail with EPIPE).
+ * Returns 0, SPAWN_NOT_FOUND or SPAWN_FAILED (errno says why). Wait for it with spawn_wait. */
+int spawn_start_writer(char *const argv[], const spawn_opts *o, int *pid, int *in_fd);
+/* Waits for a child of spawn_start_writer: its exit status, 128 + a signal, or SPAWN_FAILED. */
+int spawn_wait(int pid);
 /* `path` as a program's argument that cannot be read as an option: "./" before one that starts
  * with '-'. out: n bytes; false when it does not fit. */
 bool spawn_path_arg(const char *path, char *out, size_t n);

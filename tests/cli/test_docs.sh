@@ -76,8 +76,9 @@ for f in README.md docs/compare.md docs/check.md docs/cluster.md; do
 done
 
 # Every PNG a recipe writes from the frames is display-sized: a layer, not part 0's grid-sized
-# canvas (merge's accuracy.png is a plot).
-pngs=$(cd "$T/work" && find . -name '*.png' ! -name 'accuracy*.png' | sort)
+# canvas (merge's accuracy.png is a plot; preview/ holds compare's previews of the grid for
+# report.html, grid-sized by design).
+pngs=$(cd "$T/work" && find . -name '*.png' ! -name 'accuracy*.png' ! -path '*/preview/*' | sort)
 check "the recipes wrote PNGs" [ -n "$pngs" ]
 check "the sweep recipe's merge wrote its table" [ -s "$T/work/out/sweep/tiny/metrics.csv" ]
 while read -r p; do

@@ -42,6 +42,8 @@ import json,sys; s=json.load(open('serial/summary.json'))
 sys.exit(not (s['complete'] == 4 and len(s['results']) == 4 and s['missing_or_incomplete'] == [] and s['results'][0]['summary']['modes']))"
 check "merge: one accuracy point per configuration and mode" test "$(tail -n +2 serial/accuracy.csv | wc -l)" -eq 8
 command -v gnuplot >/dev/null && check "merge: the accuracy-vs-time plot" test -s serial/accuracy.png
+check "merge: report.html with each task's table and the accuracy plot with its front" bash -c \
+  "grep -q 'id=\"accuracy\"' serial/report.html && grep -q 'Pareto front' serial/report.html && [ \$(grep -c '<h2>Task ' serial/report.html) -eq 4 ]"
 
 "$BIN" sweep m.json --local 2 --out local2 --quiet >/dev/null 2>&1
 check "--local 2 exits 0" test $? -eq 0
