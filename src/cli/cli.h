@@ -117,6 +117,8 @@ typedef struct run_desc {
         bool run_fvvdp;           /* --fvvdp, export and run the user's FovVideoVDP */
         bool no_grid_annotate;    /* --grid-annotate off: no labels, gaze marker or ring borders in the grid */
         bool video, video_set;    /* --video on|off (video_set: given; else on for demo only) */
+        int previews;             /* --previews N: without a video, at most N PNG previews (given: previews_set) */
+        bool previews_set;
     } compare;
     struct {                      /* fovsim view */
         const char *script;       /* --script FILE, scripted input events (docs/viewer.md) */

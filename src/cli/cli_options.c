@@ -402,8 +402,12 @@ const cli_option k_cli_options[] = {
      .misuse = "--grid-annotate is an option of fovsim compare and demo"},
     {"--video", ARG_CHOICE, ON(CMD_COMPARE) | ON(CMD_DEMO), "on|off",
      "write DIR/video.mp4 of the grid through the ffmpeg program (default:\non for demo, off for compare); "
-     "without ffmpeg, or off, DIR/preview/\nholds small PNGs of each frame for report.html", FIELD(compare.video),
+     "without ffmpeg, or off, DIR/preview/\nholds small PNGs of the frames for report.html (--previews)", FIELD(compare.video),
      .choices = k_on_off, GIVEN(compare.video_set), .misuse = "--video is an option of fovsim compare and demo"},
+    {"--previews", ARG_INT, ON(CMD_COMPARE) | ON(CMD_DEMO), "N",
+     "without a video, at most N frames of the grid as PNG previews for\nreport.html's scrubber, evenly spaced "
+     "(default 48; 0: none; a sweep's\ntasks: 0 unless its options say)", FIELD(compare.previews), .lo = 0,
+     .hi = 100000, GIVEN(compare.previews_set), .misuse = "--previews is an option of fovsim compare and demo"},
     /* bench */
     {"--warmup", ARG_INT, ON(CMD_BENCH), "W", "frames drawn before timing (default 5)", FIELD(bench.warmup), .lo = 0,
      .hi = 10000, GIVEN(bench.warmup_set), .flags = OPT_RECORDED /* with --first-frame */,

@@ -26,6 +26,8 @@
 #include "commands/measure.h"
 #include "session/session.h"
 
+/* --previews unless given: enough frames to scrub through, a few MB per run at the demo's size. */
+#define COMPARE_PREVIEWS 48
 /* >>frame image */
 
 /* Per-pixel RMS over linear RGB of a - b (planes R, G, B of each). */
@@ -388,8 +390,11 @@ static fs_status compare_open_outputs(cmp_run *c, fs_status st)
      * frames it lacks; the reference of the frames drawn before comes from the cache. */
     if (st == FS_OK)
         st = run_folder_open(&c->fo, c->out, d, &c->s, c->frames);
-    if (st == FS_OK && !(c->gv = grid_video_begin(&(grid_video_desc){
-                             .dir = c->out, .fps = d->fps, .video = d->compare.video_set ? d->compare.video : c->co->demo})))
+    int measured = c->frames - (d->compare.first_frame < c->frames ? d->compare.first_frame : c->frames);
+    if (st == FS_OK &&
+        !(c->gv = grid_video_begin(&(grid_video_desc){
+              .dir = c->out, .fps = d->fps, .video = d->compare.video_set ? d->compare.video : c->co->demo,
+              .frames = measured, .previews = d->compare.previews_set ? d->compare.previews : COMPARE_PREVIEWS})))
         st = FS_ERR_NOMEM;
     if (st == FS_OK && !(c->csv = c->csv_tmp_ok ? fopen(c->csv_tmp, "w") : NULL)) {
         log_error("%s: cannot create: %s", c->csv_tmp, strerror(errno));

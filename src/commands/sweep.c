@@ -125,6 +125,10 @@ static fs_status task_desc(const sweep_manifest *m, const sweep_task *k, char **
         st = cli_apply_option(d, "--replace", NULL);
     if (st == FS_OK && quiet)
         st = cli_apply_option(d, "--quiet", NULL);
+    /* A task's report.html is for a look at one task; the merged report is the sweep's. Previews
+     * at every task would fill a cluster's disk: none unless the manifest's options ask. */
+    if (st == FS_OK && !d->compare.previews_set)
+        st = cli_apply_option(d, "--previews", "0");
     return st == FS_OK ? cli_finish(d) : st;
 }
 

@@ -25,6 +25,7 @@ struct grid_video {
     char dir[PATH_MAX];
     double fps;
     bool want_video, previews, failed;
+    int given, step;   /* frames given so far; a preview every step-th of them */
     int width, height; /* the first frame's */
     int pid, fd;       /* ffmpeg, its stdin; fd -1 when not running */
     char tmp[PATH_MAX + 64], tmp_base[PATH_MAX + 72];
@@ -72,7 +73,8 @@ grid_video *grid_video_begin(const grid_video_desc *d)
     if (d->video && !v->want_video)
         printf("video: ffmpeg is not installed, so no %s/video.mp4 (apt install ffmpeg); report.html shows "
                "previews of the frames instead\n", v->dir);
-    v->previews = !v->want_video;
+    v->previews = !v->want_video && d->previews > 0;
+    v->step = d->previews > 0 && d->frames > d->previews ? (d->frames + d->previews - 1) / d->previews : 1;
     return v;
 }
 
@@ -199,7 +201,8 @@ fs_status grid_video_frame(grid_video *v, int index, const exr_image *grid)
     } else if (grid->width != v->width || grid->height != v->height) {
         return FS_ERR_INTERNAL;
     }
-    fs_status st = v->want_video ? video_frame(v, rgb) : preview_frame(v, index, rgb);
+    bool preview = v->previews && v->given++ % v->step == 0;
+    fs_status st = v->want_video ? video_frame(v, rgb) : preview ? preview_frame(v, index, rgb) : FS_OK;
     if (st == FS_ERR_IO && v->want_video) {
         v->failed = true; /* the video fails at the end; the frames and metrics do not */
         st = FS_OK;

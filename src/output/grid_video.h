@@ -1,6 +1,7 @@
 /* grid_video.h: the pictures of a comparison for people: an MP4 of the grid (part 0 of each
  * comparison EXR, as the run built it) encoded by the `ffmpeg` program, or, without one, small PNG
- * previews of it per frame (DIR/preview/frame.NNNN.png) for report.html's frame scrubber
+ * previews of it (DIR/preview/frame.NNNN.png, at most --previews of them, evenly spaced over the
+ * frames: a long run or a sweep's many tasks do not fill the disk) for report.html's frame scrubber
  * (docs/compare.md "Video and report page").
  *
  * The video: the linear grid is encoded to sRGB 8 bit (png_srgb_quantise's curve) and piped as raw
@@ -22,6 +23,8 @@ typedef struct grid_video_desc {
     const char *dir; /* the run's folder */
     double fps;
     bool video;      /* --video on: encode video.mp4 when ffmpeg is installed (else previews) */
+    int frames;      /* how many frames grid_video_frame will be given */
+    int previews;    /* --previews: at most this many previews, evenly spaced, first frame first; 0 none */
 } grid_video_desc;
 
 /* Removes the outputs of an earlier run (video.mp4, preview/), then says (one line) when the video

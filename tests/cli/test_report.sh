@@ -73,6 +73,14 @@ check "one preview PNG per frame" test "$(ls "$T/p/preview" | grep -c '^frame\.0
 check "report.html has the scrubber" grep -q '<input type="range" id="scrub" min="0" max="4"' "$T/p/report.html"
 check "report.html has no external resource" bash -c "! grep -Eiq '(src|href)=\"(https?:)?//' '$T/p/report.html'"
 
+# ---- --previews N: at most N previews, evenly spaced from the first frame; 0: none
+run compare "$T/p2" --previews 2; rc=$?
+check "--previews 2: frames 0 and 3 of 5 (every third)" \
+  bash -c "test $rc -eq 0 && test \"\$(ls '$T/p2/preview' | tr '\n' ' ')\" = 'frame.0000.png frame.0003.png '"
+check "--previews 2: the scrubber has two steps" grep -q '<input type="range" id="scrub" min="0" max="1"' "$T/p2/report.html"
+run compare "$T/p0" --previews 0; rc=$?
+check "--previews 0: no preview folder" bash -c "test $rc -eq 0 && test ! -e '$T/p0/preview'"
+
 # ---- no ffmpeg on PATH: one line saying how to install it, previews instead, exit 0
 mkdir -p "$T/nobin"
 PATH="$T/nobin" run compare "$T/n" --video on; rc=$?

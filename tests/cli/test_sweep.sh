@@ -42,6 +42,7 @@ import json,sys; s=json.load(open('serial/summary.json'))
 sys.exit(not (s['complete'] == 4 and len(s['results']) == 4 and s['missing_or_incomplete'] == [] and s['results'][0]['summary']['modes']))"
 check "merge: one accuracy point per configuration and mode" test "$(tail -n +2 serial/accuracy.csv | wc -l)" -eq 8
 command -v gnuplot >/dev/null && check "merge: the accuracy-vs-time plot" test -s serial/accuracy.png
+check "sweep tasks write no previews unless their options ask (--previews 0)" bash -c "test -d serial/tasks && ! ls -d serial/tasks/*/preview 2>/dev/null | grep -q ."
 check "merge: report.html with each task's table and the accuracy plot with its front" bash -c \
   "grep -q 'id=\"accuracy\"' serial/report.html && grep -q 'Pareto front' serial/report.html && [ \$(grep -c '<h2>Task ' serial/report.html) -eq 4 ]"
 
