@@ -32,11 +32,17 @@ void look_hints_print(const look_hints_desc *h)
         printf("  xdg-open %s   # the report page: settings, summary table, charts, video\n",
                quoted(&q, h->out, "report.html"));
     printf("  oiiotool --info -v %s   # parts, layers, header attributes\n", quoted(&q, h->out, f0));
-    printf("  ffmpeg -framerate %g", h->fps);
-    if (h->first_frame)
-        printf(" -start_number %d", h->first_frame);
-    printf(" -apply_trc iec61966_2_1 -i %s", quoted(&q, h->out, seq));
-    printf(" -pix_fmt yuv420p %s\n", quoted(&q, h->out, h->video));
+    char mp4[PATH_MAX + 16];
+    snprintf(mp4, sizeof mp4, "%s/video.mp4", h->out);
+    if (access(mp4, R_OK) == 0) { /* --video made it already */
+        printf("  xdg-open %s   # the grid over time\n", quoted(&q, h->out, "video.mp4"));
+    } else {
+        printf("  ffmpeg -framerate %g", h->fps);
+        if (h->first_frame)
+            printf(" -start_number %d", h->first_frame);
+        printf(" -apply_trc iec61966_2_1 -i %s", quoted(&q, h->out, seq));
+        printf(" -pix_fmt yuv420p %s\n", quoted(&q, h->out, h->video));
+    }
     printf("  oiiotool %s --subimage layers --fullpixels --ch %s.coverage -o coverage.png   # a layer, display-sized\n",
            quoted(&q, h->out, f0), h->mode);
     free(q.p);

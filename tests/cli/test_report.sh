@@ -40,6 +40,8 @@ check "video.mp4 is yuv420p, sRGB transfer" bash -c "grep -qx pix_fmt=yuv420p <<
 check "no temporary or log file is left" bash -c "! ls -A '$T/v' | grep -q -e '\.tmp\.' -e ffmpeg.log"
 check "no previews beside a video" test ! -e "$T/v/preview"
 check "report.html shows the video" grep -q '<video id="video" src="video.mp4"' "$T/v/report.html"
+check "the hints name video.mp4, not a recipe to make one" \
+  bash -c "grep -qF \"xdg-open '$T/v/video.mp4'\" '$T/v.txt' && ! grep -q 'ffmpeg -framerate' '$T/v.txt'"
 # The first frame's middle pixel of the video is the grid's, sRGB-encoded (within the codec's error).
 /usr/bin/python3 - "$T/v" <<'PY' >"$T/pixel.txt" 2>&1
 import OpenImageIO as oiio, subprocess, sys
@@ -69,6 +71,7 @@ check "the video's pixels are the grid's in sRGB (largest block mean difference 
 run compare "$T/p"; rc=$?
 check "compare exits 0" test $rc -eq 0
 check "compare writes no video by default" test ! -e "$T/p/video.mp4"
+check "without a video the hints give the ffmpeg recipe" grep -q 'ffmpeg -framerate' "$T/p.txt"
 check "one preview PNG per frame" test "$(ls "$T/p/preview" | grep -c '^frame\.000[0-4]\.png$')" -eq 5
 check "report.html has the scrubber" grep -q '<input type="range" id="scrub" min="0" max="4"' "$T/p/report.html"
 check "report.html has no external resource" bash -c "! grep -Eiq '(src|href)=\"(https?:)?//' '$T/p/report.html'"
