@@ -100,6 +100,21 @@ static const char *csv_at(const csv *c, int row, int col)
     return s ? s : "";
 }
 
+/* The distinct values of column col in rows [0, rows), in order of first appearance, at most cap. */
+static int csv_distinct(const csv *c, int rows, int col, const char **out, int cap)
+{
+    int n = 0;
+    for (int r = 0; r < rows; r++) {
+        const char *v = csv_at(c, r, col);
+        int k = 0;
+        while (k < n && strcmp(out[k], v) != 0)
+            k++;
+        if (k == n && n < cap)
+            out[n++] = v;
+    }
+    return n;
+}
+
 static int csv_col(const csv *c, const char *name)
 {
     for (int k = 0; k < c->cols; k++)
@@ -333,14 +348,8 @@ static void coverage_charts(sbuf *b, const csv *c)
     sb_puts(b, "<h2>Coverage over time</h2>\n<p>Each mode's coverage in a ring over the reference's, per frame "
                "(1 = the same as the reference; gaps where the reference holds too little to compare).</p>\n");
     const char *modes[64];
-    int nm = 0, rmin = INT_MAX, rmax = INT_MIN;
+    int nm = csv_distinct(c, c->rows, cm, modes, 64), rmin = INT_MAX, rmax = INT_MIN;
     for (int r = 0; r < c->rows; r++) {
-        const char *m = csv_at(c, r, cm);
-        int k = 0;
-        while (k < nm && strcmp(modes[k], m) != 0)
-            k++;
-        if (k == nm && nm < 64)
-            modes[nm++] = m;
         int ring = whole(csv_at(c, r, cr));
         if (ring == INT_MIN)
             continue;
@@ -403,15 +412,7 @@ static void accuracy_chart(sbuf *b, const csv *c, const char *err, const char *l
     svg_series se[65];
     char cols[64][8];
     const char *modes[64];
-    int nm = 0, used = 0;
-    for (int r = 0; r < n; r++) {
-        const char *m = csv_at(c, r, cm);
-        int k = 0;
-        while (k < nm && strcmp(modes[k], m) != 0)
-            k++;
-        if (k == nm && nm < 64)
-            modes[nm++] = m;
-    }
+    int nm = csv_distinct(c, n, cm, modes, 64), used = 0;
     for (int k = 0; k < nm; k++) {
         int n0 = used;
         for (int r = 0; r < n; r++)
