@@ -333,7 +333,7 @@ const cli_option k_cli_options[] = {
      FIELD(gl_debug), .flags = OPT_MACHINE},
     {"--quiet", ARG_FLAG, CMDS_DRAWING, NULL, "no progress line", FIELD(quiet), .flags = OPT_MACHINE},
     {"--progress-interval", ARG_FLOAT, CMDS_PROGRESS, "S",
-     "when stderr is not a terminal, a progress line every S seconds,\n0 to 86400 (default 10; 0: every frame)",
+     "when stderr is not a terminal, a progress line at the first frame,\nevery S seconds and at the last, 0 to 86400 (default 10; 0: every\nframe)",
      FIELD(progress_interval), .lo = 0, .hi = 86400, .flags = OPT_LO_CLOSED | OPT_MACHINE,
      .misuse = "--progress-interval is an option of fovsim render, reference, compare, demo and bench"},
     {"--verbose", ARG_FLAG, CMDS_DRAWING, NULL, "print the renderer and what is loaded", FIELD(verbose),

@@ -66,8 +66,12 @@ void progress_update(progress *p, int done)
         return;
     double now = time_now();
     if (!p->tty) {
-        int frames = p->per_frame ? done / p->per_frame : done; /* a line only when a frame was added */
-        if (frames > p->last_done && now - p->last_draw >= p->interval) {
+        /* A line only when a frame was added: the first (the log shows the run started, and its
+         * rate), then the first after each interval, and the last (the log ends complete). */
+        int frames = p->per_frame ? done / p->per_frame : done;
+        int all = p->per_frame ? p->total / p->per_frame : p->total;
+        bool due = p->last_done == 0 || frames >= all || now - p->last_draw >= p->interval;
+        if (frames > p->last_done && due) {
             p->last_draw = now;
             p->last_done = frames;
             plain_line(p, done, now - p->start);

@@ -1,6 +1,7 @@
 /* progress.h: progress of multi-frame work on stderr, unless --quiet. On a terminal, the
  * `frame 12/96  5.1 fps  ETA 16s` line redrawn in place with '\r'; otherwise (a log file, a batch
- * job) a plain line at the first update after every `interval` seconds, e.g.
+ * job) a plain line at the first frame, at the first update after every `interval` seconds and at
+ * the last frame, e.g.
  * `compare frame 12/97 (12%), 0.64 frames/s, 18.8 s elapsed, ETA 2m13s` (docs/compare.md "Progress in a log"). */
 #ifndef FOVSIM_PROGRESS_H
 #define FOVSIM_PROGRESS_H
