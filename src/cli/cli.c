@@ -182,7 +182,10 @@ fs_status cli_parse_args(run_desc *d, int argc, char *const *args)
             continue;
         }
         char opt[64];
-        snprintf(opt, sizeof opt, "%.*s", eq ? (int)(eq - a) : (int)strlen(a), a);
+        size_t len = eq ? (size_t)(eq - a) : strlen(a);
+        if (len >= sizeof opt) /* longer than any option: named whole in the message */
+            return unknown_option(d, a);
+        snprintf(opt, sizeof opt, "%.*s", (int)len, a);
         if (!strcmp(opt, "--help")) {
             d->help_for = d->cmd;
             d->cmd = CMD_HELP;

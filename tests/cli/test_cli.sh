@@ -187,6 +187,9 @@ check "opaque asset: no alpha variant even with --alpha hashed" bash -c \
 
 # ---- bad input: message, distinct exit status, nothing created
 expect_exit "unknown option -> 2" 2 "$BIN" render --frams 3 --out "$T/bad1"
+long=--$(printf 'x%.0s' {1..80})
+expect_exit "an unknown option longer than any -> 2" 2 "$BIN" render "$long=3" --out "$T/bad1"
+check "... named whole in its message" grep -qF "unknown option '$long=3'" "$T/err.txt"
 check "bad option creates nothing" test ! -e "$T/bad1"
 expect_exit "unknown command -> 2" 2 "$BIN" rendr
 expect_exit "bad --width -> 2" 2 "$BIN" render --width 10 --height 10 --out "$T/bad2"
