@@ -66,43 +66,6 @@ fail:;
     _exit(127);
 }
 
-int spawn_run(char *const argv[], const spawn_opts *o)
-{
-    char exe[4096];
-    if (!spawn_find(argv[0], exe, sizeof exe))
-        return SPAWN_NOT_FOUND;
-    int pfd[2];
-    if (pipe(pfd) != 0)
-        return SPAWN_FAILED;
-    fcntl(pfd[0], F_SETFD, FD_CLOEXEC);
-    fcntl(pfd[1], F_SETFD, FD_CLOEXEC);
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid == 0)
-        child(exe, argv, o, pfd[1], -1);
-    close(pfd[1]);
-    if (pid < 0) {
-        int e = errno;
-        close(pfd[0]);
-        errno = e;
-        return SPAWN_FAILED;
-    }
-    int child_errno = 0;
-    ssize_t got;
-    while ((got = read(pfd[0], &child_errno, sizeof child_errno)) < 0 && errno == EINTR)
-        ;
-    close(pfd[0]);
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0)
-        if (errno != EINTR)
-            return SPAWN_FAILED;
-    if (got == (ssize_t)sizeof child_errno) {
-        errno = child_errno;
-        return SPAWN_FAILED;
-    }
-    return WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-}
-
 /* pipe() with both ends close-on-exec. */
 static int pipe_cloexec(int fd[2])
 {
@@ -113,22 +76,50 @@ static int pipe_cloexec(int fd[2])
     return 0;
 }
 
-/* Whether the child of `report` (a pipe whose write end the child holds close-on-exec) started:
- * 0, or SPAWN_FAILED with the child's errno (the child is reaped). */
-static int started(int pid, int report)
+/* Forks the child of exe (stdin the descriptor `in`, or the parent's when -1) and waits until it
+ * has exec'd: 0 with *pid, or SPAWN_FAILED with errno the fork's or the child's (a child that
+ * failed before exec is reaped). */
+static int start(const char *exe, char *const argv[], const spawn_opts *o, int in, pid_t *pid)
 {
+    int report[2];
+    if (pipe_cloexec(report) != 0)
+        return SPAWN_FAILED;
+    fflush(NULL);
+    pid_t p = fork();
+    if (p == 0)
+        child(exe, argv, o, report[1], in);
+    int e = errno;
+    close(report[1]);
+    if (p < 0) {
+        close(report[0]);
+        errno = e;
+        return SPAWN_FAILED;
+    }
+    /* The child writes its errno into the pipe only when it fails before exec; a successful exec
+     * closes the pipe empty. */
     int child_errno = 0;
     ssize_t got;
-    while ((got = read(report, &child_errno, sizeof child_errno)) < 0 && errno == EINTR)
+    while ((got = read(report[0], &child_errno, sizeof child_errno)) < 0 && errno == EINTR)
         ;
-    close(report);
-    if (got != (ssize_t)sizeof child_errno)
-        return 0;
-    int ws;
-    while (waitpid(pid, &ws, 0) < 0 && errno == EINTR)
-        ;
-    errno = child_errno;
-    return SPAWN_FAILED;
+    close(report[0]);
+    if (got == (ssize_t)sizeof child_errno) {
+        spawn_wait((int)p);
+        errno = child_errno;
+        return SPAWN_FAILED;
+    }
+    *pid = p;
+    return 0;
+}
+
+int spawn_run(char *const argv[], const spawn_opts *o)
+{
+    char exe[4096];
+    if (!spawn_find(argv[0], exe, sizeof exe))
+        return SPAWN_NOT_FOUND;
+    pid_t pid;
+    if (start(exe, argv, o, -1, &pid) != 0)
+        return SPAWN_FAILED;
+    return spawn_wait((int)pid);
 }
 
 int spawn_start_writer(char *const argv[], const spawn_opts *o, int *pid, int *in_fd)
@@ -136,31 +127,14 @@ int spawn_start_writer(char *const argv[], const spawn_opts *o, int *pid, int *i
     char exe[4096];
     if (!spawn_find(argv[0], exe, sizeof exe))
         return SPAWN_NOT_FOUND;
-    int pfd[2], data[2];
-    if (pipe_cloexec(pfd) != 0)
+    int data[2];
+    if (pipe_cloexec(data) != 0)
         return SPAWN_FAILED;
-    if (pipe_cloexec(data) != 0) {
-        int e = errno;
-        close(pfd[0]);
-        close(pfd[1]);
-        errno = e;
-        return SPAWN_FAILED;
-    }
-    fflush(NULL);
-    pid_t p = fork();
-    if (p == 0)
-        child(exe, argv, o, pfd[1], data[0]);
+    pid_t p;
+    int st = start(exe, argv, o, data[0], &p);
     int e = errno;
-    close(pfd[1]);
     close(data[0]);
-    if (p < 0) {
-        close(pfd[0]);
-        close(data[1]);
-        errno = e;
-        return SPAWN_FAILED;
-    }
-    if (started((int)p, pfd[0]) != 0) {
-        e = errno;
+    if (st != 0) {
         close(data[1]);
         errno = e;
         return SPAWN_FAILED;
