@@ -2,11 +2,13 @@
 #include "output/report_html.h"
 
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/file_read.h"
 #include "core/log.h"
@@ -25,10 +27,8 @@ static char *read_beside(const char *dir, const char *name, fs_status *st)
 {
     char p[PATH_MAX + 64];
     snprintf(p, sizeof p, "%s/%s", dir, name);
-    FILE *f = fopen(p, "rb");
-    if (!f)
+    if (access(p, F_OK) != 0 && errno == ENOENT)
         return NULL;
-    fclose(f);
     char *text = NULL;
     size_t n;
     fs_status s = file_read_all(p, REPORT_MAX_INPUT, "a file of the run", FS_ERR_IO, &text, &n);
