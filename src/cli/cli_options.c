@@ -82,12 +82,12 @@ static bool set_taa_sparse(const cli_option *o, run_desc *d, const char *v)
     return cli_parse_float_in(o->name, v, 0.0f, false, 1.0f, &d->taa.sparse, "off or a number in (0, 1]");
 }
 
-/* The layout parsed once, here; "auto" (kind FOV_LAYOUT_AUTO) is resolved against the display of
- * the run's scene (session.c). */
+/* The layout parsed once, here; "auto" and "aggressive" (kinds FOV_LAYOUT_AUTO, _AGGRESSIVE) are
+ * resolved against the display of the run's scene (session.c). */
 static bool set_rings(const cli_option *o, run_desc *d, const char *v)
 {
     char err[256];
-    const display_desc any = {1280, 720, 90.0f}; /* only "auto" reads it, and its rings are dropped */
+    const display_desc any = {1280, 720, 90.0f}; /* only the named layouts read it; their rings are redone */
     d->rings = v;
     if (fov_layout_parse(v, &any, &d->rings_layout, err, sizeof err) == FS_OK)
         return true;
@@ -288,8 +288,8 @@ const cli_option k_cli_options[] = {
      "pixel; per-pixel\nsearches everywhere (same image, to measure what tiling saves)", FIELD(composite_per_pixel),
      .choices = k_composite, .flags = OPT_RECORDED},
     {"--rings", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
-     "foveation rings: auto (acuity model, default), off, or innermost first\nOUTER:SCALE:MIPBIAS,... with * for "
-     "the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5", FIELD(rings), .set = set_rings, .flags = OPT_RECORDED},
+     "foveation rings: auto (acuity model, default), aggressive (twice the MAR\nslope, +0.5 mip bias in reduced "
+     "rings), off, or innermost first\nOUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5", FIELD(rings), .set = set_rings, .flags = OPT_RECORDED},
     {"--ring-lod", ARG_STRING /* checked against the ring layout once the scene is known */, CMDS_DRAWING, "SPEC",
      "stochastic simplification of MASK foliage per ring (docs/ring-lod.md):\noff (default); simplify: in reduced "
      "rings each card keeps u = its area\nin ring pixels (at least 1/16), the kept ones enlarged to keep the\n"

@@ -59,17 +59,11 @@ typedef struct acc_config {
     double count_med[ACC_COUNTS];
 } acc_config;
 
-/* The aggressive layout: the acuity model with twice the slope (resolution falls off twice as
- * fast with eccentricity), and half a mip level of extra bias on every reduced ring. */
+/* The aggressive layout (fov_layout_aggressive) for the plan's display. */
 static fov_layout aggressive_layout(const plan *pl)
 {
     display_desc dd = {pl->width, pl->height, pl->hfov_deg};
-    fov_layout l = fov_layout_auto(&dd, 2.0f * FOV_ACUITY_SLOPE_DEFAULT, FOV_ACUITY_OMEGA0_DEFAULT);
-    l.kind = FOV_LAYOUT_EXPLICIT;
-    for (int i = 0; i < l.count; i++)
-        if (l.rings[i].scale_log2 > 0)
-            l.rings[i].mip_bias += 0.5f;
-    return l;
+    return fov_layout_aggressive(&dd);
 }
 
 /* Points on the Pareto front of (time, error): no other point is at least as fast and as exact

@@ -12,7 +12,7 @@
  *   - fov_composite_weight: a negative eccentricity counts as 0 and NaN as +infinity (the last,
  *     coarsest ring); a blend band of 0 (or NaN) gives hard ring edges (next = 0).
  *   - fov_layout_parse writes nothing to *out on error. Every ring needs all three fields R:S:B.
- *     "auto" and "off" are matched exactly (lower case), surrounding whitespace allowed.
+ *     "auto", "aggressive" and "off" are matched exactly (lower case), surrounding whitespace allowed.
  *   - fov_layout_check also rejects a blend_deg that is negative or not finite.
  *   - Footprints are exact (analytic cone section, clipped to the display), grown by one pixel
  *     against rounding in callers' eccentricity tests; nesting holds for valid layouts (scales
@@ -200,6 +200,26 @@ fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0)
     return l;
 }
 
+fov_layout fov_layout_aggressive(const display_desc *d)
+{
+    fov_layout l = fov_layout_auto(d, FOV_AGGRESSIVE_SLOPE_FACTOR * FOV_ACUITY_SLOPE_DEFAULT, FOV_ACUITY_OMEGA0_DEFAULT);
+    l.kind = FOV_LAYOUT_AGGRESSIVE;
+    for (int i = 0; i < l.count; i++)
+        if (l.rings[i].scale_log2 > 0)
+            l.rings[i].mip_bias += FOV_AGGRESSIVE_MIP_BIAS;
+    return l;
+}
+
+const char *fov_layout_kind_name(fov_layout_kind k)
+{
+    switch (k) {
+    case FOV_LAYOUT_OFF: return "off";
+    case FOV_LAYOUT_AUTO: return "auto";
+    case FOV_LAYOUT_AGGRESSIVE: return "aggressive";
+    default: return "explicit";
+    }
+}
+
 double fov_ring_block_mar_ratio(const display_desc *d, const fov_layout *l, int i, float slope, float omega0)
 {
     if (!l || i < 0 || i >= l->count || i >= MAX_FOV_RINGS)
@@ -358,7 +378,7 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
     const char *b = text, *e = text + strlen(text);
     fov_trim(&b, &e);
     if (b == e) {
-        fov_set_err(err, err_size, "empty ring layout (expected auto, off or R:S:B,...,*:S:B)");
+        fov_set_err(err, err_size, "empty ring layout (expected auto, aggressive, off or R:S:B,...,*:S:B)");
         return FS_ERR_USAGE;
     }
     size_t len = (size_t)(e - b);
@@ -371,12 +391,26 @@ fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *
             *out = fov_layout_auto(d, 0.0f, 0.0f);
         return FS_OK;
     }
+    if (len == 10 && memcmp(b, "aggressive", 10) == 0) {
+        if (!d) {
+            fov_set_err(err, err_size, "ring layout aggressive needs the display");
+            return FS_ERR_USAGE;
+        }
+        if (out)
+            *out = fov_layout_aggressive(d);
+        return FS_OK;
+    }
     if (len == 3 && memcmp(b, "off", 3) == 0) {
         if (out)
             *out = fov_layout_off();
         return FS_OK;
     }
 
+    if (!memchr(b, ':', len)) { /* a misspelt name rather than a list */
+        fov_set_err(err, err_size, "'%.*s' is not a ring layout (expected auto, aggressive, off or R:S:B,...,*:S:B)",
+                    (int)(len > 40 ? 40 : len), b);
+        return FS_ERR_USAGE;
+    }
     fov_layout l;
     memset(&l, 0, sizeof l);
     l.kind = FOV_LAYOUT_EXPLICIT;

@@ -47,8 +47,9 @@ typedef struct fov_ring {
 
 typedef enum fov_layout_kind {
     FOV_LAYOUT_OFF = 0,  /* foveation off: one full-resolution ring, no composite */
-    FOV_LAYOUT_AUTO,     /* from the acuity model */
-    FOV_LAYOUT_EXPLICIT, /* from a scene file or --rings */
+    FOV_LAYOUT_AUTO,       /* from the acuity model */
+    FOV_LAYOUT_EXPLICIT,   /* from a scene file or --rings */
+    FOV_LAYOUT_AGGRESSIVE, /* fov_layout_aggressive: the acuity model, twice the slope, +0.5 bias */
 } fov_layout_kind;
 
 typedef struct fov_layout {
@@ -77,6 +78,15 @@ fov_layout fov_layout_off(void);
  * to corner) are dropped; scales stop at MAX_FOV_SCALE_LOG2. slope/omega0 <= 0 mean the
  * defaults. */
 fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0);
+/* The "aggressive" layout (bench --accuracy's third layout, the viewer's L key, --rings aggressive):
+ * the acuity model with FOV_AGGRESSIVE_SLOPE_FACTOR times the MAR slope (resolution falls off that
+ * much faster with eccentricity) and FOV_AGGRESSIVE_MIP_BIAS more mip bias on every reduced ring.
+ * Kind FOV_LAYOUT_AGGRESSIVE. */
+#define FOV_AGGRESSIVE_SLOPE_FACTOR 2.0f
+#define FOV_AGGRESSIVE_MIP_BIAS 0.5f
+fov_layout fov_layout_aggressive(const display_desc *d);
+/* "off", "auto", "aggressive" or "explicit": the layout's kind as the CLI and reports name it. */
+const char *fov_layout_kind_name(fov_layout_kind k);
 /* Acuity check of any layout (auto or explicit) on a display, for any gaze on the display: the
  * largest ratio of the angle a block of ring i spans (along any side, either pitch) to the MAR at
  * ring i's inner edge, over every gaze on the display and every display point in the ring. The
@@ -94,10 +104,10 @@ double fov_ring_block_mar_ratio(const display_desc *d, const fov_layout *l, int 
  * NULL) gets the ring that sets it, -1 for INFINITY. */
 double fov_layout_acuity_margin(const display_desc *d, const fov_layout *l, float slope, float omega0,
                                 int *worst_ring);
-/* Parses "auto", "off", or an explicit list "10:1:0,25:0.5:0,*:0.25:0.5" (outer degrees or "*"
+/* Parses "auto", "aggressive", "off", or an explicit list "10:1:0,25:0.5:0,*:0.25:0.5" (outer degrees or "*"
  * for the last, scale as 1, 0.5, 0.25, ... or 1/2, 1/4, ..., mip bias). On error writes one line
  * into err (e.g. "ring 2: scale 0.3 is not a power of two (1, 1/2, ... 1/16)") and returns
- * FS_ERR_USAGE. `d` is needed for "auto". */
+ * FS_ERR_USAGE. `d` is needed for "auto" and "aggressive". */
 fs_status fov_layout_parse(const char *text, const display_desc *d, fov_layout *out, char *err, int err_size);
 
 /* What the text forms of fov_ring.c and ring_lod.c share. FOV_TOKEN_MAX: the longest token + 1. */

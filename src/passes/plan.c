@@ -496,7 +496,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
                                             FOV_MARGIN_BLOCKS, per);
         double px = (double)p->width * (double)p->height;
         fprintf(f, "rings      %s (%s), %.1f px/deg at the centre; gaze at the centre:\n",
-                p->layout.kind == FOV_LAYOUT_AUTO ? "auto" : "explicit", spec, fov_pixels_per_degree(&dd));
+                fov_layout_kind_name(p->layout.kind), spec, fov_pixels_per_degree(&dd));
         float inner = 0.0f;
         for (int i = 0; i < p->layout.count; i++) {
             const fov_ring *r = &p->layout.rings[i];

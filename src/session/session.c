@@ -71,9 +71,12 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
 {
     display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
                        sc->display.hfov_deg};
-    /* Both were parsed once, where they were read; only "auto" depends on the display. */
+    /* Both were parsed once, where they were read; only "auto" and "aggressive" depend on the
+     * display. */
     const fov_layout *given = d->rings ? &d->rings_layout : sc->rings[0] ? &sc->rings_layout : NULL;
-    *out = !given || given->kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : *given;
+    *out = !given || given->kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f)
+           : given->kind == FOV_LAYOUT_AGGRESSIVE   ? fov_layout_aggressive(&dd)
+                                                    : *given;
     /* An auto layout that would shade as many pixels as the display (small or coarse displays,
      * where the fovea already spans most of the view) only adds work: foveation off. */
     if (out->kind == FOV_LAYOUT_AUTO && out->count > 1 &&

@@ -25,9 +25,6 @@
 
 #define VIEW_BIAS_STEP 0.5f   /* mip bias change per [ or ] press, log2 units */
 #define VIEW_BIAS_MAX 8.0f    /* |mip bias| reachable from the keys */
-/* "aggressive" rings: the acuity model with this many times the MAR slope and omega0, i.e. a
- * periphery assumed that much blurrier, so each ring starts at about 1/k of the eccentricity. */
-#define VIEW_AGGRESSIVE_FACTOR 2.0f
 #define VIEW_TITLE_PERIOD_S 0.25 /* the title (frame times) is updated at most this often */
 
 static volatile sig_atomic_t g_view_interrupted;
@@ -143,9 +140,7 @@ static const char *layout_label(const viewer *v, layout_choice c, char *buf, siz
 {
     const fov_layout *l = &v->layouts[c];
     if (c == LAYOUT_RUN)
-        snprintf(buf, n, "%s", l->kind == FOV_LAYOUT_OFF    ? "off"
-                               : l->kind == FOV_LAYOUT_AUTO ? "auto"
-                                                            : "custom");
+        snprintf(buf, n, "%s", l->kind == FOV_LAYOUT_EXPLICIT ? "custom" : fov_layout_kind_name(l->kind));
     else
         snprintf(buf, n, "%s", k_layout_names[c]);
     size_t len = strlen(buf);
@@ -167,9 +162,7 @@ static fs_status resolve_layouts(viewer *v)
         return st;
     v->layouts[LAYOUT_AUTO] = po.layout;
     display_desc dd = {v->width, v->height, v->sc.display.hfov_deg};
-    v->layouts[LAYOUT_AGGRESSIVE] = fov_layout_auto(&dd, VIEW_AGGRESSIVE_FACTOR * FOV_ACUITY_SLOPE_DEFAULT,
-                                                    VIEW_AGGRESSIVE_FACTOR * FOV_ACUITY_OMEGA0_DEFAULT);
-    v->layouts[LAYOUT_AGGRESSIVE].kind = FOV_LAYOUT_EXPLICIT;
+    v->layouts[LAYOUT_AGGRESSIVE] = fov_layout_aggressive(&dd);
     v->layouts[LAYOUT_OFF] = fov_layout_off();
     char run[256], other[256];
     fov_layout_format(&v->layouts[LAYOUT_RUN], run, sizeof run);

@@ -387,6 +387,21 @@ TEST(parse_good_layouts)
     CHECK(l.kind == FOV_LAYOUT_AUTO && same_layout(&l, &a));
     l = parse_ok(" off\n", NULL);
     CHECK(l.kind == FOV_LAYOUT_OFF && l.count == 1);
+    /* aggressive: auto's construction with twice the slope (so its borders come nearer the gaze),
+     * the same ring scales, and +0.5 bias exactly on the reduced rings. */
+    l = parse_ok("aggressive", &d);
+    fov_layout steep = fov_layout_auto(&d, 2.0f * FOV_ACUITY_SLOPE_DEFAULT, FOV_ACUITY_OMEGA0_DEFAULT);
+    CHECK(l.kind == FOV_LAYOUT_AGGRESSIVE && l.count == steep.count && l.count > 1);
+    for (int i = 0; i < l.count; i++) {
+        CHECK(l.rings[i].scale_log2 == steep.rings[i].scale_log2 && l.rings[i].outer_deg == steep.rings[i].outer_deg);
+        CHECK(l.rings[i].mip_bias == (l.rings[i].scale_log2 > 0 ? 0.5f : 0.0f));
+        if (i < l.count - 1 && i < a.count - 1)
+            CHECK(l.rings[i].outer_deg < a.rings[i].outer_deg);
+    }
+    CHECK(strcmp(fov_layout_kind_name(l.kind), "aggressive") == 0);
+    char agg_err[256];
+    CHECK(fov_layout_parse("aggressive", NULL, &l, agg_err, sizeof agg_err) == FS_ERR_USAGE &&
+          strstr(agg_err, "needs the display"));
 
     /* Format -> parse round trip, including auto radii with many digits. */
     const char *texts[] = {"10:1:0,25:1/2:0,*:1/4:0.5", "0.001:1:-0.25,*:1/16:0", "auto", "off"};
@@ -437,6 +452,7 @@ TEST(parse_bad_layouts)
         "10:1:0;*:1:0",                                           /* wrong separator */
         "Auto",                                                   /* keywords are lower case */
         "auto x",                                                 /* trailing garbage after keyword */
+        "aggresive",                                              /* misspelt name */
     };
     int n = (int)(sizeof bad / sizeof bad[0]);
     for (int k = 0; k < n; k++) {
@@ -451,6 +467,9 @@ TEST(parse_bad_layouts)
         CHECK(err[0] != '\0' && strchr(err, '\n') == NULL); /* one line, some text */
         printf("  bad layout %-58s -> %s\n", bad[k], err);
     }
+    char err[256];
+    CHECK(fov_layout_parse("aggresive", &d, NULL, err, sizeof err) == FS_ERR_USAGE &&
+          strstr(err, "'aggresive' is not a ring layout (expected auto, aggressive, off"));
     /* "auto" needs the display. */
     fov_layout l;
     CHECK(fov_layout_parse("auto", NULL, &l, NULL, 0) == FS_ERR_USAGE);
