@@ -9,6 +9,7 @@
 #include "common/shared_defs.h"
 #include "core/status.h"
 #include "gaze/gaze.h"
+#include "gaze/gaze_tracker.h"
 #include "output/exr_write.h"
 #include "passes/plan.h"
 #include "reference/reference.h"
@@ -63,6 +64,8 @@ typedef struct run_desc {
     const char *gaze_path;   /* --gaze FILE; NULL = fixation at the display centre */
     gaze_format gaze_format; /* --gaze-format, default detected from the content */
     gaze_eye eye;            /* --eye left|right|average, default auto */
+    gaze_tracker_opts tracker; /* --gaze-latency, --gaze-rate, --gaze-noise, --gaze-seed, --gaze-loss
+                                  (each given or not: the scene file's "gaze" object fills the rest) */
     bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
     bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
     float hash_scale;        /* --hash-scale, 0 = default 1 */

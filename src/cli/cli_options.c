@@ -182,6 +182,8 @@ static const cli_choice k_nan[] = {{"tap", TAA_NAN_TAP}, {"set", TAA_NAN_SET}, {
 static const cli_choice k_composite[] = {{"tiled", 0}, {"per-pixel", 1}, {NULL, 0}};
 static const cli_choice k_eye[] = {{"left", GAZE_EYE_LEFT}, {"right", GAZE_EYE_RIGHT}, {"average", GAZE_EYE_AVERAGE},
                                    {NULL, 0}};
+static const cli_choice k_gaze_loss[] = {{"hold", GAZE_LOSS_HOLD}, {"centre", GAZE_LOSS_CENTRE},
+                                         {"full", GAZE_LOSS_FULL}, {NULL, 0}};
 static const cli_choice k_compression[] = {{"zip", EXR_COMPRESS_ZIP}, {"none", EXR_COMPRESS_NONE},
                                            {"piz", EXR_COMPRESS_PIZ}, {NULL, 0}};
 static const cli_choice k_reference[] = {{"exact", REFERENCE_EXACT}, {"stochastic", REFERENCE_STOCHASTIC}, {NULL, 0}};
@@ -305,6 +307,25 @@ const cli_option k_cli_options[] = {
     {"--eye", ARG_CHOICE, CMDS_DRAWING, "E",
      "binocular traces: left, right or average (default: average of valid eyes)", FIELD(eye), .choices = k_eye,
      .flags = OPT_RECORDED},
+    {"--gaze-latency", ARG_FLOAT, CMDS_DRAWING, "MS",
+     "eye tracker: frame t is rendered around the gaze the system had at\nt - MS (0 to 10000; default 0); metrics "
+     "use the true gaze at t\n(docs/latency.md)", FIELD(tracker.desc.latency_ms), .lo = 0,
+     .hi = GAZE_TRACKER_MAX_LATENCY_MS, GIVEN(tracker.latency_set), .flags = OPT_LO_CLOSED | OPT_RECORDED},
+    {"--gaze-rate", ARG_FLOAT, CMDS_DRAWING, "HZ",
+     "eye tracker: samples at HZ from the trace start, held between them\n(default 0: the trace's own samples, "
+     "interpolated)", FIELD(tracker.desc.rate_hz), .lo = 0, .hi = GAZE_TRACKER_MAX_RATE_HZ,
+     GIVEN(tracker.rate_set), .flags = OPT_LO_CLOSED | OPT_RECORDED},
+    {"--gaze-noise", ARG_FLOAT, CMDS_DRAWING, "DEG",
+     "eye tracker: Gaussian noise per axis and tracker sample, standard\ndeviation DEG degrees of visual angle "
+     "(0 to 30; default 0)", FIELD(tracker.desc.noise_deg), .lo = 0, .hi = GAZE_TRACKER_MAX_NOISE_DEG,
+     GIVEN(tracker.noise_set), .flags = OPT_LO_CLOSED | OPT_RECORDED},
+    {"--gaze-seed", ARG_INT, CMDS_DRAWING, "N",
+     "seed of --gaze-noise (default 0): the same seed gives the same noise\nat any frame rate",
+     FIELD(tracker.desc.seed), .lo = 0, .hi = 2147483647, GIVEN(tracker.seed_set), .flags = OPT_RECORDED},
+    {"--gaze-loss", ARG_CHOICE, CMDS_DRAWING, "hold|centre|full",
+     "eye tracker: lost samples and blinks hold the last good sample\n(default), go to the display centre, or "
+     "draw the frame at full\nresolution until the track returns", FIELD(tracker.desc.loss), .choices = k_gaze_loss,
+     GIVEN(tracker.loss_set), .flags = OPT_RECORDED},
     /* output */
     {"--overlay", ARG_FLAG, CMDS_DRAWING, NULL, "draw ring borders and the gaze marker into the frames (compare:\ninto the measured images; the grid's "
      "annotation is the clean way)",

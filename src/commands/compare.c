@@ -568,7 +568,8 @@ static fs_status compare_frame(cmp_run *c, int i)
     c->ref_err[i] = f.ri.error;
     c->ref_cached += f.measured && f.ri.cached;
     f.dd = (display_desc){c->s.pl.width, c->s.pl.height, f.fr.hfov_deg};
-    st = ring_mask_build(&f.dd, &c->ml, f.fr.gaze_px[0], f.fr.gaze_px[1], &f.mask);
+    /* Per-ring figures around where the viewer looks (the true gaze), not where the rings were drawn. */
+    st = ring_mask_build(&f.dd, &c->ml, f.fr.true_gaze_px[0], f.fr.true_gaze_px[1], &f.mask);
     f.vr = measure_view(&c->ref);
     f.vpr = measure_view(&c->prev_ref);
     /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */

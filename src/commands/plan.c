@@ -17,6 +17,12 @@ fs_status cmd_plan(const run_desc *d)
     st = session_build_plan(d, &sc, &pl);
     if (st == FS_OK)
         plan_print(&pl, &sc, stdout);
+    gaze_tracker_desc td = gaze_tracker_merge(&d->tracker, &sc.tracker);
+    if (st == FS_OK && !gaze_tracker_is_ideal(&td)) { /* absent without one: plans print as before */
+        char tr[160];
+        gaze_tracker_format(&td, tr, sizeof tr);
+        printf("tracker    %s: the rings follow the delivered gaze, metrics the true gaze\n", tr);
+    }
     scene_free(&sc);
     return st;
 }

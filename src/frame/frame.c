@@ -40,18 +40,40 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
     return fr;
 }
 
-void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy)
+/* Normalised gaze -> its clamped normalised, pixel and angle forms. */
+static void gaze_forms(const display_desc *d, float gx, float gy, float n[2], float px[2], float deg[2])
 {
     gx = isfinite(gx) ? fminf(fmaxf(gx, 0.0f), 1.0f) : 0.5f;
     gy = isfinite(gy) ? fminf(fmaxf(gy, 0.0f), 1.0f) : 0.5f;
-    fr->gaze[0] = gx;
-    fr->gaze[1] = gy;
-    fr->gaze_px[0] = gx * (float)d->width;
-    fr->gaze_px[1] = gy * (float)d->height;
-    fov_gaze_clamp(d, &fr->gaze_px[0], &fr->gaze_px[1]); /* the exact gaze the footprints use */
+    n[0] = gx;
+    n[1] = gy;
+    px[0] = gx * (float)d->width;
+    px[1] = gy * (float)d->height;
+    fov_gaze_clamp(d, &px[0], &px[1]); /* the exact gaze the footprints use */
     float f = fov_focal_px(d);
-    fr->gaze_deg[0] = atanf((fr->gaze_px[0] - 0.5f * (float)d->width) / f) * (float)(180.0 / FS_PI);
-    fr->gaze_deg[1] = atanf((0.5f * (float)d->height - fr->gaze_px[1]) / f) * (float)(180.0 / FS_PI);
+    deg[0] = atanf((px[0] - 0.5f * (float)d->width) / f) * (float)(180.0 / FS_PI);
+    deg[1] = atanf((0.5f * (float)d->height - px[1]) / f) * (float)(180.0 / FS_PI);
+}
+
+void frame_record_set_true_gaze(frame_record *fr, const display_desc *d, float gx, float gy)
+{
+    gaze_forms(d, gx, gy, fr->true_gaze, fr->true_gaze_px, fr->true_gaze_deg);
+}
+
+void frame_record_set_full_res(frame_record *fr, const display_desc *d)
+{
+    fr->full_res = true;
+    for (int i = 0; i < fr->ring_count; i++) {
+        fr->ring_rect[i] = (fov_ring_rect){0, 0, d->width, d->height, d->width, d->height, 1};
+        fr->ring_view_proj[i] = m4_mul(fov_ring_crop(d, &fr->ring_rect[i]), fr->view_proj);
+    }
+}
+
+void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy)
+{
+    gaze_forms(d, gx, gy, fr->gaze, fr->gaze_px, fr->gaze_deg);
+    frame_record_set_true_gaze(fr, d, gx, gy);
+    fr->full_res = false;
     fr->ring_count = l->count;
     for (int i = 0; i < l->count; i++) {
         fr->ring_rect[i] = fov_ring_footprint(d, l, i, fr->gaze_px[0], fr->gaze_px[1], FOV_MARGIN_BLOCKS);

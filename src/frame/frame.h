@@ -19,9 +19,17 @@ typedef struct frame_record {
     float hfov_deg;     /* effective horizontal fov */
     float znear, zfar;  /* world units */
     mat4 view, proj, view_proj;
+    /* The gaze the frame is RENDERED around (the eye tracker's, gaze_tracker.h): the rings, their
+     * footprints and the composite follow it. */
     float gaze[2];      /* normalised display coordinates, origin top-left (centre by default) */
     float gaze_px[2];   /* the same in display pixels */
     float gaze_deg[2];  /* the gaze ray's angle from the view axis, degrees (x right, y up) */
+    /* The TRUE gaze (where the viewer looks): what every metric's rings, eccentricities and foveal
+     * figures are measured around. The same as the rendered gaze unless the tracker model
+     * (latency, sampling, noise, loss) moved it; frame_record_set_gaze sets both. */
+    float true_gaze[2], true_gaze_px[2], true_gaze_deg[2];
+    bool full_res;      /* tracking lost with policy full: every ring's footprint is the display at
+                           one pixel per pixel (frame_record_set_full_res) */
     bool cut;           /* camera cut between the previous frame and this one */
     int ring_count;     /* foveation rings (1 = full resolution) */
     fov_ring_rect ring_rect[MAX_FOV_RINGS];  /* footprint of each ring for this frame's gaze */
@@ -37,6 +45,12 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
 /* Sets the gaze (normalised, origin top-left; clamped to the display) and computes each ring's
  * footprint and cropped view-projection for layout `l` on display `d` (the frame's size). */
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy);
+/* Sets the true gaze only (after frame_record_set_gaze, which set it to the rendered one). */
+void frame_record_set_true_gaze(frame_record *fr, const display_desc *d, float gx, float gy);
+/* Draws the frame at full resolution without changing the layout's ring count (the renderer keeps
+ * its targets): every ring's footprint becomes the whole display at block 1, so every ring the
+ * composite picks holds full-resolution pixels. Each ring keeps its mip bias and ring LOD. */
+void frame_record_set_full_res(frame_record *fr, const display_desc *d);
 /* Moves the image by (dx, dy) display pixels (x right, y down) on display `d`: every pixel then
  * samples the scene at (its centre - (dx, dy)). Projection, view-projection and each ring's
  * view-projection move together. The reference uses it to place its sub-pixel samples. */

@@ -283,6 +283,23 @@ gaze_point gaze_at(const gaze_trace *t, double time, bool *beyond_end)
     return g;
 }
 
+int gaze_sample_index(const gaze_trace *t, double time)
+{
+    if (!t || !t->samples || t->count <= 0)
+        return -1;
+    int lo = 0, hi = t->count; /* s[lo].t <= time < s[hi].t, s[count].t = infinity */
+    if (!(time >= t->samples[0].t))
+        return 0;
+    while (hi - lo > 1) {
+        int mid = lo + (hi - lo) / 2;
+        if (t->samples[mid].t <= time)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
 const char *gaze_builtin_list(void)
 {
     static char list[512];

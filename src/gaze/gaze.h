@@ -100,6 +100,8 @@ typedef struct gaze_point {
     bool held;        /* the value was held (invalid run or past the end), not interpolated */
 } gaze_point;
 gaze_point gaze_at(const gaze_trace *t, double time, bool *beyond_end);
+/* Index of the last sample at or before `time` (0 before the first; -1 for an empty trace). */
+int gaze_sample_index(const gaze_trace *t, double time);
 
 #ifdef __cplusplus
 }

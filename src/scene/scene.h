@@ -26,6 +26,7 @@
 #include "core/fmath.h"
 #include "core/status.h"
 #include "fov/fov_ring.h"
+#include "gaze/gaze_tracker.h"
 #include "common/shared_defs.h" /* FS_ALPHA_MODES, the table of alpha modes */
 
 #ifdef __cplusplus
@@ -216,6 +217,8 @@ typedef struct scene {
                                 FOV_LAYOUT_AUTO is resolved against the run's display later */
     char ring_lod[128];    /* ring LOD from the scene file ("off", "simplify", "simplify:1,1,1/4"),
                               empty = not given (the CLI's --ring-lod, else off) */
+    gaze_tracker_opts tracker; /* the eye tracker from the scene file's "gaze" object (latency, rate,
+                                  noise, seed, loss); the CLI's --gaze-* win option by option */
     float duration;        /* seconds: the last camera key's time (0 for a still camera) */
 } scene;
 

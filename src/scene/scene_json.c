@@ -214,10 +214,44 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
     return FS_OK;
 }
 
+/* "gaze": the eye tracker between the true gaze and the renderer (gaze_tracker.h), the keys of the
+ * CLI's --gaze-latency, --gaze-rate, --gaze-noise, --gaze-seed and --gaze-loss. */
+static fs_status parse_gaze_tracker(const jctx *c, const cJSON *j)
+{
+    static const char *const keys[] = {"latency", "rate", "noise", "seed", "loss", "comment", NULL};
+    gaze_tracker_opts *o = &c->sc->tracker;
+    fs_status s = jkeys(c, j, "gaze", keys);
+    const cJSON *it;
+    const char *str;
+    double seed = 0;
+    if (s == FS_OK && (o->latency_set = cJSON_HasObjectItem(j, "latency")))
+        s = jopt_float(c, j, "gaze", "latency", (nrange){0, GAZE_TRACKER_MAX_LATENCY_MS, false, false, false, false},
+                       &o->desc.latency_ms);
+    if (s == FS_OK && (o->rate_set = cJSON_HasObjectItem(j, "rate")))
+        s = jopt_float(c, j, "gaze", "rate", (nrange){0, GAZE_TRACKER_MAX_RATE_HZ, false, false, false, false},
+                       &o->desc.rate_hz);
+    if (s == FS_OK && (o->noise_set = cJSON_HasObjectItem(j, "noise")))
+        s = jopt_float(c, j, "gaze", "noise", (nrange){0, GAZE_TRACKER_MAX_NOISE_DEG, false, false, false, false},
+                       &o->desc.noise_deg);
+    if (s == FS_OK && (o->seed_set = cJSON_HasObjectItem(j, "seed"))) {
+        s = jopt_num(c, j, "gaze", "seed", (nrange){0, 2147483647.0, false, false, true, false}, &seed);
+        o->desc.seed = (uint32_t)seed;
+    }
+    if (s == FS_OK && (it = cJSON_GetObjectItemCaseSensitive(j, "loss"))) {
+        if ((s = jstring(c, it, "gaze.loss", &str)) != FS_OK)
+            return s;
+        o->loss_set = true;
+        o->desc.loss = gaze_loss_parse(str);
+        if (o->desc.loss == GAZE_LOSS_COUNT)
+            return jfail(c, "gaze.loss", "expected \"hold\", \"centre\" or \"full\", got \"%s\"", str);
+    }
+    return s;
+}
+
 static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
 {
     static const char *const keys[] = {"display", "alpha_mode", "light", "assets", "instances",
-                                       "camera", "materials", "rings", "ring_lod", "taa", "comment", NULL};
+                                       "camera", "materials", "rings", "ring_lod", "taa", "gaze", "comment", NULL};
     char got[64];
     scene *sc = c->sc;
     const char *str;
@@ -257,6 +291,13 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
             sc->taa.sparse = f > 0 ? f : -1.0f;
         }
         if ((s = jopt_int(c, j, "taa", "jitter_length", 1, 1024, &sc->taa.jitter_length)) != FS_OK)
+            return s;
+    }
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "gaze"))) {
+        if (!cJSON_IsObject(j))
+            return jfail(c, "gaze", "expected an object {\"latency\", \"rate\", \"noise\", \"seed\", \"loss\"}, got %s",
+                         jgot(j, got, sizeof got));
+        if ((s = parse_gaze_tracker(c, j)) != FS_OK)
             return s;
     }
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "rings"))) {

@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 520, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 552, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 
@@ -170,6 +170,11 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "fvvdp export: %d\n", d->compare.export_fvvdp);
     if (d->compare.no_grid_annotate) /* absent when on: folders written before the option stay valid */
         sb_printf(&t, "grid annotation: off\n");
+    if (!gaze_tracker_is_ideal(&s->tracker)) { /* absent without one: folders written before stay valid */
+        char tr[160];
+        gaze_tracker_format(&s->tracker, tr, sizeof tr);
+        sb_printf(&t, "gaze tracker: %s\n", tr);
+    }
     if (d->compare.first_frame)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);
     /* Not recorded (no OPT_RECORDED in cli_options.c), because they change nothing a run writes:

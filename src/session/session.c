@@ -146,6 +146,7 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
     if (st != FS_OK)
         return st;
     st = session_build_plan(d, &s->sc, &s->pl);
+    s->tracker = gaze_tracker_merge(&d->tracker, &s->sc.tracker);
     if (st == FS_OK && d->gaze_path)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &s->gaze);
     if (st == FS_OK)
@@ -156,6 +157,11 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
         if (s->gaze.count > 0)
             log_info("GAZE: [%s] %s, %d samples (%d valid) over %.2f s", s->gaze.path,
                      gaze_format_name(s->gaze.format), s->gaze.count, s->gaze.valid_count, s->gaze.duration);
+        if (!gaze_tracker_is_ideal(&s->tracker)) {
+            char tr[160];
+            gaze_tracker_format(&s->tracker, tr, sizeof tr);
+            log_info("GAZE: eye tracker %s; rings follow it, metrics the true gaze", tr);
+        }
         if (with_renderer)
             s->r = renderer_create(&(renderer_desc){.scene = &s->sc, .plan = &s->pl}, &st);
     }
@@ -164,27 +170,43 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
     return st;
 }
 
+/* The true gaze at `time`: the trace's, else the display centre. */
+static gaze_point true_gaze(session *s, float time)
+{
+    if (s->gaze.count == 0)
+        return (gaze_point){0.5f, 0.5f, false};
+    bool beyond = false;
+    gaze_point g = gaze_at(&s->gaze, time, &beyond);
+    if (beyond && !s->gaze_ended) {
+        log_warn("%s: the gaze trace ends at %.2f s; frames after it hold its last gaze", s->gaze.path,
+                 s->gaze.duration);
+        s->gaze_ended = true;
+    }
+    return g;
+}
+
+void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, const display_desc *d, float time)
+{
+    gaze_point g = true_gaze(s, time);
+    if (gaze_tracker_is_ideal(&s->tracker)) { /* the rings around the true gaze, as without a tracker */
+        frame_record_set_gaze(fr, l, d, g.x, g.y);
+        return;
+    }
+    gaze_delivery sys = gaze_tracker_at(&s->gaze, &s->tracker, d, time, NULL);
+    frame_record_set_gaze(fr, l, d, sys.x, sys.y);
+    frame_record_set_true_gaze(fr, d, g.x, g.y);
+    if (sys.full)
+        frame_record_set_full_res(fr, d);
+}
+
 /* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
 frame_record session_frame(session *s, int index, float time, float prev_time)
 {
     frame_record fr = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
-    float gx = 0.5f, gy = 0.5f;
-    if (s->gaze.count > 0) {
-        bool beyond = false;
-        gaze_point g = gaze_at(&s->gaze, time, &beyond);
-        gx = g.x;
-        gy = g.y;
-        if (beyond && !s->gaze_ended) {
-            log_warn("%s: the gaze trace ends at %.2f s; frames after it hold its last gaze", s->gaze.path,
-                     s->gaze.duration);
-            s->gaze_ended = true;
-        }
-    }
     display_desc dd = {s->pl.width, s->pl.height, fr.hfov_deg};
-    frame_record_set_gaze(&fr, &s->pl.layout, &dd, gx, gy);
+    session_set_frame_gaze(s, &fr, &s->pl.layout, &dd, time);
     return fr;
 }
-
 
 void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_trace *gz, const frame_record *fr)
 {
@@ -195,6 +217,12 @@ void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_t
     exr_image_set_float(img, "fovsim:time", fr->time);
     exr_image_set_v2f(img, "fovsim:gaze", fr->gaze[0], fr->gaze[1]);
     exr_image_set_v2f(img, "fovsim:gaze_deg", fr->gaze_deg[0], fr->gaze_deg[1]);
+    if (fr->true_gaze[0] != fr->gaze[0] || fr->true_gaze[1] != fr->gaze[1] || fr->full_res) {
+        /* only when the tracker moved the rings: frames without it stay as they were */
+        exr_image_set_v2f(img, "fovsim:true_gaze", fr->true_gaze[0], fr->true_gaze[1]);
+        exr_image_set_v2f(img, "fovsim:true_gaze_deg", fr->true_gaze_deg[0], fr->true_gaze_deg[1]);
+        exr_image_set_int(img, "fovsim:full_res", fr->full_res);
+    }
     exr_image_set_string(img, "fovsim:alpha_mode", alpha_mode_name(pl->global_mode));
     if (pl->ring_lod) { /* only when it changes pixels: frames without it stay as they were */
         char lod[160];

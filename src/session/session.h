@@ -22,6 +22,8 @@ typedef struct session {
     renderer *r;
     gaze_trace gaze;    /* count == 0: no trace, fixation at the centre */
     bool gaze_ended;    /* the "trace ends before the sequence" note was printed */
+    gaze_tracker_desc tracker; /* the eye tracker between the true gaze and the renderer: the CLI's
+                                  --gaze-* over the scene file's "gaze" (all 0: the true gaze) */
 } session;
 
 /* Ctrl-C sets a flag the frame loops check, so they stop between complete frames. */
@@ -41,8 +43,12 @@ fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl);
  * reject bad input, before anything is written. */
 fs_status session_begin(const run_desc *d, session *s, bool with_renderer);
 void session_end(session *s);
-/* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
+/* Frame `index` with its gaze (from the trace, or the centre) and ring footprints: the rings
+ * around the gaze the eye tracker delivers (s->tracker), the true gaze beside it (frame.h). */
 frame_record session_frame(session *s, int index, float time, float prev_time);
+/* The same gaze for a frame record of another layout or size (bench's configurations): sets the
+ * rendered and the true gaze of `fr` for layout `l` on display `d` at `time`. */
+void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, const display_desc *d, float time);
 /* The header attributes of a rendered frame (version, renderer, scene, gaze, mode, rings, TAA). */
 void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_trace *gz, const frame_record *fr);
 void session_frame_attrs(exr_image *img, const session *s, const frame_record *fr);
