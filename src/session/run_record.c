@@ -170,9 +170,10 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         sb_printf(&t, "fvvdp export: %d\n", d->compare.export_fvvdp);
     if (d->compare.no_grid_annotate) /* absent when on: folders written before the option stay valid */
         sb_printf(&t, "grid annotation: off\n");
-    if (!gaze_tracker_is_ideal(&s->tracker)) { /* absent without one: folders written before stay valid */
+    gaze_tracker_desc td = gaze_tracker_merge(&d->tracker, &s->sc.tracker);
+    if (!gaze_tracker_is_ideal(&td) || td.seed != 0) { /* absent without one: folders written before stay valid */
         char tr[160];
-        gaze_tracker_format(&s->tracker, tr, sizeof tr);
+        gaze_tracker_format(&td, tr, sizeof tr);
         sb_printf(&t, "gaze tracker: %s\n", tr);
     }
     if (d->compare.first_frame)

@@ -53,6 +53,13 @@ TEST(options)
     CHECK(parse(&d, "fovsim plan scenes/x.json") == FS_OK && strcmp(d.scene_path, "scenes/x.json") == 0 && !d.builtin);
     CHECK(parse(&d, "fovsim plan plant.glb --alpha traditional") == FS_OK && strcmp(d.scene_path, "plant.glb") == 0);
     CHECK(parse(&d, "fovsim render fence --frames 2") == FS_OK && strcmp(d.builtin, "fence") == 0 && !d.scene_path);
+    /* the eye tracker: each option says it was given (0 included), so it wins over the scene's */
+    CHECK(parse(&d, "fovsim compare --gaze-latency 0 --gaze-rate 90 --gaze-noise 0.5 --gaze-seed 9 --gaze-loss full") ==
+          FS_OK);
+    CHECK(d.tracker.latency_set && d.tracker.desc.latency_ms == 0.0f && d.tracker.rate_set &&
+          d.tracker.desc.rate_hz == 90.0f && d.tracker.desc.noise_deg == 0.5f && d.tracker.desc.seed == 9 &&
+          d.tracker.desc.loss == GAZE_LOSS_FULL && d.tracker.loss_set);
+    CHECK(parse(&d, "fovsim render") == FS_OK && !d.tracker.latency_set && gaze_tracker_is_ideal(&d.tracker.desc));
 }
 
 TEST(bad_arguments)
@@ -87,6 +94,12 @@ TEST(bad_arguments)
         "fovsim render --wait-lock 0",          /* at least a second (without it: no wait) */
         "fovsim render --wait-lock 86401",      /* at most a day: never unbounded */
         "fovsim plan --wait-lock 5",            /* only for commands that write a run folder */
+        "fovsim render --gaze-latency -1",
+        "fovsim render --gaze-latency 10001",
+        "fovsim render --gaze-rate -90",
+        "fovsim render --gaze-noise 31",
+        "fovsim render --gaze-seed -1",
+        "fovsim render --gaze-loss blink",
     };
     log_set_quiet_errors(true);
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {

@@ -318,7 +318,8 @@ TEST(json_scene_with_generator_and_gltf)
              "    {\"time\": 1.5, \"position\": [0, 1.6, 9], \"target\": [0, 1, 0]},\n"
              "    {\"time\": 2.5, \"position\": [5, 1.6, 9], \"target\": [5, 1, 0], \"cut\": true}\n"
              "  ],\n"
-             "  \"materials\": {\"Leaves\": {\"alpha_mode\": \"hashed\", \"alpha_cutoff\": 0.3, \"alpha_lod_max\": 4.5}}\n"
+             "  \"materials\": {\"Leaves\": {\"alpha_mode\": \"hashed\", \"alpha_cutoff\": 0.3, \"alpha_lod_max\": 4.5}},\n"
+             "  \"gaze\": {\"latency\": 50, \"rate\": 120, \"loss\": \"centre\", \"comment\": \"a headset\"}\n"
              "}\n",
              abs_fern, rel);
     const char *path = write_scene("good.json", text);
@@ -328,6 +329,10 @@ TEST(json_scene_with_generator_and_gltf)
     if (s != FS_OK)
         return;
     CHECK(scene_validate(&sc) == FS_OK);
+    /* the eye tracker: given keys marked, the others not (the CLI's or 0) */
+    CHECK(sc.tracker.latency_set && sc.tracker.desc.latency_ms == 50.0f && sc.tracker.rate_set &&
+          sc.tracker.desc.rate_hz == 120.0f && sc.tracker.loss_set && sc.tracker.desc.loss == GAZE_LOSS_CENTRE);
+    CHECK(!sc.tracker.noise_set && !sc.tracker.seed_set && sc.tracker.desc.noise_deg == 0.0f);
     CHECK(strcmp(sc.path, path) == 0);
     CHECK(sc.display.width == 640 && sc.display.height == 480);
     CHECK_NEAR(sc.display.hfov_deg, 70, 1e-6);
@@ -517,6 +522,11 @@ static const struct bad_case {
     {"light direction zero", "{" A "," I ", \"light\": {\"direction\": [0,0,0]}}", FS_ERR_SCENE},
     {"light colour negative", "{" A "," I ", \"light\": {\"color\": [1,-1,1]}}", FS_ERR_SCENE},
     {"glTF file missing", "{\"assets\": [{\"name\": \"f\", \"gltf\": \"no_such_file.gltf\"}]," I "}", FS_ERR_IO},
+    {"gaze tracker unknown key", "{" A "," I ", \"gaze\": {\"lag\": 20}}", FS_ERR_SCENE},
+    {"gaze tracker negative latency", "{" A "," I ", \"gaze\": {\"latency\": -5}}", FS_ERR_SCENE},
+    {"gaze tracker unknown loss", "{" A "," I ", \"gaze\": {\"loss\": \"blink\"}}", FS_ERR_SCENE},
+    {"gaze tracker fractional seed", "{" A "," I ", \"gaze\": {\"seed\": 1.5}}", FS_ERR_SCENE},
+    {"gaze tracker not an object", "{" A "," I ", \"gaze\": 20}", FS_ERR_SCENE},
     {"params on a glTF asset", "{\"assets\": [{\"name\": \"f\", \"gltf\": \"x.gltf\", \"params\": {}}]," I "}", FS_ERR_SCENE},
 };
 
