@@ -65,14 +65,8 @@ static void bench_free(bench_config *c)
 static void bench_frame(session *s, bench_config *c, int k, float t, int n)
 {
     frame_record fr = frame_record_at(&s->sc, k < 0 ? 0 : k, t, -1.0f, c->pl.width, c->pl.height);
-    float gx = 0.5f, gy = 0.5f;
-    if (s->gaze.count > 0) {
-        gaze_point g = gaze_at(&s->gaze, t, NULL);
-        gx = g.x;
-        gy = g.y;
-    }
     display_desc dd = {c->pl.width, c->pl.height, fr.hfov_deg};
-    frame_record_set_gaze(&fr, &c->pl.layout, &dd, gx, gy);
+    session_set_frame_gaze(s, &fr, &c->pl.layout, &dd, t); /* the eye tracker's gaze, as every command */
     renderer_set_pass_sync(c->r, false);
     proc_stats p0 = proc_stats_now();
     double t0 = time_now();

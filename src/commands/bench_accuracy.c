@@ -387,7 +387,7 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
     mode_run *mr = &cf->run;
     int i = f->i, warm = a->warm;
     frame_record fr = f->base;
-    frame_record_set_gaze(&fr, &mr->pl.layout, &f->disp, f->base.gaze[0], f->base.gaze[1]);
+    frame_record_set_layout(&fr, &mr->pl.layout, &f->disp);
     renderer_finish(mr->r);
     proc_stats p0 = proc_stats_now();
     double t0 = time_now();
@@ -449,7 +449,7 @@ static fs_status acc_run_frame(acc_run *a, int i)
     if (f.measured) {
         st = reference_frame(a->rf, &f.base, &a->ref, &f.ri);
         if (st == FS_OK)
-            st = ring_mask_build(&f.disp, &a->ml, f.base.gaze_px[0], f.base.gaze_px[1], &f.mask);
+            st = ring_mask_build(&f.disp, &a->ml, f.base.true_gaze_px[0], f.base.true_gaze_px[1], &f.mask);
     }
     f.vr = measure_view(&a->ref);
     f.vpr = measure_view(&a->prev_ref);

@@ -230,6 +230,11 @@ static fs_status report_json(const report_desc *r, const double *med, const char
             s->pl.width, s->pl.height, r->frames);
     fprintf(f, "  \"rings\": \"%s\",\n  \"measurement_rings\": \"%s\",\n  \"taa\": %s,\n  \"gaze\": \"%s\",\n", rings,
             mrings, s->pl.taa ? "true" : "false", s->gaze.count ? s->gaze.path : "centre");
+    if (!gaze_tracker_is_ideal(&s->tracker)) { /* absent without one: summaries read as before */
+        char tr[160];
+        gaze_tracker_format(&s->tracker, tr, sizeof tr);
+        fprintf(f, "  \"gaze_tracker\": \"%s\",\n", tr);
+    }
     fprintf(f, "  \"renderer\": \"%s\",\n  \"reference\": {\"kind\": \"%s\", \"supersample\": %d, \"samples\": %d, "
             "\"error_median\": %.6f, \"error_max\": %.6f, \"frames_from_cache\": %d},\n  \"modes\": [\n",
             gl_device_renderer(), reference_kind_name(reference_get_kind(r->ref)), reference_supersample(r->ref),
@@ -497,7 +502,7 @@ static fs_status compare_write_frame(cmp_run *c, cmp_frame *f, fs_status st)
     }
     exr_image frame;
     if (st == FS_OK)
-        st = build_frame(c->runs, c->nm, &c->ref, &f->mask, f->fr.gaze_px, !c->d->compare.no_grid_annotate, &frame);
+        st = build_frame(c->runs, c->nm, &c->ref, &f->mask, f->fr.true_gaze_px, !c->d->compare.no_grid_annotate, &frame);
     ring_mask_free(&f->mask);
     if (st != FS_OK)
         return st;

@@ -69,6 +69,16 @@ void frame_record_set_full_res(frame_record *fr, const display_desc *d)
     }
 }
 
+void frame_record_set_layout(frame_record *fr, const fov_layout *l, const display_desc *d)
+{
+    float truth[2] = {fr->true_gaze[0], fr->true_gaze[1]};
+    bool full = fr->full_res;
+    frame_record_set_gaze(fr, l, d, fr->gaze[0], fr->gaze[1]);
+    frame_record_set_true_gaze(fr, d, truth[0], truth[1]);
+    if (full)
+        frame_record_set_full_res(fr, d);
+}
+
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy)
 {
     gaze_forms(d, gx, gy, fr->gaze, fr->gaze_px, fr->gaze_deg);

@@ -45,6 +45,9 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
 /* Sets the gaze (normalised, origin top-left; clamped to the display) and computes each ring's
  * footprint and cropped view-projection for layout `l` on display `d` (the frame's size). */
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy);
+/* The same frame for layout `l` (another configuration's rings): the rendered gaze's rings redone,
+ * the true gaze and full_res kept. */
+void frame_record_set_layout(frame_record *fr, const fov_layout *l, const display_desc *d);
 /* Sets the true gaze only (after frame_record_set_gaze, which set it to the rendered one). */
 void frame_record_set_true_gaze(frame_record *fr, const display_desc *d, float gx, float gy);
 /* Draws the frame at full resolution without changing the layout's ring count (the renderer keeps

@@ -73,9 +73,10 @@ fs_status fvvdp_export_frame(fvvdp_export *e, int index, const frame_record *fr,
     }
     /* FovVideoVDP's pixel coordinates put pixel centres at integers: (0, 0) is the centre of the
      * top-left pixel. */
-    fprintf(e->fix, "%d,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g\n", index, (double)fr->gaze[0], (double)fr->gaze[1],
-            (double)fr->gaze[0] * e->width - 0.5, (double)fr->gaze[1] * e->height - 0.5, (double)fr->gaze_deg[0],
-            (double)fr->gaze_deg[1]);
+    /* where the viewer looks: the true gaze (frame.h), not the eye tracker's */
+    fprintf(e->fix, "%d,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g\n", index, (double)fr->true_gaze[0], (double)fr->true_gaze[1],
+            (double)fr->true_gaze[0] * e->width - 0.5, (double)fr->true_gaze[1] * e->height - 0.5,
+            (double)fr->true_gaze_deg[0], (double)fr->true_gaze_deg[1]);
     e->frames = index + 1 > e->frames ? index + 1 : e->frames;
     return ferror(e->fix) ? FS_ERR_IO : FS_OK;
 }

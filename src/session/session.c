@@ -170,14 +170,15 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
     return st;
 }
 
-/* The true gaze at `time`: the trace's, else the display centre. */
-static gaze_point true_gaze(session *s, float time)
+/* The true gaze at `time`: the trace's, else the display centre. `warn`: say once when the trace
+ * has ended. */
+static gaze_point true_gaze(session *s, float time, bool warn)
 {
     if (s->gaze.count == 0)
         return (gaze_point){0.5f, 0.5f, false};
     bool beyond = false;
     gaze_point g = gaze_at(&s->gaze, time, &beyond);
-    if (beyond && !s->gaze_ended) {
+    if (warn && beyond && !s->gaze_ended) {
         log_warn("%s: the gaze trace ends at %.2f s; frames after it hold its last gaze", s->gaze.path,
                  s->gaze.duration);
         s->gaze_ended = true;
@@ -185,9 +186,10 @@ static gaze_point true_gaze(session *s, float time)
     return g;
 }
 
-void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, const display_desc *d, float time)
+static void set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, const display_desc *d, float time,
+                           bool warn)
 {
-    gaze_point g = true_gaze(s, time);
+    gaze_point g = true_gaze(s, time, warn);
     if (gaze_tracker_is_ideal(&s->tracker)) { /* the rings around the true gaze, as without a tracker */
         frame_record_set_gaze(fr, l, d, g.x, g.y);
         return;
@@ -199,12 +201,17 @@ void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, c
         frame_record_set_full_res(fr, d);
 }
 
+void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, const display_desc *d, float time)
+{
+    set_frame_gaze(s, fr, l, d, time, false);
+}
+
 /* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
 frame_record session_frame(session *s, int index, float time, float prev_time)
 {
     frame_record fr = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
     display_desc dd = {s->pl.width, s->pl.height, fr.hfov_deg};
-    session_set_frame_gaze(s, &fr, &s->pl.layout, &dd, time);
+    set_frame_gaze(s, &fr, &s->pl.layout, &dd, time, true);
     return fr;
 }
 

@@ -59,6 +59,7 @@ typedef struct viewer {
     const run_desc *d;
     scene sc;
     gaze_trace gaze;          /* --gaze replay; count 0 = the mouse is the gaze */
+    gaze_tracker_desc tracker; /* --gaze-* (or the scene's): the replayed trace as a tracker delivers it */
     view_script script;
     int script_pos;
     plan_options base;        /* the run's plan options (as render builds them) */
@@ -80,6 +81,7 @@ typedef struct viewer {
     /* gaze of the frame */
     float gx, gy;
     bool gaze_valid;
+    bool full_res;            /* the tracker lost the replayed gaze with --gaze-loss full */
     /* recording and captures */
     gaze_recorder rec;
     long rec_start_tick;
@@ -407,9 +409,11 @@ static void update_title(viewer *v)
 static void update_gaze(viewer *v, bool use_mouse)
 {
     if (v->gaze.count > 0) {
-        gaze_point g = gaze_at(&v->gaze, (float)v->tick / v->fps, NULL);
+        display_desc dd = {v->width, v->height, v->sc.display.hfov_deg};
+        gaze_delivery g = gaze_tracker_at(&v->gaze, &v->tracker, &dd, (float)v->tick / v->fps, NULL);
         v->gx = g.x;
         v->gy = g.y;
+        v->full_res = g.full;
         v->gaze_valid = true;
         return;
     }
@@ -499,6 +503,8 @@ static fs_status frame(viewer *v, bool *running)
     v->reset_history = false;
     display_desc dd = {v->width, v->height, fr.hfov_deg};
     frame_record_set_gaze(&fr, &v->pl[0].layout, &dd, v->gx, v->gy);
+    if (v->full_res)
+        frame_record_set_full_res(&fr, &dd);
     v->prev_cam_time = cam_t;
 
     int sides = v->set.split ? 2 : 1;
@@ -579,6 +585,7 @@ static fs_status setup(viewer *v, const run_desc *d)
     v->set.last_on = v->layouts[LAYOUT_RUN].kind == FOV_LAYOUT_OFF ? LAYOUT_AUTO : LAYOUT_RUN;
     if (st == FS_OK && d->gaze_path)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &v->gaze);
+    v->tracker = gaze_tracker_merge(&d->tracker, &v->sc.tracker);
     if (st == FS_OK && d->view.script)
         st = view_script_load(d->view.script, &v->script);
     if (d->view.record)
