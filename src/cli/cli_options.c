@@ -322,9 +322,9 @@ const cli_option k_cli_options[] = {
     {"--gaze-seed", ARG_INT, CMDS_DRAWING, "N",
      "seed of --gaze-noise (default 0): the same seed gives the same noise\nat any frame rate",
      FIELD(tracker.desc.seed), .lo = 0, .hi = 2147483647, GIVEN(tracker.seed_set), .flags = OPT_RECORDED},
-    {"--gaze-loss", ARG_CHOICE, CMDS_DRAWING, "hold|centre|full",
-     "eye tracker: lost samples and blinks hold the last good sample\n(default), go to the display centre, or "
-     "draw the frame at full\nresolution until the track returns", FIELD(tracker.desc.loss), .choices = k_gaze_loss,
+    {"--gaze-loss", ARG_CHOICE, CMDS_DRAWING, "P",
+     "eye tracker, lost samples and blinks: hold (the last good sample,\ndefault), centre (the display centre) or "
+     "full (the frame drawn at\nfull resolution until the track returns)", FIELD(tracker.desc.loss), .choices = k_gaze_loss,
      GIVEN(tracker.loss_set), .flags = OPT_RECORDED},
     /* output */
     {"--overlay", ARG_FLAG, CMDS_DRAWING, NULL, "draw ring borders and the gaze marker into the frames (compare:\ninto the measured images; the grid's "

@@ -25,7 +25,7 @@
 
 /* One (configuration, mode) of the sweep: the accuracy-vs-time point. */
 typedef struct point {
-    int config; /* scene, trace, layout, TAA: the task without its chunk */
+    int config; /* scene, trace, layout, TAA, tracker: the task without its chunk */
     char mode[32];
     double *ms;
     int n, cap;
@@ -318,7 +318,8 @@ static void short_of(const char *s, char *out, size_t n)
     snprintf(out, n, "%s", b);
 }
 
-static fs_status plot(const char *dir, const points *ps)
+/* `skip`: columns before the mode beyond the four of every sweep (the tracker's). */
+static fs_status plot(const char *dir, const points *ps, int skip)
 {
     if (!gnuplot_available()) {
         printf("(gnuplot is not installed: no accuracy.png; the points are in %s/accuracy.csv)\n", dir);
@@ -339,10 +340,13 @@ static fs_status plot(const char *dir, const points *ps)
         if (seen)
             continue;
         sb_puts(&gp, first ? "" : ", \\\n     ");
-        sb_puts(&gp, "'accuracy.csv' u 6:(strcol(5) eq ");
+        char using[64], value[64];
+        snprintf(using, sizeof using, "'accuracy.csv' u %d:(strcol(%d) eq ", 6 + skip, 5 + skip);
+        snprintf(value, sizeof value, " ? $%d : NaN) w p pt 7 ps 1.3 lc rgb ", 7 + skip);
+        sb_puts(&gp, using);
         gnuplot_str(&gp, ps->v[i].mode);
         char col[8]; /* each mode its own colour in every plot (FS_ALPHA_MODES) */
-        sb_puts(&gp, " ? $7 : NaN) w p pt 7 ps 1.3 lc rgb ");
+        sb_puts(&gp, value);
         gnuplot_str(&gp, alpha_mode_colour(alpha_mode_parse(ps->v[i].mode), col));
         sb_puts(&gp, " t ");
         gnuplot_str(&gp, ps->v[i].mode);
@@ -366,6 +370,18 @@ static fs_status plot(const char *dir, const points *ps)
 static int cmp_double(const void *a, const void *b)
 {
     return stats_cmp_double(a, b);
+}
+
+/* A task's tracker columns ("50,default,0.5,hold,"), or "" for a sweep without tracker axes. */
+static void tracker_columns(const sweep_manifest *m, int e, char *out, size_t n)
+{
+    size_t o = 0;
+    out[0] = '\0';
+    for (int a = 0; m->has_tracker && a < SWEEP_TRACKER_AXES && o < n; a++) {
+        const char *v = sweep_tracker_value(m, e, a);
+        int w = snprintf(out + o, n - o, "%s,", v ? v : "default");
+        o += w > 0 ? (size_t)w : 0;
+    }
 }
 
 fs_status cmd_merge(int argc, char **argv)
@@ -412,8 +428,9 @@ fs_status cmd_merge(int argc, char **argv)
         char sc[128], gz[128], prefix[1024];
         short_of(m.scenes[k->scene], sc, sizeof sc);
         short_of(m.gaze[k->gaze], gz, sizeof gz);
-        snprintf(prefix, sizeof prefix, "%s,%s,%s,%s,%s,", k->name, sc, gz, m.rings[k->rings], m.taa[k->taa]);
-        int config = ((k->scene * m.ngaze + k->gaze) * m.nrings + k->rings) * m.ntaa + k->taa;
+        int pl = snprintf(prefix, sizeof prefix, "%s,%s,%s,%s,%s,", k->name, sc, gz, m.rings[k->rings], m.taa[k->taa]);
+        tracker_columns(&m, k->tracker, prefix + pl, sizeof prefix - (size_t)pl);
+        int config = (((k->scene * m.ngaze + k->gaze) * m.nrings + k->rings) * m.ntaa + k->taa) * m.ntracker + k->tracker;
         st = gather(&m, k, prefix, config, header, sizeof header, &csv, &ps);
         cJSON *r = cJSON_CreateObject();
         cJSON_AddStringToObject(r, "task", k->name);
@@ -421,6 +438,10 @@ fs_status cmd_merge(int argc, char **argv)
         cJSON_AddStringToObject(r, "gaze", m.gaze[k->gaze] ? m.gaze[k->gaze] : "centre");
         cJSON_AddStringToObject(r, "rings", m.rings[k->rings]);
         cJSON_AddStringToObject(r, "taa", m.taa[k->taa]);
+        for (int a = 0; m.has_tracker && a < SWEEP_TRACKER_AXES; a++) {
+            const char *v = sweep_tracker_value(&m, k->tracker, a);
+            cJSON_AddStringToObject(r, sweep_tracker_key(a), v ? v : "default");
+        }
         cJSON_AddNumberToObject(r, "first_frame", k->first);
         if (k->end)
             cJSON_AddNumberToObject(r, "end_frame", k->end);
@@ -436,6 +457,8 @@ fs_status cmd_merge(int argc, char **argv)
         sbuf all = {0};
         const char *cols = "task,scene,gaze,rings,taa,";
         sb_append(&all, cols, strlen(cols));
+        if (m.has_tracker) /* only then: merged sweeps without a tracker read as before */
+            sb_puts(&all, "gaze_latency,gaze_rate,gaze_noise,gaze_loss,");
         sb_append(&all, header, strlen(header));
         sb_append(&all, "\n", 1);
         sb_append(&all, csv.p, csv.len);
@@ -443,20 +466,25 @@ fs_status cmd_merge(int argc, char **argv)
         st = all.oom ? FS_ERR_NOMEM : out_write_atomic(path, all.p);
         free(all.p);
         /* accuracy.csv: one point per configuration and mode */
-        const char *ah = "scene,gaze,rings,taa,mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames,coverage_ratio,"
-                         "ref_coverage_px\n";
+        const char *ah = "mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames,coverage_ratio,ref_coverage_px\n";
+        sb_puts(&acc, "scene,gaze,rings,taa,");
+        if (m.has_tracker)
+            sb_puts(&acc, "gaze_latency,gaze_rate,gaze_noise,gaze_loss,");
         sb_append(&acc, ah, strlen(ah));
         for (int i = 0; i < ps.n && st == FS_OK; i++) {
             point *p = &ps.v[i];
-            int c = p->config, t = c % m.ntaa, r = (c /= m.ntaa) % m.nrings, g = (c /= m.nrings) % m.ngaze,
-                s = c / m.ngaze;
+            int c = p->config, e = c % m.ntracker;
+            c /= m.ntracker;
+            int t = c % m.ntaa, r = (c /= m.ntaa) % m.nrings, g = (c /= m.nrings) % m.ngaze, s = c / m.ngaze;
+            char tc[256];
+            tracker_columns(&m, e, tc, sizeof tc);
             qsort(p->ms, (size_t)p->n, sizeof *p->ms, cmp_double);
             char sc[128], gz[128], line[1024];
             short_of(m.scenes[s], sc, sizeof sc);
             short_of(m.gaze[g], gz, sizeof gz);
             /* The whole display: texels are display pixels (metrics_coverage_ratio_rests, block 1). */
-            int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s,%.4f,%.6f,%.5f,%d,%.5f,%.3f\n", sc, gz, m.rings[r],
-                             m.taa[t], p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows,
+            int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s%s,%.4f,%.6f,%.5f,%d,%.5f,%.3f\n", sc, gz, m.rings[r],
+                             m.taa[t], tc, p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows,
                              p->ratio_rows ? p->ratio / p->ratio_rows : -1.0, p->rows,
                              metrics_coverage_ratio_of_sums(p->cov_px, p->ref_px, 1), p->ref_px);
             sb_append(&acc, line, (size_t)l);
@@ -465,7 +493,7 @@ fs_status cmd_merge(int argc, char **argv)
         if (st == FS_OK)
             st = acc.oom ? FS_ERR_NOMEM : out_write_atomic(path, acc.p);
         if (st == FS_OK)
-            st = plot(dir, &ps);
+            st = plot(dir, &ps, m.has_tracker ? SWEEP_TRACKER_AXES : 0);
     }
     if (st == FS_OK) {
         cJSON_AddStringToObject(sum, "sweep", m.out);

@@ -132,10 +132,29 @@ static fs_status task_desc(const sweep_manifest *m, const sweep_task *k, char **
     return st == FS_OK ? cli_finish(d) : st;
 }
 
-/* The task list: scenes x traces x ring layouts x TAA settings x chunks, in that nesting. */
+/* Tracker combination e in a task's name (".lat-50.loss-full", the axes given only, so names
+ * without a tracker stay as they were), hashed into *h; returns the characters written. */
+static int tracker_name(const sweep_manifest *m, int e, uint64_t *h, char *out, size_t n)
+{
+    int o = 0;
+    for (int a = 0; a < SWEEP_TRACKER_AXES; a++) {
+        const char *v = sweep_tracker_value(m, e, a);
+        if (!v)
+            continue;
+        char sv[24];
+        slug(v, sv, sizeof sv);
+        *h = hash_str(hash_str(*h, sweep_tracker_key(a)), v);
+        int w = snprintf(out + o, n - (size_t)o, ".%s-%s", sweep_tracker_label(a), sv);
+        o += w > 0 && (size_t)(o + w) < n ? w : 0;
+    }
+    return o;
+}
+
+/* The task list: scenes x traces x ring layouts x TAA settings x tracker combinations x chunks, in
+ * that nesting. */
 fs_status sweep_build_tasks(sweep_manifest *m)
 {
-    int per_chunk = m->ngaze * m->nrings * m->ntaa; /* a scene's tasks per chunk */
+    int per_chunk = m->ngaze * m->nrings * m->ntaa * m->ntracker; /* a scene's tasks per chunk */
     int cap = 0;
     m->tasks = NULL;
     m->ntasks = 0;
@@ -170,9 +189,10 @@ fs_status sweep_build_tasks(sweep_manifest *m)
         for (int g = 0; g < m->ngaze; g++)
             for (int r = 0; r < m->nrings; r++)
                 for (int t = 0; t < m->ntaa; t++)
-                    for (int c = 0; c < nchunks; c++) {
+                    for (int ec = 0; ec < m->ntracker * nchunks; ec++) { /* tracker settings x chunks */
+                        int e = ec / nchunks, c = ec % nchunks;
                         sweep_task *k = &m->tasks[m->ntasks++];
-                        *k = (sweep_task){.scene = s, .gaze = g, .rings = r, .taa = t,
+                        *k = (sweep_task){.scene = s, .gaze = g, .rings = r, .taa = t, .tracker = e,
                                           .first = starts ? starts[c] : 0,
                                           .end = starts ? starts[c + 1] : frames};
                         char sn[48], gn[48], rn[48];
@@ -186,6 +206,7 @@ fs_status sweep_build_tasks(sweep_manifest *m)
                         h = hash_str(h, m->taa[t]);
                         h = hash_u64(hash_u64(h, (uint64_t)k->first), (uint64_t)k->end);
                         int o = snprintf(k->name, sizeof k->name, "%s.%s.rings-%s.taa-%s", sn, gn, rn, m->taa[t]);
+                        o += tracker_name(m, e, &h, k->name + o, sizeof k->name - (size_t)o);
                         if (starts)
                             o += snprintf(k->name + o, sizeof k->name - (size_t)o, ".f%05d-%05d", k->first,
                                           k->end - 1);
@@ -324,10 +345,13 @@ static void task_command(const sweep_manifest *m, const char *exe, const char *i
 static fs_status list_tasks(const sweep_manifest *m)
 {
     int state_count[3] = {0};
-    printf("%d task%s (%d scene%s x %d trace%s x %d ring layout%s x %d TAA setting%s%s), modes %s, in %s/tasks/\n",
+    char trackers[48] = "";
+    if (m->has_tracker)
+        snprintf(trackers, sizeof trackers, " x %d tracker setting%s", m->ntracker, m->ntracker == 1 ? "" : "s");
+    printf("%d task%s (%d scene%s x %d trace%s x %d ring layout%s x %d TAA setting%s%s%s), modes %s, in %s/tasks/\n",
            m->ntasks, m->ntasks == 1 ? "" : "s", m->nscenes, m->nscenes == 1 ? "" : "s", m->ngaze,
            m->ngaze == 1 ? "" : "s", m->nrings, m->nrings == 1 ? "" : "s", m->ntaa, m->ntaa == 1 ? "" : "s",
-           m->chunk_frames ? " x frame chunks" : "", m->modes, m->out);
+           trackers, m->chunk_frames ? " x frame chunks" : "", m->modes, m->out);
     for (int i = 0; i < m->ntasks; i++) {
         const sweep_task *k = &m->tasks[i];
         sweep_task_state s = sweep_task_status(m, k);

@@ -17,6 +17,7 @@
 #include "core/hash.h"
 #include "core/log.h"
 #include "output/out_path.h"
+#include "gaze/gaze_tracker.h"
 #include "scene/scene.h"
 
 #define MANIFEST_MAX_BYTES (1 << 20)
@@ -256,6 +257,90 @@ static void parse_modes_rings_taa(mparse *p)
     }
 }
 
+/* >>the eye tracker's axes */
+
+static const struct {
+    const char *key, *option, *label;
+    double hi; /* numbers in [0, hi]; 0: names of a loss policy */
+} k_tracker_axes[SWEEP_TRACKER_AXES] = {
+    {"gaze_latency", "--gaze-latency", "lat", GAZE_TRACKER_MAX_LATENCY_MS},
+    {"gaze_rate", "--gaze-rate", "rate", GAZE_TRACKER_MAX_RATE_HZ},
+    {"gaze_noise", "--gaze-noise", "noise", GAZE_TRACKER_MAX_NOISE_DEG},
+    {"gaze_loss", "--gaze-loss", "loss", 0},
+};
+
+const char *sweep_tracker_key(int a)
+{
+    return k_tracker_axes[a].key;
+}
+
+const char *sweep_tracker_option(int a)
+{
+    return k_tracker_axes[a].option;
+}
+
+const char *sweep_tracker_label(int a)
+{
+    return k_tracker_axes[a].label;
+}
+
+const char *sweep_tracker_value(const sweep_manifest *m, int t, int a)
+{
+    for (int b = SWEEP_TRACKER_AXES - 1; b > a; b--)
+        t /= m->ntracker_axis[b];
+    return m->tracker[a][t % m->ntracker_axis[a]];
+}
+
+/* One value of axis a, as its option takes it; else NULL after one line. */
+static char *tracker_value(mparse *p, int a, const cJSON *v, int i)
+{
+    char buf[32], path[48];
+    snprintf(path, sizeof path, "%s[%d]", k_tracker_axes[a].key, i);
+    if (k_tracker_axes[a].hi == 0) {
+        if (!cJSON_IsString(v) || gaze_loss_parse(v->valuestring) == GAZE_LOSS_COUNT) {
+            p->st = bad(p->m, path, "expected \"hold\", \"centre\" or \"full\"");
+            return NULL;
+        }
+        return dup_or_null(v->valuestring, &p->oom);
+    }
+    if (!cJSON_IsNumber(v) || !(v->valuedouble >= 0 && v->valuedouble <= k_tracker_axes[a].hi)) {
+        p->st = bad(p->m, path, "expected a number in [0, %g]", k_tracker_axes[a].hi);
+        return NULL;
+    }
+    snprintf(buf, sizeof buf, "%.9g", v->valuedouble);
+    return dup_or_null(buf, &p->oom);
+}
+
+/* gaze_latency, gaze_rate, gaze_noise, gaze_loss: a value or a list each (absent: the scene's);
+ * gaze_seed: one integer for every task */
+static void parse_tracker(mparse *p)
+{
+    sweep_manifest *m = p->m;
+    m->ntracker = 1;
+    for (int a = 0; a < SWEEP_TRACKER_AXES && p->st == FS_OK; a++) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(p->root, k_tracker_axes[a].key);
+        int n = 0;
+        if (v && cJSON_IsArray(v) && (cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > SWEEP_MAX_LIST))
+            p->st = bad(m, k_tracker_axes[a].key, "expected a value or a list of 1 to %d values", SWEEP_MAX_LIST);
+        for (const cJSON *e = v && cJSON_IsArray(v) ? v->child : v; e && p->st == FS_OK;
+             e = cJSON_IsArray(v) ? e->next : NULL, n++)
+            m->tracker[a][n] = tracker_value(p, a, e, n);
+        m->has_tracker = m->has_tracker || n > 0;
+        m->ntracker_axis[a] = n > 0 ? n : 1; /* absent: one entry, NULL */
+        m->ntracker *= m->ntracker_axis[a];
+    }
+    int seed = -1;
+    if (p->st == FS_OK)
+        p->st = integer(m, p->root, "gaze_seed", "gaze_seed", 0, 2147483647, &seed);
+    if (seed >= 0) {
+        snprintf(m->gaze_seed, sizeof m->gaze_seed, "%d", seed);
+        m->has_tracker = true;
+    }
+    if (p->st == FS_OK && m->ntracker > SWEEP_MAX_LIST)
+        p->st = bad(m, "gaze_latency", "the tracker axes make %d combinations, more than %d", m->ntracker,
+                    SWEEP_MAX_LIST);
+}
+
 /* display and sequence; the reference */
 static void parse_display_reference(mparse *p)
 {
@@ -427,7 +512,8 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
 {
     static const char *const k_top[] = {"scenes", "gaze", "modes", "rings", "taa", "width", "height", "fps",
                                         "frames", "reference", "cache", "chunk_frames", "warmup", "options",
-                                        "slurm", "out", "chunk_starts", NULL};
+                                        "slurm", "out", "chunk_starts", "gaze_latency", "gaze_rate",
+                                        "gaze_noise", "gaze_loss", "gaze_seed", NULL};
     if (!cJSON_IsObject(root))
         return bad(m, "(top level)", "expected an object");
     mparse p = {.m = m, .root = root, .dir = dir};
@@ -435,6 +521,7 @@ static fs_status parse(sweep_manifest *m, const cJSON *root, const char *dir, co
     parse_scenes(&p);
     parse_gaze(&p);
     parse_modes_rings_taa(&p);
+    parse_tracker(&p);
     parse_display_reference(&p);
     parse_chunks(&p);
     parse_options_slurm(&p);
@@ -466,6 +553,16 @@ static char *normalised(const sweep_manifest *m)
     a = cJSON_AddArrayToObject(o, "taa");
     for (int i = 0; i < m->ntaa; i++)
         cJSON_AddItemToArray(a, cJSON_CreateString(m->taa[i]));
+    for (int x = 0; x < SWEEP_TRACKER_AXES; x++) { /* only those given: manifests without stay as they were */
+        if (!m->tracker[x][0])
+            continue;
+        a = cJSON_AddArrayToObject(o, k_tracker_axes[x].key);
+        for (int i = 0; i < m->ntracker_axis[x]; i++)
+            cJSON_AddItemToArray(a, k_tracker_axes[x].hi == 0 ? cJSON_CreateString(m->tracker[x][i])
+                                                              : cJSON_CreateNumber(atof(m->tracker[x][i])));
+    }
+    if (m->gaze_seed[0])
+        cJSON_AddNumberToObject(o, "gaze_seed", atoi(m->gaze_seed));
     if (m->width) {
         cJSON_AddNumberToObject(o, "width", m->width);
         cJSON_AddNumberToObject(o, "height", m->height);
@@ -597,6 +694,9 @@ void sweep_manifest_free(sweep_manifest *m)
         free(m->gaze[i]);
     for (int i = 0; i < m->nrings; i++)
         free(m->rings[i]);
+    for (int a = 0; a < SWEEP_TRACKER_AXES; a++)
+        for (int i = 0; i < m->ntracker_axis[a]; i++)
+            free(m->tracker[a][i]);
     for (int i = 0; i < m->noptions; i++)
         free(m->options[i]);
     for (int i = 0; i < m->slurm.nextra; i++)
@@ -636,6 +736,15 @@ int sweep_task_options(const sweep_manifest *m, const sweep_task *k, char **argv
     if (strcmp(m->taa[k->taa], "default") != 0) {
         ARG("--taa");
         ARG("%s", m->taa[k->taa]);
+    }
+    for (int a = 0; a < SWEEP_TRACKER_AXES; a++)
+        if (sweep_tracker_value(m, k->tracker, a)) {
+            ARG("%s", k_tracker_axes[a].option);
+            ARG("%s", sweep_tracker_value(m, k->tracker, a));
+        }
+    if (m->gaze_seed[0]) {
+        ARG("--gaze-seed");
+        ARG("%s", m->gaze_seed);
     }
     if (m->width) {
         ARG("--width");

@@ -15,8 +15,13 @@
 #define SWEEP_MAX_ARGS 200     /* arguments of one task's compare */
 #define SWEEP_DEFAULT_WARMUP 64 /* frames of TAA history before a chunk: 0.9^64 = 0.1 % at blend 0.1 */
 
+/* The eye tracker's axes (docs/latency.md): manifest keys gaze_latency, gaze_rate, gaze_noise,
+ * gaze_loss, each a value or a list, the options --gaze-latency ... of each task's compare. */
+#define SWEEP_TRACKER_AXES 4
+
 typedef struct sweep_task {
     int scene, gaze, rings, taa; /* indices into the manifest's lists */
+    int tracker;                 /* the combination of tracker axis values (sweep_tracker_value) */
     int first, end;              /* frames [first, end); end = 0: the scene's whole sequence */
     char name[200];              /* its folder under tasks/, from its parameters */
 } sweep_task;
@@ -48,6 +53,12 @@ typedef struct sweep_manifest {
     int nrings;
     const char *taa[3];            /* "default", "on", "off" */
     int ntaa;
+    char *tracker[SWEEP_TRACKER_AXES][SWEEP_MAX_LIST]; /* each axis' values as its option takes them;
+                                                          NULL: not given (the scene's) */
+    int ntracker_axis[SWEEP_TRACKER_AXES];             /* >= 1 */
+    int ntracker;                  /* their product: the tracker combinations per scene, trace, ... */
+    char gaze_seed[16];            /* --gaze-seed of every task; "" = not given */
+    bool has_tracker;              /* an axis or the seed given: task names and merged tables say it */
     int width, height, frames;     /* 0: the scene's */
     double fps;                    /* 0: 24 */
     char reference[16];            /* "" (exact), "exact", "stochastic" */
@@ -65,6 +76,14 @@ typedef struct sweep_manifest {
     int ntasks;
 } sweep_manifest;
 
+/* Tracker axis a's manifest key ("gaze_latency"), its option ("--gaze-latency") and its short
+ * label in task names ("lat"). */
+const char *sweep_tracker_key(int a);
+const char *sweep_tracker_option(int a);
+const char *sweep_tracker_label(int a);
+/* Axis a's value in tracker combination t (NULL: not given). */
+const char *sweep_tracker_value(const sweep_manifest *m, int t, int a);
+
 /* Reads and checks the manifest at `path` (one line naming the JSON path of what is wrong, and
  * FS_ERR_USAGE). m->frozen is `path` until sweep_manifest_write. */
 fs_status sweep_manifest_load(const char *path, const sweep_overrides *ov, sweep_manifest *m);
@@ -76,7 +95,8 @@ void sweep_manifest_free(sweep_manifest *m);
 /* Reads the absolute-path copy in a sweep's folder (merge). */
 fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m);
 
-/* The task list (sweep.c): scenes x traces x ring layouts x TAA settings x frame chunks, in that
+/* The task list (sweep.c): scenes x traces x ring layouts x TAA settings x tracker combinations x
+ * frame chunks, in that
  * nesting; with chunk_frames each scene is loaded to find its length and camera cuts. */
 fs_status sweep_build_tasks(sweep_manifest *m);
 /* A task's folder, and whether its record says it completed (compare writes it last). */
