@@ -224,16 +224,16 @@ static fs_status parse_gaze_tracker(const jctx *c, const cJSON *j)
     const cJSON *it;
     const char *str;
     double seed = 0;
-    if (s == FS_OK && (o->latency_set = cJSON_HasObjectItem(j, "latency")))
+    if (s == FS_OK && (o->latency_set = cJSON_GetObjectItemCaseSensitive(j, "latency") != NULL))
         s = jopt_float(c, j, "gaze", "latency", (nrange){0, GAZE_TRACKER_MAX_LATENCY_MS, false, false, false, false},
                        &o->desc.latency_ms);
-    if (s == FS_OK && (o->rate_set = cJSON_HasObjectItem(j, "rate")))
+    if (s == FS_OK && (o->rate_set = cJSON_GetObjectItemCaseSensitive(j, "rate") != NULL))
         s = jopt_float(c, j, "gaze", "rate", (nrange){0, GAZE_TRACKER_MAX_RATE_HZ, false, false, false, false},
                        &o->desc.rate_hz);
-    if (s == FS_OK && (o->noise_set = cJSON_HasObjectItem(j, "noise")))
+    if (s == FS_OK && (o->noise_set = cJSON_GetObjectItemCaseSensitive(j, "noise") != NULL))
         s = jopt_float(c, j, "gaze", "noise", (nrange){0, GAZE_TRACKER_MAX_NOISE_DEG, false, false, false, false},
                        &o->desc.noise_deg);
-    if (s == FS_OK && (o->seed_set = cJSON_HasObjectItem(j, "seed"))) {
+    if (s == FS_OK && (o->seed_set = cJSON_GetObjectItemCaseSensitive(j, "seed") != NULL)) {
         s = jopt_num(c, j, "gaze", "seed", (nrange){0, 2147483647.0, false, false, true, false}, &seed);
         o->desc.seed = (uint32_t)seed;
     }

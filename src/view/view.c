@@ -82,6 +82,7 @@ typedef struct viewer {
     float gx, gy;
     bool gaze_valid;
     bool full_res;            /* the tracker lost the replayed gaze with --gaze-loss full */
+    float true_gx, true_gy;   /* the replayed trace itself (the tracker moved gx, gy) */
     /* recording and captures */
     gaze_recorder rec;
     long rec_start_tick;
@@ -411,6 +412,9 @@ static void update_gaze(viewer *v, bool use_mouse)
     if (v->gaze.count > 0) {
         display_desc dd = {v->width, v->height, v->sc.display.hfov_deg};
         gaze_delivery g = gaze_tracker_at(&v->gaze, &v->tracker, &dd, (float)v->tick / v->fps, NULL);
+        gaze_point truth = gaze_at(&v->gaze, (float)v->tick / v->fps, NULL);
+        v->true_gx = truth.x;
+        v->true_gy = truth.y;
         v->gx = g.x;
         v->gy = g.y;
         v->full_res = g.full;
@@ -503,6 +507,8 @@ static fs_status frame(viewer *v, bool *running)
     v->reset_history = false;
     display_desc dd = {v->width, v->height, fr.hfov_deg};
     frame_record_set_gaze(&fr, &v->pl[0].layout, &dd, v->gx, v->gy);
+    if (v->gaze.count > 0) /* captures name both */
+        frame_record_set_true_gaze(&fr, &dd, v->true_gx, v->true_gy);
     if (v->full_res)
         frame_record_set_full_res(&fr, &dd);
     v->prev_cam_time = cam_t;
