@@ -277,6 +277,10 @@ fs_status cli_finish(run_desc *d)
     if (d->resume && d->replace)
         REFUSE("--resume and --replace: give one of them, not both (--resume keeps the folder's frames, --replace "
                "removes them)");
+    if (d->bench.calibrate && d->bench.accuracy)
+        REFUSE("--calibrate and --accuracy: give one of them, not both (--accuracy --cost-model FILE uses a model)");
+    if (d->bench.cost == ACC_COST_MODEL && !d->bench.cost_model)
+        REFUSE("--cost model: give the model with --cost-model FILE");
     if (d->quiet && d->verbose)
         REFUSE("--quiet and --verbose: give one of them, not both");
     if (!d->builtin && !d->scene_path)

@@ -42,6 +42,8 @@ typedef enum hash_choice { HASH_CHOICE_DEFAULT = -1, HASH_CHOICE_PCG = ALPHA_HAS
 typedef enum alpha_lod_choice { ALPHA_LOD_CLAMP_UNSET = 0, ALPHA_LOD_CLAMP_LEVEL = 1, ALPHA_LOD_CLAMP_OFF = -1 } alpha_lod_choice;
 /* bench --accuracy --error: the error plotted and on which the Pareto fronts are taken. */
 typedef enum acc_error_kind { ACC_ERROR_FLIP = 0, ACC_ERROR_ALPHA_RMSE, ACC_ERROR_RMSE, ACC_ERROR_TEMPORAL } acc_error_kind;
+/* bench --accuracy --cost: the x axis of the accuracy-vs-cost plot (docs/benchmarks.md "Cost model"). */
+typedef enum acc_cost_kind { ACC_COST_TIME = 0, ACC_COST_MODEL, ACC_COST_WORK } acc_cost_kind;
 
 typedef struct run_desc {
     command cmd;
@@ -101,6 +103,10 @@ typedef struct run_desc {
         bool accuracy;            /* --accuracy, the accuracy-vs-time matrix */
         acc_error_kind error;     /* --accuracy --error */
         bool error_set;
+        acc_cost_kind cost;       /* --accuracy --cost time|model|work */
+        bool calibrate;           /* --calibrate: fit the stage cost model (bench_calibrate.c) */
+        const char *cost_model;   /* --cost-model FILE: bench --calibrate writes it; bench --accuracy,
+                                   * compare and demo predict with it */
     } bench;
     struct {                      /* the reference: fovsim reference, compare, demo, bench --accuracy */
         reference_kind kind;      /* --reference exact (default) or stochastic */

@@ -189,6 +189,8 @@ static const cli_choice k_compression[] = {{"zip", EXR_COMPRESS_ZIP}, {"none", E
 static const cli_choice k_reference[] = {{"exact", REFERENCE_EXACT}, {"stochastic", REFERENCE_STOCHASTIC}, {NULL, 0}};
 static const cli_choice k_error[] = {{"flip", ACC_ERROR_FLIP}, {"alpha_rmse", ACC_ERROR_ALPHA_RMSE},
                                      {"rmse", ACC_ERROR_RMSE}, {"temporal_error", ACC_ERROR_TEMPORAL}, {NULL, 0}};
+static const cli_choice k_cost[] = {{"time", ACC_COST_TIME}, {"model", ACC_COST_MODEL}, {"work", ACC_COST_WORK},
+                                    {NULL, 0}};
 static const cli_choice k_format[] = {{"text", 0}, {"json", 1}, {NULL, 0}};
 
 /* >>the table */
@@ -379,6 +381,11 @@ const cli_option k_cli_options[] = {
      "bench --accuracy: the error plotted and on which the Pareto fronts\nare taken: flip (default), alpha_rmse, "
      "rmse or temporal_error\n(docs/metrics.md)", FIELD(bench.error), .choices = k_error, GIVEN(bench.error_set),
      .misuse = "--error is an option of fovsim bench --accuracy"},
+    {"--cost", ARG_CHOICE, CTX_BENCH_ACCURACY, "time|model|work",
+     "bench --accuracy: the x axis of accuracy.png: the measured median frame\ntime (time, default), the time "
+     "--cost-model predicts (model), or\ncovered fragments per display pixel, a count that does not depend on\n"
+     "the device (work)", FIELD(bench.cost), .choices = k_cost,
+     .misuse = "--cost is an option of fovsim bench --accuracy"},
     /* the reference */
     {"--reference", ARG_CHOICE, CMDS_REFERENCE, "KIND",
      "exact (default): each sub-sample is the expectation of stochastic\nalpha testing, from per-pixel fragment "
@@ -440,6 +447,17 @@ const cli_option k_cli_options[] = {
     {"--modes", ARG_CUSTOM, ON(CMD_BENCH), "M,M,...",
      "alpha modes to compare in one run (or all); each gets its time\nrelative to traditional, A2C modes also "
      "traditional+MSAA", .flags = OPT_HELP_ONLY},
+    {"--calibrate", ARG_FLAG, ON(CMD_BENCH), NULL,
+     "fit this device's stage cost model: time = a*primitives +\nb*invocations + c*bytes + d per stage kind, "
+     "over a fixed matrix of\nsizes (the run's /4, /2, /1; default 640x360), rings off/default/\naggressive, "
+     "traditional and hashed, TAA off/on; a third of the\nconfigurations held out to measure its error; writes "
+     "--cost-model\n(default DIR/cost-model.json, DIR from --out, default out/bench)",
+     FIELD(bench.calibrate), .misuse = "--calibrate is an option of fovsim bench"},
+    {"--cost-model", ARG_STRING, ON(CMD_BENCH) | ON(CMD_COMPARE) | ON(CMD_DEMO), "FILE",
+     "the stage cost model (bench --calibrate writes it): bench --accuracy,\ncompare and demo report the frame "
+     "time it predicts beside the measured\none; refused when fitted on another renderer or over its error "
+     "bound", FIELD(bench.cost_model), .flags = OPT_MACHINE,
+     .misuse = "--cost-model is an option of fovsim bench, compare and demo"},
     /* view */
     {"--script", ARG_STRING, ON(CMD_VIEW), "FILE", "scripted input (frame N / move X Y / key NAME / capture / quit)",
      FIELD(view.script), .misuse = ONLY_VIEW},

@@ -59,57 +59,81 @@ static void bench_free(bench_config *c)
     }
 }
 
-/* Draws frame k of config c twice: once as the renderer runs it (timed to glFinish; its process CPU
- * time, minor page faults and pipeline statistics are counted too), once with a finish after every
- * stage (per-stage wall times). Records when k >= 0. */
-static void bench_frame(session *s, bench_config *c, int k, float t, int n)
+/* The timed draw: to glFinish, with its process CPU time and minor page faults. */
+static void draw_timed(renderer *r, const frame_record *fr, proc_stats *pd, double *t0, double *t1)
 {
-    frame_record fr = frame_record_at(&s->sc, k < 0 ? 0 : k, t, -1.0f, c->pl.width, c->pl.height);
-    display_desc dd = {c->pl.width, c->pl.height, fr.hfov_deg};
-    session_set_frame_gaze(s, &fr, &c->pl.layout, &dd, t); /* the eye tracker's gaze, as every command */
-    renderer_set_pass_sync(c->r, false);
     proc_stats p0 = proc_stats_now();
-    double t0 = time_now();
-    renderer_draw(c->r, &fr);
-    renderer_finish(c->r);
-    double t1 = time_now();
-    proc_stats pd = proc_stats_since(p0);
-    renderer_stats rs = renderer_last_stats(c->r);
-    renderer_set_pass_sync(c->r, true);
-    renderer_draw(c->r, &fr);
-    renderer_stats sync = renderer_last_stats(c->r);
-    c->names = rs;
-    if (k < 0)
-        return;
-    /* The counting variant, in a frame of its own: the timed frame above has no counter. */
-    renderer_set_counting(c->r, true);
-    renderer_draw(c->r, &fr);
-    renderer_stats cs = renderer_last_stats(c->r);
-    renderer_set_counting(c->r, false);
-    memcpy(c->names.pass_geometry, cs.pass_geometry, sizeof cs.pass_geometry);
-    for (int i = 0; i < MAX_FOV_RINGS; i++)
-        for (int p = 0; p < PLAN_MAX_PASSES; p++)
-            c->ring_pass_covered[i][p] += (double)cs.ring_pass_covered[i][p];
-    c->wall[k] = (t1 - t0) * 1e3;
-    c->cpu[k] = pd.cpu_ms;
-    c->faults[k] = (double)pd.minor_faults;
-    const long long *stage_counts[BENCH_COUNTS] = {rs.pass_vs_invocations, rs.pass_primitives, rs.pass_fs_invocations,
-                                                   rs.pass_clipped, cs.pass_covered, rs.pass_bytes_read,
-                                                   rs.pass_bytes_written};
-    const long long frame_counts[BENCH_COUNTS] = {rs.vs_invocations, rs.primitives, rs.fragments, rs.clipped,
-                                                  cs.covered, rs.bytes_read, rs.bytes_written};
-    for (int p = 0; p < rs.pass_count; p++) {
+    *t0 = time_now();
+    renderer_draw(r, fr);
+    renderer_finish(r);
+    *t1 = time_now();
+    *pd = proc_stats_since(p0);
+}
+
+/* Frame k's per-stage times (sync: the synced draw's wall clock; rs: the GL timers) and work
+ * counts (rs's statistics, cs's covered fragments), and the frame's totals. */
+static void bench_record(bench_config *c, const renderer_stats *rs, const renderer_stats *sync,
+                         const renderer_stats *cs, int k, int n)
+{
+    const long long *stage_counts[BENCH_COUNTS] = {rs->pass_vs_invocations, rs->pass_primitives, rs->pass_fs_invocations,
+                                                   rs->pass_clipped, cs->pass_covered, rs->pass_bytes_read,
+                                                   rs->pass_bytes_written};
+    const long long frame_counts[BENCH_COUNTS] = {rs->vs_invocations, rs->primitives, rs->fragments, rs->clipped,
+                                                  cs->covered, rs->bytes_read, rs->bytes_written};
+    for (int p = 0; p < rs->pass_count; p++) {
         size_t at = (size_t)p * (size_t)n + (size_t)k;
-        c->stage_wall[at] = sync.pass_wall_ms[p];
-        c->stage_gl[at] = rs.pass_ms[p];
+        c->stage_wall[at] = sync->pass_wall_ms[p];
+        c->stage_gl[at] = rs->pass_ms[p];
         for (int q = 0; q < BENCH_COUNTS; q++)
             c->stage_count[q][at] = (double)stage_counts[q][p];
     }
     for (int q = 0; q < BENCH_COUNTS; q++)
         c->count[q][k] = (double)frame_counts[q];
-    c->shaded[k] = (double)rs.shaded_pixels;
-    for (int i = 0; i < rs.ring_count; i++)
-        c->instances[(size_t)i * (size_t)n + (size_t)k] = rs.ring_instances[i];
+    c->shaded[k] = (double)rs->shaded_pixels;
+    for (int i = 0; i < rs->ring_count; i++)
+        c->instances[(size_t)i * (size_t)n + (size_t)k] = rs->ring_instances[i];
+}
+
+/* Draws frame k of config c twice: once as the renderer runs it (timed to glFinish; its process CPU
+ * time, minor page faults and pipeline statistics are counted too), once with a finish after every
+ * stage (per-stage wall times); then a third time with the counting variant (covered fragments).
+ * With c->stages_only, only the second draw (its statistics are the counts). Records when k >= 0. */
+static void bench_frame(session *s, bench_config *c, int k, float t, int n)
+{
+    frame_record fr = frame_record_at(&s->sc, k < 0 ? 0 : k, t, -1.0f, c->pl.width, c->pl.height);
+    display_desc dd = {c->pl.width, c->pl.height, fr.hfov_deg};
+    session_set_frame_gaze(s, &fr, &c->pl.layout, &dd, t); /* the eye tracker's gaze, as every command */
+    renderer_stats rs = {0};
+    proc_stats pd = {0};
+    double t0 = 0.0, t1 = 0.0;
+    if (!c->stages_only) {
+        renderer_set_pass_sync(c->r, false);
+        draw_timed(c->r, &fr, &pd, &t0, &t1);
+        rs = renderer_last_stats(c->r);
+    }
+    renderer_set_pass_sync(c->r, true);
+    renderer_draw(c->r, &fr);
+    renderer_stats sync = renderer_last_stats(c->r);
+    if (c->stages_only)
+        rs = sync;
+    c->names = rs;
+    if (k < 0)
+        return;
+    renderer_stats cs = rs; /* covered fragments unknown (-1) unless counted */
+    if (!c->stages_only) { /* the counting variant, in a frame of its own: the timed frame has no counter */
+        renderer_set_counting(c->r, true);
+        renderer_draw(c->r, &fr);
+        cs = renderer_last_stats(c->r);
+        renderer_set_counting(c->r, false);
+        memcpy(c->names.pass_geometry, cs.pass_geometry, sizeof cs.pass_geometry);
+        for (int i = 0; i < MAX_FOV_RINGS; i++)
+            for (int p = 0; p < PLAN_MAX_PASSES; p++)
+                c->ring_pass_covered[i][p] += (double)cs.ring_pass_covered[i][p];
+    }
+    c->wall[k] = (t1 - t0) * 1e3;
+    c->cpu[k] = pd.cpu_ms;
+    c->faults[k] = (double)pd.minor_faults;
+    bench_record(c, &rs, &sync, &cs, k, n);
 }
 
 /* Sum of n values, -1 when any is unknown (< 0). */
@@ -155,6 +179,10 @@ static void bench_list_configs(bench_run *b)
             c->foveated = lay != BENCH_FULL;
             c->msaa_only = m == nmodes;
             c->mode = c->msaa_only ? ALPHA_MODE_TRADITIONAL : modes[m];
+            c->width = d->width;
+            c->height = d->height;
+            c->taa = b->s.pl.taa;
+            c->rings = b->s.pl.layout;
             snprintf(c->name, sizeof c->name, "%s%s, %s", alpha_mode_name(c->mode), c->msaa_only ? "+MSAA" : "",
                      k_layout_names[lay]);
         }
@@ -162,24 +190,24 @@ static void bench_list_configs(bench_run *b)
 }
 
 /* Each configuration's plan, renderer (with timers) and sample arrays. */
-static fs_status bench_build_configs(bench_run *b)
+fs_status bench_build_configs(bench_run *b)
 {
     const run_desc *d = b->d;
     fs_status st = FS_OK;
     for (int c = 0; c < b->ncfg && st == FS_OK; c++) {
         bench_config *cf = &b->cfg[c];
-        plan_options po = {.alpha_mode = cf->mode, .width = d->width, .height = d->height, .frames = b->n,
-                           .alpha = b->s.pl.alpha, .force_msaa = cf->msaa_only, .taa = b->s.pl.taa,
+        plan_options po = {.alpha_mode = cf->mode, .width = cf->width, .height = cf->height, .frames = b->n,
+                           .alpha = b->s.pl.alpha, .force_msaa = cf->msaa_only, .taa = cf->taa,
                            .taa_controls = b->s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
                            .composite_per_pixel = d->composite_per_pixel};
         if (cf->foveated)
-            po.layout = b->s.pl.layout;
+            po.layout = cf->rings;
         if (cf->layout == BENCH_RINGS_LOD)
             po.ring_lod = b->s.pl.ring_lod_spec;
         st = plan_build(&b->s.sc, &po, &cf->pl);
         if (st == FS_OK)
-            cf->r = renderer_create(
-                &(renderer_desc){.scene = &b->s.sc, .plan = &cf->pl, .timers = true, .count_fragments = true}, &st);
+            cf->r = renderer_create(&(renderer_desc){.scene = &b->s.sc, .plan = &cf->pl, .timers = true,
+                                                     .count_fragments = !cf->stages_only}, &st);
     }
     for (int c = 0; c < b->ncfg && st == FS_OK; c++)
         if (!bench_alloc(&b->cfg[c], b->n))
@@ -190,7 +218,7 @@ static fs_status bench_build_configs(bench_run *b)
 /* The warm-up and measured frames, spread evenly over the camera path (and gaze trace), the
  * configurations interleaved per frame so all see the same machine state. Draws nothing when st
  * (the setup's status) is not FS_OK; the progress line is begun and ended either way. */
-static fs_status bench_measure(bench_run *b, fs_status st)
+fs_status bench_measure(bench_run *b, fs_status st)
 {
     const run_desc *d = b->d;
     int n = b->n;
@@ -209,7 +237,7 @@ static fs_status bench_measure(bench_run *b, fs_status st)
 }
 
 /* Summarises every configuration's samples (sorting them), and the speedups. */
-static void bench_summarise(bench_run *b)
+void bench_summarise(bench_run *b)
 {
     bench_summaries *u = &b->sum;
     int n = b->n;
@@ -255,6 +283,17 @@ static void bench_summarise(bench_run *b)
                 u->rel[c] = u->wall[c].median / u->wall[t].median;
 }
 
+void bench_end(bench_run *b)
+{
+    free(b->report);
+    for (int c = 0; c < b->ncfg; c++) {
+        bench_free(&b->cfg[c]);
+        renderer_destroy(b->cfg[c].r);
+    }
+    session_end(&b->s);
+    free(b);
+}
+
 fs_status cmd_bench(const run_desc *d)
 {
     bench_run *b = calloc(1, sizeof *b);
@@ -275,12 +314,6 @@ fs_status cmd_bench(const run_desc *d)
         bench_summarise(b);
         st = bench_report(b);
     }
-    free(b->report);
-    for (int c = 0; c < b->ncfg; c++) {
-        bench_free(&b->cfg[c]);
-        renderer_destroy(b->cfg[c].r);
-    }
-    session_end(&b->s);
-    free(b);
+    bench_end(b);
     return st;
 }

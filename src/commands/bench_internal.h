@@ -1,5 +1,5 @@
-/* bench_internal.h: what bench.c (the measured frames and their summaries) and bench_report.c
- * (the JSON and Markdown reports) share; internal to `fovsim bench` without --accuracy. */
+/* bench_internal.h: what bench.c (the measured frames and their summaries), bench_report.c (the
+ * JSON and Markdown reports) and bench_calibrate.c (--calibrate) share; not bench --accuracy. */
 #ifndef FOVSIM_BENCH_INTERNAL_H
 #define FOVSIM_BENCH_INTERNAL_H
 
@@ -21,8 +21,15 @@ typedef struct bench_config {
     char name[64];
     alpha_mode mode;    /* the global alpha mode of this configuration */
     int layout;         /* BENCH_FULL, BENCH_RINGS or BENCH_RINGS_LOD */
-    bool foveated;      /* the run's ring layout (else full resolution) */
+    bool foveated;      /* drawn with `rings` (else full resolution) */
     bool msaa_only;     /* traditional test drawn through the MSAA targets (A2C cost split) */
+    int width, height;  /* the display it is drawn at */
+    bool taa;
+    fov_layout rings;   /* its ring layout when foveated */
+    /* bench --calibrate: only the draw with a glFinish per stage, whose statistics give the
+     * counts (no separately timed draw, no covered fragments) */
+    bool stages_only;
+    bool held_out;      /* bench --calibrate: measures the fit instead of feeding it */
     plan pl;
     renderer *r;
     double *wall, *stage_wall, *stage_gl, *shaded; /* n, n * stages, n * stages, n */
@@ -47,7 +54,10 @@ typedef struct summary {
 } summary;
 
 
-enum { BENCH_MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) };
+/* bench --calibrate's matrix (bench_calibrate.c): sizes x ring layouts x alpha modes x TAA. */
+enum { CALIB_SIZES = 3, CALIB_LAYOUTS = 3, CALIB_CONFIGS = CALIB_SIZES * CALIB_LAYOUTS * ALPHA_MODE_COUNT * 2 };
+enum { BENCH_MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) > CALIB_CONFIGS ? BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1)
+                                                                             : CALIB_CONFIGS };
 
 /* What the bench measured, summarised per configuration (c) over the n frames: per stage (p),
  * per pipeline statistic (q) and per ring (i). */
@@ -96,5 +106,13 @@ static inline double ratio_known(double with, double without)
 /* Writes the report (JSON or Markdown) of a summarised run (b->sum) into b->report and prints it;
  * --markdown appends it to that file too. */
 fs_status bench_report(bench_run *b);
+
+/* The phases bench.c runs and bench_calibrate.c shares, on configurations listed in b->cfg:
+ * each one's plan and renderer; the warm-up and measured frames (nothing drawn unless st is
+ * FS_OK); the summaries (b->sum); and freeing it all (the session too). */
+fs_status bench_build_configs(bench_run *b);
+fs_status bench_measure(bench_run *b, fs_status st);
+void bench_summarise(bench_run *b);
+void bench_end(bench_run *b);
 
 #endif

@@ -8,7 +8,8 @@
  *   fovsim reference  reference.c       fovsim sweep      sweep.c (+ sweep_manifest.c)
  *   fovsim view       src/view/view.c   fovsim merge      merge.c
  *
- * bench.c writes its report with bench_report.c (bench_internal.h).
+ * bench.c writes its report with bench_report.c (bench_internal.h); fovsim bench --calibrate,
+ * bench_calibrate.c, measures with bench.c's phases and fits the cost model (src/perf/).
  *
  * dispatch.c maps a run_desc to its command (cli_parse's, or one check and sweep build with
  * cli_begin ... cli_finish); sweep, merge and check get their own arguments (run_desc.own). */
@@ -24,6 +25,7 @@ fs_status cmd_render(const run_desc *d);
 fs_status cmd_plan(const run_desc *d);
 fs_status cmd_bench(const run_desc *d);
 fs_status cmd_bench_accuracy(const run_desc *d);
+fs_status cmd_bench_calibrate(const run_desc *d);
 fs_status cmd_reference(const run_desc *d);
 fs_status cmd_compare(const run_desc *d);
 fs_status cmd_demo(const run_desc *d);

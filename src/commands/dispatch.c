@@ -17,7 +17,7 @@ fs_status command_run(const run_desc *d)
     case CMD_PLAN: return cmd_plan(d);
     case CMD_RENDER: return cmd_render(d);
     case CMD_DEMO: return cmd_demo(d);
-    case CMD_BENCH: return d->bench.accuracy ? cmd_bench_accuracy(d) : cmd_bench(d);
+    case CMD_BENCH: return d->bench.accuracy ? cmd_bench_accuracy(d) : d->bench.calibrate ? cmd_bench_calibrate(d) : cmd_bench(d);
     case CMD_REFERENCE: return cmd_reference(d);
     case CMD_COMPARE: return cmd_compare(d);
     case CMD_VIEW: return view_run(d);

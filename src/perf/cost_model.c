@@ -31,6 +31,14 @@ cost_kind cost_kind_of_stage(const char *name, bool geometry)
     return strcmp(name, "composite") == 0 ? COST_KIND_COMPOSITE : COST_KIND_FULLSCREEN;
 }
 
+void cost_class_name(cost_kind k, const char *mode, char *out, size_t cap)
+{
+    if (k == COST_KIND_FORWARD || k == COST_KIND_RING)
+        snprintf(out, cap, "%s/%s", cost_kind_name(k), mode);
+    else
+        snprintf(out, cap, "%s", cost_kind_name(k));
+}
+
 double cost_predict(const double coef[COST_TERMS], const double x[COST_COUNTS])
 {
     double t = coef[COST_CONST];
@@ -41,14 +49,14 @@ double cost_predict(const double coef[COST_TERMS], const double x[COST_COUNTS])
 
 /* >>the fit */
 
-/* The samples of kind k with a positive time, as rows of the relative-error problem: each term
+/* The samples of class k with a positive time, as rows of the relative-error problem: each term
  * divided by the time, so that minimising |z·c - 1|² minimises the squared relative errors
  * (weights 1/t²). Returns the row count; z holds 4 doubles per row. */
-static int relative_rows(const cost_sample *s, int n, cost_kind k, double *z)
+static int relative_rows(const cost_sample *s, int n, int k, double *z)
 {
     int m = 0;
     for (int i = 0; i < n; i++) {
-        if (s[i].kind != k || !(s[i].ms > 0.0))
+        if (s[i].cls != k || !(s[i].ms > 0.0))
             continue;
         for (int j = 0; j < COST_COUNTS; j++)
             z[m * COST_TERMS + j] = s[i].x[j] / s[i].ms;
@@ -143,7 +151,7 @@ static bool nnls_subsets(const double *z, int m, double *q, double coef[COST_TER
     return isfinite(best);
 }
 
-bool cost_fit_kind(const cost_sample *s, int n, cost_kind k, double coef[COST_TERMS], char *err, size_t cap)
+bool cost_fit_class(const cost_sample *s, int n, int k, double coef[COST_TERMS], char *err, size_t cap)
 {
     double *z = malloc(sizeof(double) * COST_TERMS * (size_t)(n > 0 ? n : 1));
     double *q = malloc(sizeof(double) * COST_TERMS * (size_t)(n > 0 ? n : 1));
@@ -151,12 +159,12 @@ bool cost_fit_kind(const cost_sample *s, int n, cost_kind k, double coef[COST_TE
     int m = z && q ? relative_rows(s, n, k, z) : 0;
     memset(coef, 0, sizeof(double) * COST_TERMS);
     if (!z || !q)
-        snprintf(err, cap, "%s: out of memory", cost_kind_name(k));
+        snprintf(err, cap, "out of memory");
     else if (m < COST_MIN_SAMPLES)
-        snprintf(err, cap, "%s: %d sample%s with a positive time, the fit needs at least %d", cost_kind_name(k), m,
-                 m == 1 ? "" : "s", COST_MIN_SAMPLES);
+        snprintf(err, cap, "%d sample%s with a positive time, the fit needs at least %d", m, m == 1 ? "" : "s",
+                 COST_MIN_SAMPLES);
     else if (!(ok = nnls_subsets(z, m, q, coef)))
-        snprintf(err, cap, "%s: no non-negative fit (every term is zero?)", cost_kind_name(k));
+        snprintf(err, cap, "no non-negative fit (every term is zero?)");
     free(z);
     free(q);
     return ok;
@@ -176,14 +184,14 @@ static double quantile(const double *v, int n, double q)
     return i + 1 < n ? v[i] + (at - i) * (v[i + 1] - v[i]) : v[n - 1];
 }
 
-cost_error cost_errors(const cost_sample *s, int n, cost_kind k, const double coef[COST_TERMS])
+cost_error cost_errors(const cost_sample *s, int n, int k, const double coef[COST_TERMS])
 {
     cost_error e = {0, -1.0, -1.0, -1.0};
     double *v = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
     if (!v)
         return e;
     for (int i = 0; i < n; i++)
-        if (s[i].kind == k && s[i].ms > 0.0)
+        if (s[i].cls == k && s[i].ms > 0.0)
             v[e.n++] = fabs(cost_predict(coef, s[i].x) - s[i].ms) / s[i].ms;
     if (e.n > 0) {
         qsort(v, (size_t)e.n, sizeof *v, cmp_double);
@@ -201,26 +209,28 @@ bool cost_model_fit(cost_model *m, const cost_sample *fit, int nfit, const cost_
     bool ok = true;
     size_t o = 0;
     err[0] = '\0';
-    for (int k = 0; k < COST_KINDS; k++) {
-        cost_fit *f = &m->kind[k];
-        memset(f, 0, sizeof *f);
-        bool any = false;
-        for (int i = 0; i < nfit; i++)
-            any = any || fit[i].kind == (cost_kind)k;
-        if (!any)
-            continue;
+    for (int k = 0; k < m->count; k++) {
+        cost_fit *f = &m->cls[k];
         char why[160];
-        f->fitted = cost_fit_kind(fit, nfit, (cost_kind)k, f->coef, why, sizeof why);
+        f->fitted = cost_fit_class(fit, nfit, k, f->coef, why, sizeof why);
         if (!f->fitted) {
             ok = false;
             if (o < cap)
-                o += (size_t)snprintf(err + o, cap - o, "%s%s", o ? "; " : "", why);
+                o += (size_t)snprintf(err + o, cap - o, "%s%s: %s", o ? "; " : "", f->name, why);
             continue;
         }
-        f->fit = cost_errors(fit, nfit, (cost_kind)k, f->coef);
-        f->held = cost_errors(held, nheld, (cost_kind)k, f->coef);
+        f->fit = cost_errors(fit, nfit, k, f->coef);
+        f->held = cost_errors(held, nheld, k, f->coef);
     }
     return ok;
+}
+
+int cost_model_find(const cost_model *m, const char *name)
+{
+    for (int k = 0; k < m->count; k++)
+        if (strcmp(m->cls[k].name, name) == 0)
+            return k;
+    return -1;
 }
 
 int cost_model_over_bound(const cost_model *m, char *out, size_t cap)
@@ -228,20 +238,21 @@ int cost_model_over_bound(const cost_model *m, char *out, size_t cap)
     int count = 0;
     size_t o = 0;
     out[0] = '\0';
-    for (int k = 0; k < COST_KINDS; k++) {
-        const cost_fit *f = &m->kind[k];
+    for (int k = 0; k < m->count; k++) {
+        const cost_fit *f = &m->cls[k];
         if (!f->fitted || (f->held.n > 0 && f->held.p90 <= m->bound))
             continue;
         count++;
         if (o < cap)
-            o += (size_t)snprintf(out + o, cap - o, "%s%s", o ? ", " : "", k_kind_names[k]);
+            o += (size_t)snprintf(out + o, cap - o, "%s%s", o ? ", " : "", f->name);
     }
     return count;
 }
 
-double cost_model_stage_ms(const cost_model *m, cost_kind k, const double x[COST_COUNTS])
+double cost_model_stage_ms(const cost_model *m, const char *name, const double x[COST_COUNTS])
 {
-    return k >= 0 && k < COST_KINDS && m->kind[k].fitted ? cost_predict(m->kind[k].coef, x) : -1.0;
+    int k = cost_model_find(m, name);
+    return k >= 0 && m->cls[k].fitted ? cost_predict(m->cls[k].coef, x) : -1.0;
 }
 
 /* >>the file */
@@ -277,14 +288,16 @@ char *cost_model_json(const cost_model *m)
     json_str(&b, m->time_source);
     sb_printf(&b, ",\n  \"terms\": \"ms = per_primitive * primitives submitted + per_invocation * fragment-shader "
                   "invocations + per_byte * (bytes read + written) + per_stage\",\n  \"bound_held_out_p90\": %.4f,\n"
-                  "  \"kinds\": {",
+                  "  \"classes\": {",
               m->bound);
     bool first = true;
-    for (int k = 0; k < COST_KINDS; k++) {
-        const cost_fit *f = &m->kind[k];
+    for (int k = 0; k < m->count; k++) {
+        const cost_fit *f = &m->cls[k];
         if (!f->fitted)
             continue;
-        sb_printf(&b, "%s\n    \"%s\": {\"coefficients_ms\": {", first ? "" : ",", k_kind_names[k]);
+        sb_printf(&b, "%s\n    ", first ? "" : ",");
+        json_str(&b, f->name);
+        sb_puts(&b, ": {\"coefficients_ms\": {");
         for (int j = 0; j < COST_TERMS; j++)
             sb_printf(&b, "%s\"%s\": %.9g", j ? ", " : "", k_coef_keys[j], f->coef[j]);
         sb_puts(&b, "},\n      ");
@@ -359,21 +372,59 @@ static bool get_error(parse_ctx *c, const cJSON *kind, const char *key, const ch
     return ok || bad(c, jpath, "a whole number of samples and non-negative errors (-1 only with 0 samples)");
 }
 
-static bool parse_kind(parse_ctx *c, const cJSON *kind, cost_fit *f)
+/* A class name: a full-screen kind's name, or forward/MODE or ring/MODE (MODE: [a-z0-9_-]+). */
+static bool class_name_valid(const char *name)
 {
-    char at[96], cat[128];
-    snprintf(at, sizeof at, "kinds.%s", kind->string);
-    if (!cJSON_IsObject(kind))
+    for (int k = 0; k < COST_KINDS; k++) {
+        size_t n = strlen(k_kind_names[k]);
+        if (strncmp(name, k_kind_names[k], n) != 0)
+            continue;
+        if (k != COST_KIND_FORWARD && k != COST_KIND_RING)
+            return name[n] == '\0';
+        if (name[n] != '/' || !name[n + 1] || strlen(name) >= COST_CLASS_NAME_MAX)
+            return false;
+        return strspn(name + n + 1, "abcdefghijklmnopqrstuvwxyz0123456789_-") == strlen(name + n + 1);
+    }
+    return false;
+}
+
+static bool parse_class(parse_ctx *c, const cJSON *cls, const char *at, cost_fit *f)
+{
+    char cat[160];
+    if (!cJSON_IsObject(cls))
         return bad(c, at, "an object");
     snprintf(cat, sizeof cat, "%s.coefficients_ms", at);
-    const cJSON *co = cJSON_GetObjectItemCaseSensitive(kind, "coefficients_ms");
+    const cJSON *co = cJSON_GetObjectItemCaseSensitive(cls, "coefficients_ms");
     if (!cJSON_IsObject(co))
         return bad(c, cat, "an object of per_primitive, per_invocation, per_byte and per_stage");
     for (int j = 0; j < COST_TERMS; j++)
         if (!get_number(c, co, k_coef_keys[j], cat, true, &f->coef[j]))
             return false;
     f->fitted = true;
-    return get_error(c, kind, "fit_error", at, &f->fit) && get_error(c, kind, "held_out_error", at, &f->held);
+    return get_error(c, cls, "fit_error", at, &f->fit) && get_error(c, cls, "held_out_error", at, &f->held);
+}
+
+static bool parse_classes(parse_ctx *c, const cJSON *root, cost_model *m)
+{
+    const cJSON *classes = cJSON_GetObjectItemCaseSensitive(root, "classes");
+    if (!cJSON_IsObject(classes) || !classes->child)
+        return bad(c, "classes", "an object with at least one stage class");
+    for (const cJSON *k = classes->child; k; k = k->next) {
+        char at[96];
+        snprintf(at, sizeof at, "classes.%.80s", k->string);
+        if (!class_name_valid(k->string))
+            return bad(c, at, "a stage class: taa, composite, fullscreen, or forward/MODE or ring/MODE with an "
+                              "alpha mode");
+        if (cost_model_find(m, k->string) >= 0)
+            return bad(c, at, "each class once");
+        if (m->count == COST_MAX_CLASSES)
+            return bad(c, at, "at most 48 classes (COST_MAX_CLASSES)");
+        cost_fit *f = &m->cls[m->count++];
+        snprintf(f->name, sizeof f->name, "%s", k->string);
+        if (!parse_class(c, k, at, f))
+            return false;
+    }
+    return true;
 }
 
 static bool parse_root(parse_ctx *c, const cJSON *root, cost_model *m)
@@ -393,24 +444,7 @@ static bool parse_root(parse_ctx *c, const cJSON *root, cost_model *m)
         return bad(c, "time_source", "\"" COST_TIME_WALL "\" or \"" COST_TIME_GL "\"");
     if (!get_number(c, root, "bound_held_out_p90", "", true, &m->bound))
         return false;
-    const cJSON *kinds = cJSON_GetObjectItemCaseSensitive(root, "kinds");
-    if (!cJSON_IsObject(kinds) || !kinds->child)
-        return bad(c, "kinds", "an object with at least one stage kind");
-    for (const cJSON *k = kinds->child; k; k = k->next) {
-        int id = -1;
-        for (int i = 0; i < COST_KINDS; i++)
-            if (k->string && strcmp(k->string, k_kind_names[i]) == 0)
-                id = i;
-        char at[96];
-        snprintf(at, sizeof at, "kinds.%.80s", k->string ? k->string : "?");
-        if (id < 0)
-            return bad(c, at, "a stage kind: forward, ring, taa, composite or fullscreen");
-        if (m->kind[id].fitted)
-            return bad(c, at, "each kind once");
-        if (!parse_kind(c, k, &m->kind[id]))
-            return false;
-    }
-    return true;
+    return parse_classes(c, root, m);
 }
 
 fs_status cost_model_parse(const char *text, const char *path, cost_model *m, char *err, size_t cap)
@@ -439,7 +473,7 @@ fs_status cost_model_load(const char *path, const char *renderer, cost_model *m)
                   "fovsim bench --calibrate)", path, m->renderer, renderer);
         st = FS_ERR_USAGE;
     } else if (cost_model_over_bound(m, over, sizeof over) > 0) {
-        log_error("--cost-model %s: kind %s: held-out p90 relative error over the model's bound of %.0f %% (or not "
+        log_error("--cost-model %s: class %s: held-out p90 relative error over the model's bound of %.0f %% (or not "
                   "checked on held-out samples); its predictions are not used", path, over, m->bound * 100.0);
         st = FS_ERR_USAGE;
     }
