@@ -19,6 +19,7 @@
 #include "output/gnuplot.h"
 #include "output/report_html.h"
 #include "output/out_path.h"
+#include "perf/cost_frame.h"
 #include "commands/measure.h"
 #include "session/session.h"
 
@@ -57,6 +58,8 @@ typedef struct acc_config {
     double med, p10, p90;
     double *counts[ACC_COUNTS]; /* per measured frame */
     double count_med[ACC_COUNTS];
+    double *pred;    /* per measured frame: the frame time --cost-model predicts, -1 = none */
+    double pred_med; /* their median, -1 when any is unknown */
 } acc_config;
 
 /* The aggressive layout (fov_layout_aggressive) for the plan's display. */
@@ -247,6 +250,12 @@ typedef struct acc_run {
     int *row_at;            /* where configuration c's row starts in csv (nc + 1 entries) */
     int base;               /* the configuration the speedups are relative to */
     bool have_fs;           /* fragment counts known for every configuration */
+    /* >>the cost model (--cost-model) and the x axis of accuracy.png (--cost) */
+    cost_model cm;
+    bool have_cm;
+    char cm_missing[160]; /* why a prediction was unknown (the first time) */
+    double *cx;           /* per configuration: the --cost x value, INFINITY when unknown */
+    bool *front_cost;     /* on the Pareto front of (cx, error) */
 } acc_run;
 
 /* One frame of the matrix, as every configuration sees it. */
@@ -346,6 +355,8 @@ static fs_status acc_build_configs(acc_run *a)
                                          .count_fragments = true}, &st);
                 if (st == FS_OK && !(c->run.frame_ms = calloc((size_t)n, sizeof(double))))
                     st = FS_ERR_NOMEM;
+                if (st == FS_OK && !(c->pred = calloc((size_t)n, sizeof(double))))
+                    st = FS_ERR_NOMEM;
                 for (int q = 0; q < ACC_COUNTS && st == FS_OK; q++)
                     if (!(c->counts[q] = calloc((size_t)n, sizeof(double))))
                         st = FS_ERR_NOMEM;
@@ -377,6 +388,22 @@ static fs_status acc_begin_measuring(acc_run *a, fs_status st)
     if (st == FS_OK)
         st = temporal_begin(&a->te, &a->s);
     return st;
+}
+
+/* The frame time --cost-model predicts for the stats of a frame drawn with `mode`, -1 when none
+ * (no model; a stage the model has no class for, said once). */
+static double acc_predict(acc_run *a, const renderer_stats *rs, alpha_mode mode)
+{
+    if (!a->have_cm)
+        return -1.0;
+    char why[160];
+    double ms = cost_frame_ms(&a->cm, rs, alpha_mode_name(mode), why, sizeof why);
+    if (ms < 0 && !a->cm_missing[0]) {
+        snprintf(a->cm_missing, sizeof a->cm_missing, "%s", why);
+        log_warn("--cost-model %s: %s (bench --calibrate --modes ... fits the alpha modes); predicted_ms is -1 "
+                 "where it is", a->d->bench.cost_model, why);
+    }
+    return ms;
 }
 
 /* Configuration c's draw of frame f: timed (wall clock, process CPU time, page faults, pipeline
@@ -412,6 +439,7 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
                                        (double)cs.covered, (double)rs.bytes_read, (double)rs.bytes_written};
     for (int q = 0; q < ACC_COUNTS; q++)
         cf->counts[q][i - warm] = counts[q];
+    cf->pred[i - warm] = acc_predict(a, &rs, mr->mode);
     ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
     metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
     bool prev = mr->have_prev && a->have_prev_ref && !fr.cut;
@@ -535,6 +563,32 @@ static fs_status acc_summarise(acc_run *a)
     return FS_OK;
 }
 
+/* The median predicted frame time per configuration (-1 when a frame's is unknown), the x value
+ * of accuracy.png per --cost (time; model: predicted ms; work: covered fragments per display
+ * pixel; INFINITY when unknown) and the Pareto front on it, of the known ones. */
+static fs_status acc_cost_axis(acc_run *a)
+{
+    int nc = a->nc, n = a->n;
+    a->cx = calloc((size_t)nc, sizeof *a->cx);
+    a->front_cost = calloc((size_t)nc, sizeof *a->front_cost);
+    if (!a->cx || !a->front_cost)
+        return FS_ERR_NOMEM;
+    double px = (double)a->s.pl.width * a->s.pl.height;
+    for (int c = 0; c < nc; c++) {
+        acc_config *cf = &a->cfg[c];
+        qsort(cf->pred, (size_t)n, sizeof *cf->pred, stats_cmp_double);
+        cf->pred_med = cf->pred[0] < 0 ? -1.0 : stats_quantile(cf->pred, n, 0.5);
+        double x = a->d->bench.cost == ACC_COST_MODEL  ? cf->pred_med
+                   : a->d->bench.cost == ACC_COST_WORK ? cf->count_med[ACC_COVERED] / px
+                                                       : cf->med;
+        a->cx[c] = x >= 0 ? x : INFINITY;
+    }
+    pareto(a->cx, a->ey, nc, a->front_cost);
+    for (int c = 0; c < nc; c++)
+        a->front_cost[c] = a->front_cost[c] && isfinite(a->cx[c]);
+    return FS_OK;
+}
+
 #define CSV(...) a->oc += snprintf(a->csv + a->oc, ACC_REPORT_CAP - (size_t)a->oc, __VA_ARGS__)
 #define MD(...) a->om += snprintf(a->md + a->om, ACC_REPORT_CAP - (size_t)a->om, __VA_ARGS__)
 
@@ -556,7 +610,7 @@ static void acc_csv_header(acc_run *a)
         CSV(",flip_ring%d", k);
     for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
         CSV(",%s", k_acc_count_columns[q]);
-    CSV("\n");
+    CSV(",predicted_ms\n");
 }
 
 /* accuracy.md's heading, what was measured how, and the table's header. */
@@ -585,13 +639,19 @@ static void acc_md_header(acc_run *a)
     MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
        "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
     MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
-       "holds under %g ring texels of coverage)\n\n", METRICS_MIN_REF_TEXELS);
+       "holds under %g ring texels of coverage)\n", METRICS_MIN_REF_TEXELS);
+    if (a->have_cm)
+        MD("- predicted ms: the frame time the cost model %s predicts from each frame's per-stage counts "
+           "(median per frame; docs/benchmarks.md \"Cost model\")\n", d->bench.cost_model);
+    MD("\n");
     MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
        d->bench.error == ACC_ERROR_RMSE ? "PSNR" : k_error_names[d->bench.error]);
     for (int k = 0; k < a->ml.count; k++)
         MD(" cov. ring %d |", k);
+    if (a->have_cm)
+        MD(" predicted ms |");
     MD("\n|---|---|---|---|---|---|---|---|---|---|");
-    for (int k = 0; k < a->ml.count; k++)
+    for (int k = 0; k < a->ml.count + (a->have_cm ? 1 : 0); k++)
         MD("---|");
     MD("\n");
 }
@@ -635,7 +695,11 @@ static void acc_row(acc_run *a, int c)
         CSV(",%.6f", measure_mean_or(mr->flip_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
     for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
         CSV(",%.0f", cm[q]);
-    CSV("\n");
+    CSV(",%.4f\n", cf->pred_med);
+    if (a->have_cm && cf->pred_med >= 0)
+        MD(" %.2f |", cf->pred_med);
+    else if (a->have_cm)
+        MD(" n/a |");
     MD("\n");
 }
 
@@ -656,6 +720,34 @@ static fs_status acc_tabulate(acc_run *a)
         return FS_ERR_INTERNAL;
     }
     return FS_OK;
+}
+
+/* accuracy.png: the --error error (CSV column y_col) against the --cost x axis. */
+static fs_status acc_plot_cost(acc_run *a, int y_col)
+{
+    const session *s = &a->s;
+    const run_desc *d = a->d;
+    char title[1000], x_expr[64], xlabel[300];
+    int rings = a->ml.count;
+    if (d->bench.cost == ACC_COST_MODEL) { /* predicted_ms, the last column; -1 (unknown) not drawn */
+        snprintf(title, sizeof title, "accuracy vs predicted time: %s %dx%d (cost model of %s)", s->sc.path,
+                 s->pl.width, s->pl.height, a->cm.renderer);
+        snprintf(x_expr, sizeof x_expr, "($%d >= 0 ? $%d : NaN)", 24 + 3 * rings, 24 + 3 * rings);
+        snprintf(xlabel, sizeof xlabel, "frame time predicted by the cost model, median (ms; lower is better)");
+    } else if (d->bench.cost == ACC_COST_WORK) { /* covered_fragments_median per display pixel */
+        snprintf(title, sizeof title, "accuracy vs work: %s %dx%d", s->sc.path, s->pl.width, s->pl.height);
+        snprintf(x_expr, sizeof x_expr, "($%d >= 0 ? $%d/%d.0 : NaN)", 21 + 3 * rings, 21 + 3 * rings,
+                 s->pl.width * s->pl.height);
+        snprintf(xlabel, sizeof xlabel, "covered fragments per display pixel, median per frame (device-independent "
+                                        "work; lower is better)");
+    } else {
+        snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s->sc.path, s->pl.width, s->pl.height,
+                 gl_device_renderer());
+        snprintf(x_expr, sizeof x_expr, "4");
+        snprintf(xlabel, sizeof xlabel, "frame time, median (ms; lower is better)");
+    }
+    return plot_accuracy(a->out, "accuracy", title, xlabel, x_expr, y_col, k_error_labels[d->bench.error], a->cx,
+                         a->front_cost, a->csv, a->row_at, a->nc, a->modes, a->nmodes, a->use_layout);
 }
 
 /* Writes accuracy.csv and accuracy.md (and appends the table to --markdown), draws the plots and
@@ -688,12 +780,8 @@ static fs_status acc_write(acc_run *a)
                 : d->bench.error == ACC_ERROR_RMSE ? 8
                 : d->bench.error == ACC_ERROR_ALPHA_RMSE ? 18 + a->ml.count
                                     : 19 + 2 * a->ml.count;
-    if (st == FS_OK) {
-        snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s->sc.path, s->pl.width, s->pl.height,
-                 gl_device_renderer());
-        st = plot_accuracy(out, "accuracy", title, "frame time, median (ms; lower is better)", "4", y_col, k_error_labels[d->bench.error],
-                           a->tx, a->front, a->csv, a->row_at, a->nc, a->modes, a->nmodes, a->use_layout);
-    }
+    if (st == FS_OK)
+        st = acc_plot_cost(a, y_col);
     /* Accuracy vs fragment work: what transfers to a GPU, where wall time on llvmpipe does not. */
     snprintf(path, sizeof path, "%s/accuracy-fragments.png", out);
     if (st == FS_OK && a->have_fs) {
@@ -725,6 +813,8 @@ static void acc_free(acc_run *a)
     free(a->front);
     free(a->front_fs);
     free(a->row_at);
+    free(a->cx);
+    free(a->front_cost);
     exr_image_free(&a->ref);
     exr_image_free(&a->prev_ref);
     free(a->band_buf);
@@ -735,6 +825,7 @@ static void acc_free(acc_run *a)
         exr_image_free(&cf->run.img);
         exr_image_free(&cf->run.prev);
         free(cf->run.frame_ms);
+        free(cf->pred);
         for (int q = 0; q < ACC_COUNTS; q++)
             free(cf->counts[q]);
         renderer_destroy(cf->run.r);
@@ -759,13 +850,18 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         free(a);
         return st;
     }
-    st = acc_choose_layouts(a);
+    a->have_cm = d->bench.cost_model != NULL;
+    st = a->have_cm ? cost_model_load(d->bench.cost_model, gl_device_renderer(), &a->cm) : FS_OK;
+    if (st == FS_OK)
+        st = acc_choose_layouts(a);
     if (st == FS_OK)
         st = acc_build_configs(a);
     st = acc_begin_measuring(a, st);
     st = acc_run_frames(a, st);
     if (st == FS_OK)
         st = acc_summarise(a);
+    if (st == FS_OK)
+        st = acc_cost_axis(a);
     if (st == FS_OK)
         st = acc_write(a);
     if (st == FS_OK)

@@ -16,11 +16,12 @@
 
 #define CALIB_DEFAULT_WIDTH 640 /* the largest size of the matrix unless --width/--height */
 #define CALIB_DEFAULT_HEIGHT 360
-#define CALIB_DEFAULT_FRAMES 10
+#define CALIB_DEFAULT_FRAMES 16
 #define CALIB_DEFAULT_WARMUP 1
 
-/* The sizes: the largest times 2/4, 3/4 and 4/4 (smaller ones have no rings to measure). */
-static const int k_size_quarters[CALIB_SIZES] = {2, 3, 4};
+/* The sizes: the largest times 1/4, 2/4, 3/4 and 4/4 (at the smallest the default rings are
+ * usually off: more samples of the full-resolution stages). */
+static const int k_size_quarters[CALIB_SIZES] = {1, 2, 3, 4};
 static const char *const k_layout_names[CALIB_LAYOUTS] = {"full", "default rings", "aggressive rings"};
 
 typedef struct calib_run {

@@ -55,7 +55,7 @@ typedef struct summary {
 
 
 /* bench --calibrate's matrix (bench_calibrate.c): sizes x ring layouts x alpha modes x TAA. */
-enum { CALIB_SIZES = 3, CALIB_LAYOUTS = 3, CALIB_CONFIGS = CALIB_SIZES * CALIB_LAYOUTS * ALPHA_MODE_COUNT * 2 };
+enum { CALIB_SIZES = 4, CALIB_LAYOUTS = 3, CALIB_CONFIGS = CALIB_SIZES * CALIB_LAYOUTS * ALPHA_MODE_COUNT * 2 };
 enum { BENCH_MAX_CFG = BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1) > CALIB_CONFIGS ? BENCH_LAYOUTS * (ALPHA_MODE_COUNT + 1)
                                                                              : CALIB_CONFIGS };
 
