@@ -25,6 +25,7 @@
 #include "commands/look_hints.h"
 #include "commands/measure.h"
 #include "session/session.h"
+#include "perf/cost_frame.h"
 
 /* --previews unless given: enough frames to scrub through, a few MB per run at the demo's size. */
 #define COMPARE_PREVIEWS 48
@@ -145,6 +146,13 @@ static void frame_attrs(exr_image *img, const session *s, const frame_record *fr
 
 /* >>report */
 
+/* What compare counts per mode and frame besides the frame time, from the renderer's statistics
+ * (docs/benchmarks.md "Work counts"): primitives submitted, fragment-shader invocations and bytes
+ * read + written (footprints), -1 = unknown; and the frame time --cost-model predicts (-1: none). */
+enum { CMP_PRIMS, CMP_FS, CMP_BYTES, CMP_PREDICTED, CMP_WORK };
+static const char *const k_work_keys[CMP_WORK] = {"primitives_median", "fs_invocations_median", "bytes_median",
+                                                  "predicted_frame_ms_median"};
+
 typedef struct report_desc {
     const session *s;
     const mode_run *runs;
@@ -159,6 +167,8 @@ typedef struct report_desc {
     const char *out, *json_path;
     double seconds;
     const double *jod;        /* per mode, FovVideoVDP's JOD (--fvvdp); NULL when it did not run */
+    double *const *work;      /* per mode: CMP_WORK values per frame (frame-major, all frames) */
+    bool have_cm;             /* --cost-model given: the table shows the predicted time */
 } report_desc;
 
 static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
@@ -173,7 +183,8 @@ static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
 }
 
 /* The run's headline and the table of each mode's metrics per ring and of its frame time. */
-static void report_table(const report_desc *r, const double *med, const char *rings, const char *mrings)
+static void report_table(const report_desc *r, const double *med, double (*wmed)[CMP_WORK], const char *rings,
+                         const char *mrings)
 {
     const session *s = r->s;
     int nm = r->mode_count, nr = r->layout->count;
@@ -206,9 +217,14 @@ static void report_table(const report_desc *r, const double *med, const char *ri
                    measure_mean_or(mr->alpha_rmse_sum[k], mr->err_n[k], 0.0), measure_mean_or(mr->flip_sum[k], mr->err_n[k], 0.0),
                    measure_mean_or(mr->psnr_sum[k], mr->err_n[k], 0.0), tes, sfs);
         }
-    printf("\n%-12s %14s %10s%s\n", "mode", "frame ms (med)", "relative", r->jod ? "  FovVideoVDP JOD" : "");
+    printf("\n%-12s %14s %10s%s%s\n", "mode", "frame ms (med)", "relative", r->have_cm ? "  predicted ms" : "",
+           r->jod ? "  FovVideoVDP JOD" : "");
     for (int m = 0; m < nm; m++) {
         printf("%-12s %14.2f %9.2fx", alpha_mode_name(r->runs[m].mode), med[m], med[m] / med[0]);
+        if (r->have_cm && wmed[m][CMP_PREDICTED] >= 0)
+            printf("  %12.2f", wmed[m][CMP_PREDICTED]);
+        else if (r->have_cm)
+            printf("  %12s", "n/a");
         if (r->jod)
             printf("  %16.4f", r->jod[m]);
         printf("\n");
@@ -216,7 +232,8 @@ static void report_table(const report_desc *r, const double *med, const char *ri
 }
 
 /* summary.json (written to a temporary name, then renamed into place). */
-static fs_status report_json(const report_desc *r, const double *med, const char *rings, const char *mrings)
+static fs_status report_json(const report_desc *r, const double *med, double (*wmed)[CMP_WORK], const char *rings,
+                             const char *mrings)
 {
     const session *s = r->s;
     int nm = r->mode_count, nr = r->layout->count;
@@ -246,6 +263,8 @@ static fs_status report_json(const report_desc *r, const double *med, const char
                 alpha_mode_name(mr->mode), med[m], med[m] / med[0]);
         if (r->jod && isfinite(r->jod[m]))
             fprintf(f, "\"fvvdp_jod\": %.6f, ", r->jod[m]);
+        for (int q = 0; q < CMP_WORK; q++)
+            fprintf(f, q == CMP_PREDICTED ? "\"%s\": %.4f, " : "\"%s\": %.0f, ", k_work_keys[q], wmed[m][q]);
         fprintf(f, "\"rings\": [");
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
@@ -278,7 +297,7 @@ static fs_status report(const report_desc *r)
 {
     const session *s = r->s;
     int nm = r->mode_count;
-    double med[ALPHA_MODE_COUNT];
+    double med[ALPHA_MODE_COUNT], wmed[ALPHA_MODE_COUNT][CMP_WORK];
     for (int m = 0; m < nm; m++) {
         double *v = malloc(sizeof(double) * (size_t)r->frames);
         if (!v)
@@ -286,14 +305,20 @@ static fs_status report(const report_desc *r)
         memcpy(v, r->runs[m].frame_ms + r->first, sizeof(double) * (size_t)r->frames);
         qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
         med[m] = stats_quantile(v, r->frames, 0.5);
+        for (int q = 0; q < CMP_WORK; q++) { /* -1 when any frame's is unknown */
+            for (int i = 0; i < r->frames; i++)
+                v[i] = r->work[m][(size_t)(r->first + i) * CMP_WORK + (size_t)q];
+            qsort(v, (size_t)r->frames, sizeof *v, stats_cmp_double);
+            wmed[m][q] = v[0] < 0 ? -1.0 : stats_quantile(v, r->frames, 0.5);
+        }
         free(v);
     }
     qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
     char rings[256], mrings[256];
     fov_layout_format(&s->pl.layout, rings, sizeof rings);
     fov_layout_format(r->layout, mrings, sizeof mrings);
-    report_table(r, med, rings, mrings);
-    fs_status st = report_json(r, med, rings, mrings);
+    report_table(r, med, wmed, rings, mrings);
+    fs_status st = report_json(r, med, wmed, rings, mrings);
     if (st != FS_OK)
         return st;
     printf("\nmetrics per frame, ring and mode: %s/metrics.csv; summary: %s\n", r->out, r->json_path);
@@ -339,6 +364,10 @@ typedef struct cmp_run {
     temporal te;
     bool have_prev_ref;
     double t0; /* when the frames began */
+    double *work[ALPHA_MODE_COUNT]; /* per mode: CMP_WORK values per frame */
+    cost_model cm;                  /* --cost-model */
+    bool have_cm;
+    bool cm_warned; /* a frame's prediction was unknown (said once) */
 } cmp_run;
 
 /* One measured (or history-end) frame as every mode sees it. */
@@ -371,8 +400,10 @@ static fs_status compare_build_modes(cmp_run *c)
         dm.alpha = mr->mode;
         st = session_build_plan(&dm, &c->s.sc, &mr->pl);
         if (st == FS_OK)
-            mr->r = renderer_create(&(renderer_desc){.scene = &c->s.sc, .plan = &mr->pl}, &st);
+            mr->r = renderer_create(&(renderer_desc){.scene = &c->s.sc, .plan = &mr->pl, .timers = true}, &st);
         if (st == FS_OK && !(mr->frame_ms = calloc((size_t)c->frames, sizeof(double))))
+            st = FS_ERR_NOMEM;
+        if (st == FS_OK && !(c->work[m] = calloc((size_t)c->frames * CMP_WORK, sizeof(double))))
             st = FS_ERR_NOMEM;
         if (st == FS_OK && !(mr->flip = malloc(sizeof(float) * (size_t)mr->pl.width * (size_t)mr->pl.height)))
             st = FS_ERR_NOMEM;
@@ -539,6 +570,27 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
 
 /* Frame i: drawn by every mode (only that, for the TAA history before first - 1), its reference,
  * the measurements and the outputs. */
+/* Mode m's counts of frame i (its statistics: the queries are done once the frame is finished),
+ * and the frame time the cost model predicts from them. */
+static void compare_count(cmp_run *c, int m, int i)
+{
+    renderer_stats rs = renderer_last_stats(c->runs[m].r);
+    double *w = c->work[m] + (size_t)i * CMP_WORK;
+    w[CMP_PRIMS] = (double)rs.primitives;
+    w[CMP_FS] = (double)rs.fragments;
+    w[CMP_BYTES] = rs.bytes_read < 0 || rs.bytes_written < 0 ? -1.0 : (double)(rs.bytes_read + rs.bytes_written);
+    w[CMP_PREDICTED] = -1.0;
+    if (!c->have_cm)
+        return;
+    char why[160];
+    w[CMP_PREDICTED] = cost_frame_ms(&c->cm, &rs, alpha_mode_name(c->runs[m].mode), why, sizeof why);
+    if (w[CMP_PREDICTED] < 0 && !c->cm_warned) {
+        log_warn("--cost-model %s: %s (bench --calibrate --modes ... fits the alpha modes); no predicted time for "
+                 "%s", c->d->bench.cost_model, why, alpha_mode_name(c->runs[m].mode));
+        c->cm_warned = true;
+    }
+}
+
 static fs_status compare_frame(cmp_run *c, int i)
 {
     const run_desc *d = c->d;
@@ -563,6 +615,7 @@ static fs_status compare_frame(cmp_run *c, int i)
         st = renderer_draw(mr->r, &f.fr);
         renderer_finish(mr->r);
         mr->frame_ms[i] = (time_now() - a) * 1e3;
+        compare_count(c, m, i);
         if (st == FS_OK)
             st = renderer_read(mr->r, &mr->img);
     }
@@ -655,7 +708,7 @@ static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
                                    .first = c->first, .layout = &c->ml, .blocks = c->s.pl.rings ? &c->ml : NULL,
                                    .ref = c->rf, .ref_err = c->ref_err + c->first, .ref_cached = c->ref_cached,
                                    .out = c->out, .json_path = c->json_path, .seconds = seconds,
-                                   .jod = have_jod ? jod : NULL});
+                                   .jod = have_jod ? jod : NULL, .work = c->work, .have_cm = c->have_cm});
     if (st == FS_OK)
         st = run_folder_complete(&c->fo);
     if (st == FS_OK)
@@ -682,6 +735,7 @@ static void compare_free(cmp_run *c)
         exr_image_free(&mr->prev);
         free(mr->frame_ms);
         free(mr->flip);
+        free(c->work[m]);
         renderer_destroy(mr->r);
     }
     temporal_end(&c->te);
@@ -705,7 +759,10 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     if (d->overlay) /* allowed (it shows what a viewer would), but it is measured */
         log_warn("--overlay draws ring borders and the gaze marker into every mode's frame, so the metrics include "
                  "them; the grid's annotation (--grid-annotate, on by default) shows them without that");
-    st = compare_build_modes(c);
+    c->have_cm = d->bench.cost_model != NULL; /* refused before any output is touched */
+    st = c->have_cm ? cost_model_load(d->bench.cost_model, gl_device_renderer(), &c->cm) : FS_OK;
+    if (st == FS_OK)
+        st = compare_build_modes(c);
     st = compare_open_outputs(c, st);
     st = compare_begin_frames(c, st);
     for (int i = c->warm; i < c->frames && st == FS_OK; i++) {
