@@ -279,6 +279,9 @@ fs_status cli_finish(run_desc *d)
                "removes them)");
     if (d->bench.calibrate && d->bench.accuracy)
         REFUSE("--calibrate and --accuracy: give one of them, not both (--accuracy --cost-model FILE uses a model)");
+    if (d->cmd == CMD_BENCH && d->bench.cost_model && !d->bench.calibrate && !d->bench.accuracy)
+        REFUSE("--cost-model: fovsim bench --calibrate writes the model, bench --accuracy, compare and demo predict "
+               "with it; plain bench does neither");
     if (d->bench.cost == ACC_COST_MODEL && !d->bench.cost_model)
         REFUSE("--cost model: give the model with --cost-model FILE");
     if (d->quiet && d->verbose)

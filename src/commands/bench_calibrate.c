@@ -194,7 +194,7 @@ static void calib_print(const calib_run *c)
         log_warn("bench --calibrate: class %s: held-out p90 error over the bound of %.0f %%: --cost-model will refuse "
                  "this model (measure again with fewer other processes running, or more --frames)", over,
                  m->bound * 100.0);
-    printf("\nbound: held-out p90 relative error <= %.0f %% per kind; wrote %s\n", m->bound * 100.0, c->path);
+    printf("\nbound: held-out p90 relative error <= %.0f %% per class; wrote %s\n", m->bound * 100.0, c->path);
 }
 
 /* Fits the model on the measured samples and writes it. A kind that cannot be fitted is said and
