@@ -448,10 +448,11 @@ const cli_option k_cli_options[] = {
      "alpha modes to compare in one run (or all); each gets its time\nrelative to traditional, A2C modes also "
      "traditional+MSAA", .flags = OPT_HELP_ONLY},
     {"--calibrate", ARG_FLAG, ON(CMD_BENCH), NULL,
-     "fit this device's stage cost model: time = a*primitives +\nb*invocations + c*bytes + d per stage kind, "
-     "over a fixed matrix of\nsizes (the run's /4, /2, /1; default 640x360), rings off/default/\naggressive, "
-     "traditional and hashed, TAA off/on; a third of the\nconfigurations held out to measure its error; writes "
-     "--cost-model\n(default DIR/cost-model.json, DIR from --out, default out/bench)",
+     "fit this device's stage cost model: time = a*primitives +\nb*invocations + c*bytes + d per stage class, "
+     "over a fixed matrix:\nsizes 1/4..4/4 of --width x --height (default 640x360), rings off,\nthe run's and "
+     "aggressive, --modes (default traditional,hashed), TAA\noff/on; a third of the configurations held out to "
+     "measure its\nerror (bound: p90 25 %); writes --cost-model (default\nDIR/cost-model.json; DIR: --out, "
+     "default out/bench); --frames\ndefault 16, --warmup 1 (about 35 s on 2 cores)",
      FIELD(bench.calibrate), .misuse = "--calibrate is an option of fovsim bench"},
     {"--cost-model", ARG_STRING, ON(CMD_BENCH) | ON(CMD_COMPARE) | ON(CMD_DEMO), "FILE",
      "the stage cost model (bench --calibrate writes it): bench --accuracy,\ncompare and demo report the frame "
