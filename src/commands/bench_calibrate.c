@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/file_read.h"
 #include "core/log.h"
@@ -80,7 +81,17 @@ static void calib_list_configs(calib_run *c)
                              k_layout_names[l], alpha_mode_name(cf->mode), t ? "on" : "off");
                 }
     b->nlayouts = 1;
-    b->per_layout = b->ncfg;
+    b->per_layout = 0; /* bench's speedups are not reported: they compare configurations 0 and 0 */
+}
+
+/* Whether the folder a file `path` would be written into exists. */
+static bool folder_exists(const char *path)
+{
+    char dir[1200];
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + 1 : 1, slash ? path : ".");
+    struct stat st;
+    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
 /* The run's options with --calibrate's defaults, its session and the output path. */
@@ -123,6 +134,10 @@ static fs_status calib_begin(calib_run *c, const run_desc *d)
     }
     if (!d->bench.cost_model)
         st = file_make_dirs(out);
+    else if (!folder_exists(c->path)) { /* said now, not after the measurement */
+        log_error("--cost-model %s: its folder does not exist", c->path);
+        st = FS_ERR_IO;
+    }
     return st;
 }
 
@@ -226,7 +241,8 @@ fs_status cmd_bench_calibrate(const run_desc *d)
         calib_list_configs(&c);
         if (st == FS_OK)
             st = bench_build_configs(c.b);
-        st = bench_measure(c.b, st);
+        if (st == FS_OK)
+            st = bench_measure(c.b, st);
         if (st == FS_OK) {
             bench_summarise(c.b);
             st = calib_fit(&c);

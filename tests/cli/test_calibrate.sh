@@ -127,6 +127,8 @@ expect_exit "a negative coefficient is refused" 2 "$BIN" compare fence --width 6
   --samples 2 --no-cache --cost-model "$T/neg.json" --out "$T/r4"
 check "  ... naming its JSON path" grep -q 'neg.json: classes.taa.coefficients_ms.per_byte: expected a non-negative number' "$T/err.txt"
 expect_exit "a missing model file" 6 "$BIN" "${ACC[@]}" --cost-model "$T/none.json" --out "$T/r5"
+expect_exit "--calibrate into a folder that does not exist: said before measuring" 6 "$BIN" bench --calibrate \
+  --cost-model "$T/no/such/dir/m.json"
 expect_exit "--cost model needs --cost-model" 2 "$BIN" "${ACC[@]}" --cost model --out "$T/r6"
 expect_exit "--calibrate and --accuracy do not go together" 2 "$BIN" bench --calibrate --accuracy
 expect_exit "--cost is an option of bench --accuracy" 2 "$BIN" bench --cost work
