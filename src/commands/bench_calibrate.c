@@ -58,6 +58,13 @@ static fov_layout calib_rings(const bench_run *b, int layout, int w, int h)
     return b->s.pl.layout.kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : b->s.pl.layout;
 }
 
+/* Size s of the matrix along a side of `full` pixels (at least 8). */
+static int calib_size(int full, int s)
+{
+    int v = full * k_size_quarters[s] / 4;
+    return v < 8 ? 8 : v;
+}
+
 /* The matrix: sizes x layouts x modes x TAA. A configuration is held out when the sum of its
  * indices is a multiple of 3: every size, layout, mode and TAA state is in both sets. */
 static void calib_list_configs(calib_run *c)
@@ -68,8 +75,8 @@ static void calib_list_configs(calib_run *c)
             for (int m = 0; m < c->nmodes; m++)
                 for (int t = 0; t < 2; t++) {
                     bench_config *cf = &b->cfg[b->ncfg++];
-                    cf->width = c->w * k_size_quarters[s] / 4;
-                    cf->height = c->h * k_size_quarters[s] / 4;
+                    cf->width = calib_size(c->w, s);
+                    cf->height = calib_size(c->h, s);
                     cf->mode = c->modes[m];
                     cf->taa = t == 1;
                     cf->layout = l == 0 ? BENCH_FULL : BENCH_RINGS;

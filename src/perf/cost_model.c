@@ -257,7 +257,7 @@ double cost_model_stage_ms(const cost_model *m, const char *name, const double x
 
 /* >>the file */
 
-/* A string as a JSON string (the renderer string is printable ASCII in practice; escape anyway). */
+/* A string as a JSON string (the renderer string is printable ASCII in practice; escaped anyway). */
 static void json_str(sbuf *b, const char *s)
 {
     sb_puts(b, "\"");
@@ -334,7 +334,7 @@ static bool bad(parse_ctx *c, const char *jpath, const char *expected)
     return false;
 }
 
-/* obj[key] as a finite number (>= 0 when nonneg), or -1 allowed when minus_one. */
+/* obj[key] as a finite number (>= 0 when nonneg); `at` is the JSON path of obj, for the message. */
 static bool get_number(parse_ctx *c, const cJSON *obj, const char *key, const char *at, bool nonneg, double *out)
 {
     char jpath[160];
