@@ -1,11 +1,13 @@
 /* Unit tests of the stage cost model (src/perf/cost_model.c): exact recovery of known
  * coefficients, collinear terms, data whose least-squares fit would be negative (checked against
  * the optimality conditions of non-negative least squares), too few samples, stage kinds from
- * names, the JSON round trip, and malformed model files (one line naming the file and JSON path). */
+ * names, the JSON round trip, malformed model files (one line naming the file and JSON path), and a
+ * frame's prediction from its stages (src/perf/cost_frame.c). */
 #include <math.h>
 #include <string.h>
 
 #include "core/log.h"
+#include "perf/cost_frame.h"
 #include "perf/cost_model.h"
 #include "test.h"
 
@@ -252,6 +254,42 @@ TEST(malformed_models_are_refused)
           strstr(err, "classes"));
 }
 
+/* A frame's stages as the renderer names them: ring 0's passes, its TAA resolve, the composite. */
+static renderer_stats frame_stats(void)
+{
+    renderer_stats rs = {.pass_count = 3};
+    const char *names[3] = {"ring 0 (1/1, all passes)", "ring 0 taa resolve", "composite"};
+    for (int p = 0; p < 3; p++) {
+        snprintf(rs.pass_names[p], sizeof rs.pass_names[p], "%s", names[p]);
+        rs.pass_geometry[p] = p == 0;
+        rs.pass_primitives[p] = p == 0 ? 20000 : 1;
+        rs.pass_fs_invocations[p] = 100000 * (p + 1);
+        rs.pass_bytes_read[p] = 300000;
+        rs.pass_bytes_written[p] = 100000 * (p + 1);
+    }
+    return rs;
+}
+
+TEST(frame_prediction_sums_the_stages_classes)
+{
+    cost_model m = {.bound = 0.25, .count = 3,
+                    .cls = {{.name = "ring/hashed", .fitted = true, .coef = {1e-4, 1e-5, 1e-6, 0.5}},
+                            {.name = "taa", .fitted = true, .coef = {0, 2e-5, 0, 0.1}},
+                            {.name = "composite", .fitted = true, .coef = {0, 0, 3e-6, 0.2}}}};
+    renderer_stats rs = frame_stats();
+    double want = (1e-4 * 20000 + 1e-5 * 100000 + 1e-6 * 400000 + 0.5) + (2e-5 * 200000 + 0.1) +
+                  (3e-6 * 600000 + 0.2);
+    char why[160] = "";
+    CHECK_NEAR(cost_frame_ms(&m, &rs, "hashed", why, sizeof why), want, 1e-9);
+    /* A mode the model was not calibrated for: unknown, and which class is missing. */
+    CHECK(cost_frame_ms(&m, &rs, "stochastic", why, sizeof why) == -1.0);
+    CHECK(strstr(why, "ring/stochastic") != NULL);
+    /* Without pipeline statistics the counts are unknown (-1): so is the prediction. */
+    rs.pass_fs_invocations[1] = -1;
+    CHECK(cost_frame_ms(&m, &rs, "hashed", why, sizeof why) == -1.0);
+    CHECK(strstr(why, "ring 0 taa resolve") != NULL);
+}
+
 int main(void)
 {
     log_set_quiet_errors(true);
@@ -264,5 +302,6 @@ int main(void)
     RUN(model_errors_and_bound);
     RUN(json_round_trip);
     RUN(malformed_models_are_refused);
+    RUN(frame_prediction_sums_the_stages_classes);
     return test_summary();
 }
