@@ -216,8 +216,9 @@ void renderer_destroy(renderer *r)
     glDeleteProgram(r->comp_tile.id);
     glDeleteVertexArrays(1, &r->tile_vao);
     glDeleteBuffers(1, &r->tile_vbo);
-    free(r->tiles);
     free(r->tile_verts);
+    free(r->cell_ring);
+    free(r->block_ring);
     free(r->read_buf);
     free(r->read_row);
     glDeleteTextures(1, &r->list_head);

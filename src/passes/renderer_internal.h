@@ -6,7 +6,8 @@
  *   renderer_upload.c  the resources the passes declare, the scene on the GPU (textures, samplers,
  *                      primitives, instances), the render targets, the exact reference's list store
  *   renderer_draw.c    one frame: each ring's culling and forward passes, the list pass and its
- *                      resolve, the TAA resolve, the composite; stage timing and statistics
+ *                      resolve, the TAA resolve; stage timing and statistics
+ *   renderer_composite.c  the composite: the display classified into cells, drawn as points
  *   renderer_stats.c   renderer_last_stats: the stages' queries, covered fragments, footprint bytes
  *   renderer_read.c    read-back (images, depth, fragment lists) and the framebuffer the viewer blits
  *
@@ -115,11 +116,11 @@ struct renderer {
     sort_item *blend_order;                /* scratch for the BLEND sort: one per instance */
     gpu_program programs[PLAN_MAX_PASSES]; /* one per plan pass, same index */
     composite_program comp;
-    composite_program comp_tile;           /* plan.composite_tiles: the rectangles of one ring */
-    GLuint tile_vao, tile_vbo;             /* the composite's rectangles, rebuilt every frame */
-    fov_tile *tiles;                       /* scratch: fov_tile_max rectangles */
-    float *tile_verts;                     /* scratch: 6 vertices (x, y, ring) per rectangle */
-    int tile_max;
+    composite_program comp_tile;           /* plan.composite_tiles: the cells of one ring */
+    GLuint tile_vao, tile_vbo;             /* the composite's cells, rebuilt every frame */
+    float *tile_verts;                     /* scratch: up to 6 vertices (x, y, ring) per cell */
+    signed char *cell_ring, *block_ring;   /* scratch: each cell's and 64-pixel block's ring, or -1 */
+    float point_max;                       /* the largest point size the GL draws */
     ring_targets rt;
     GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
     GLuint empty_vao;                      /* TAA's full-screen triangle needs a bound VAO */
@@ -182,6 +183,11 @@ struct renderer {
 /* >>create: renderer_create's steps after the programs (renderer_upload.c) */
 fs_status renderer_upload_scene(renderer *r);
 fs_status renderer_create_targets(renderer *r);
+/* >>composite (renderer_composite.c) */
+/* The composite's vertex buffer and scratch (its targets and sampler are renderer_upload.c's). */
+fs_status renderer_composite_create(renderer *r);
+/* The composite pass of frame fr into the display targets. */
+void renderer_draw_composite(renderer *r, const frame_record *fr);
 /* Bytes per pixel of the targets the plan creates, from the resource tables (pass_bytes.h). */
 target_bytes renderer_target_bytes(const renderer *r);
 

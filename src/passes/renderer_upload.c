@@ -463,21 +463,9 @@ fs_status renderer_create_targets(renderer *r)
         glNamedFramebufferTexture(r->out_fbo, bufs[k], r->out_tex[k], 0);
     }
     glNamedFramebufferDrawBuffers(r->out_fbo, outs, bufs);
-    /* The composite's rectangles: at most one per tile, 6 vertices of (x, y, ring) each. */
-    display_desc dd = {r->width, r->height, r->pl.hfov_deg};
-    r->tile_max = fov_tile_max(&dd);
-    r->tiles = malloc(sizeof *r->tiles * (size_t)r->tile_max);
-    r->tile_verts = malloc(sizeof(float) * 18 * (size_t)r->tile_max);
-    if (!r->tiles || !r->tile_verts)
-        return FS_ERR_NOMEM;
-    glCreateBuffers(1, &r->tile_vbo);
-    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * (size_t)r->tile_max), NULL,
-                         GL_DYNAMIC_STORAGE_BIT);
-    glCreateVertexArrays(1, &r->tile_vao);
-    glVertexArrayVertexBuffer(r->tile_vao, 0, r->tile_vbo, 0, 3 * sizeof(float));
-    glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(r->tile_vao, 0, 0);
-    glEnableVertexArrayAttrib(r->tile_vao, 0);
+    fs_status st = renderer_composite_create(r);
+    if (st != FS_OK)
+        return st;
     glCreateSamplers(1, &r->ring_sampler);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);

@@ -1,0 +1,225 @@
+/* renderer_composite.c: the composite pass (composite.vert, composite.frag): every ring's colour
+ * and coverage to the display. The CPU classifies the display each frame: a cell whose every pixel
+ * takes one ring without blending is drawn by the COMPOSITE_TILE program, which fetches that ring
+ * directly; the others by the program that searches per pixel. Both fetch exactly the same texels,
+ * so the image does not depend on the classification (docs/foveation.md "Composite").
+ *
+ * The cells are squares aligned to the target's rows from the bottom, as llvmpipe bins it in
+ * 64-pixel tiles, and drawn as points: a 64-pixel block of one ring is one point that covers a
+ * whole bin (llvmpipe shades it without any coverage test), the rest 16-pixel points. Points have
+ * no diagonal edge: two triangles per rectangle shade every 4x4 block their diagonal crosses twice
+ * (the rectangles this replaced ran 1.20 fragment invocations per display pixel). Cells cut by the
+ * display's edge (sizes not a multiple of 16) are drawn as rectangles of two triangles. */
+#include "passes/renderer_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* >>cells */
+enum { CELL = FOV_TILE_PX, BLOCK = 64, CELLS_PER_BLOCK = BLOCK / CELL };
+_Static_assert(BLOCK % FOV_TILE_PX == 0, "a block is a whole number of cells");
+
+/* Which program draws a cell, and as what. */
+enum { PROG_TILE, PROG_SEARCH, PROGS };
+enum { SEG_BLOCKS, SEG_CELLS, SEG_EDGES, SEGS };
+
+static int cells_x(const renderer *r)
+{
+    return (r->width + CELL - 1) / CELL;
+}
+
+static int cells_y(const renderer *r)
+{
+    return (r->height + CELL - 1) / CELL;
+}
+
+static int blocks_x(const renderer *r)
+{
+    return (r->width + BLOCK - 1) / BLOCK;
+}
+
+/* The ring every pixel of window rectangle [x0, x1) x [y0, y1) (row 0 at the bottom) takes
+ * without blending, or -1: searched per pixel (always, without tiles). */
+static int window_rect_ring(const renderer *r, const frame_record *fr, int x0, int y0, int x1, int y1)
+{
+    if (!r->pl.composite_tiles)
+        return -1;
+    display_desc d = {r->width, r->height, fr->hfov_deg};
+    return fov_tile_ring(&d, &r->pl.layout, fr->gaze_px[0], fr->gaze_px[1], x0, r->height - y1, x1, r->height - y0);
+}
+
+/* Classifies the display: r->block_ring per whole 64-pixel block (-1: not of one ring, or cut by
+ * the display's edge, or points that large are not supported), r->cell_ring per cell of the
+ * blocks that are not. */
+static void classify(renderer *r, const frame_record *fr)
+{
+    int cx = cells_x(r), cy = cells_y(r), bx = blocks_x(r);
+    for (int j = 0; j * BLOCK < r->height; j++)
+        for (int i = 0; i * BLOCK < r->width; i++) {
+            int x0 = i * BLOCK, y0 = j * BLOCK;
+            bool whole = x0 + BLOCK <= r->width && y0 + BLOCK <= r->height && r->point_max >= BLOCK;
+            int ring = whole ? window_rect_ring(r, fr, x0, y0, x0 + BLOCK, y0 + BLOCK) : -1;
+            r->block_ring[j * bx + i] = (signed char)ring;
+            if (ring >= 0)
+                continue;
+            for (int y = j * CELLS_PER_BLOCK; y < (j + 1) * CELLS_PER_BLOCK && y < cy; y++)
+                for (int x = i * CELLS_PER_BLOCK; x < (i + 1) * CELLS_PER_BLOCK && x < cx; x++) {
+                    int x1 = (x + 1) * CELL < r->width ? (x + 1) * CELL : r->width;
+                    int y1 = (y + 1) * CELL < r->height ? (y + 1) * CELL : r->height;
+                    r->cell_ring[y * cx + x] = (signed char)window_rect_ring(r, fr, x * CELL, y * CELL, x1, y1);
+                }
+        }
+}
+
+/* Appends one vertex (x, y in display pixels, top-left origin; ring) at v[*n]. */
+static void put_vertex(float *v, int *n, float x, float y, int ring)
+{
+    float *q = v + 3 * (*n)++;
+    q[0] = x;
+    q[1] = y;
+    q[2] = (float)ring;
+}
+
+/* A point of side s over window square (x0, y0): its centre in display pixels. */
+static void put_point(const renderer *r, float *v, int *n, int x0, int y0, int s, int ring)
+{
+    put_vertex(v, n, (float)x0 + 0.5f * (float)s, (float)(r->height - y0) - 0.5f * (float)s, ring);
+}
+
+/* Window rectangle [x0, x1) x [y0, y1) as two triangles. */
+static void put_rect(const renderer *r, float *v, int *n, int x0, int y0, int x1, int y1, int ring)
+{
+    float X0 = (float)x0, X1 = (float)x1, Y0 = (float)(r->height - y1), Y1 = (float)(r->height - y0);
+    const float c[6][2] = {{X0, Y0}, {X1, Y0}, {X1, Y1}, {X0, Y0}, {X1, Y1}, {X0, Y1}};
+    for (int k = 0; k < 6; k++)
+        put_vertex(v, n, c[k][0], c[k][1], ring);
+}
+
+/* Appends the vertices of one program's segment (a block or cell belongs to PROG_TILE when it
+ * has a ring). */
+static void put_segment(const renderer *r, int prog, int seg, float *v, int *n)
+{
+    int cx = cells_x(r), cy = cells_y(r), bx = blocks_x(r);
+    for (int y = 0; y < cy; y++)
+        for (int x = 0; x < cx; x++) {
+            int b = r->block_ring[(y / CELLS_PER_BLOCK) * bx + x / CELLS_PER_BLOCK];
+            bool block_origin = x % CELLS_PER_BLOCK == 0 && y % CELLS_PER_BLOCK == 0;
+            if (b >= 0) { /* one point per block, at its first cell */
+                if (seg == SEG_BLOCKS && prog == PROG_TILE && block_origin)
+                    put_point(r, v, n, x * CELL, y * CELL, BLOCK, b);
+                continue;
+            }
+            int ring = r->cell_ring[y * cx + x];
+            if ((ring >= 0) != (prog == PROG_TILE))
+                continue;
+            int x1 = (x + 1) * CELL, y1 = (y + 1) * CELL;
+            bool whole = x1 <= r->width && y1 <= r->height && r->point_max >= CELL;
+            if (seg == SEG_CELLS && whole)
+                put_point(r, v, n, x * CELL, y * CELL, CELL, ring);
+            else if (seg == SEG_EDGES && !whole)
+                put_rect(r, v, n, x * CELL, y * CELL, x1 < r->width ? x1 : r->width, y1 < r->height ? y1 : r->height,
+                         ring);
+        }
+}
+
+fs_status renderer_composite_create(renderer *r)
+{
+    size_t cells = (size_t)cells_x(r) * (size_t)cells_y(r);
+    size_t blocks = (size_t)blocks_x(r) * (size_t)((r->height + BLOCK - 1) / BLOCK);
+    /* at most 6 vertices of (x, y, ring) per cell: a cell cut by the display's edge is two triangles */
+    r->tile_verts = malloc(sizeof(float) * 18 * cells);
+    r->cell_ring = malloc(cells);
+    r->block_ring = malloc(blocks);
+    if (!r->tile_verts || !r->cell_ring || !r->block_ring)
+        return FS_ERR_NOMEM;
+    GLfloat range[2] = {1.0f, 1.0f};
+    glGetFloatv(GL_POINT_SIZE_RANGE, range);
+    r->point_max = range[1];
+    glCreateBuffers(1, &r->tile_vbo);
+    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * cells), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glCreateVertexArrays(1, &r->tile_vao);
+    glVertexArrayVertexBuffer(r->tile_vao, 0, r->tile_vbo, 0, 3 * sizeof(float));
+    glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(r->tile_vao, 0, 0);
+    glEnableVertexArrayAttrib(r->tile_vao, 0);
+    return FS_OK;
+}
+
+/* >>draw */
+/* The composite's uniforms, the same in both of its programs. */
+static void composite_uniforms(const renderer *r, const composite_program *c, const frame_record *fr)
+{
+    const fov_layout *l = &r->pl.layout;
+    display_desc d = {r->width, r->height, fr->hfov_deg};
+    float outer[MAX_FOV_RINGS], band[MAX_FOV_RINGS], rect[4 * MAX_FOV_RINGS], block[MAX_FOV_RINGS];
+    for (int i = 0; i < l->count; i++) {
+        float prev = i > 0 ? l->rings[i - 1].outer_deg : 0.0f;
+        outer[i] = isinf(l->rings[i].outer_deg) ? 1e9f : l->rings[i].outer_deg;
+        band[i] = isinf(l->rings[i].outer_deg) ? 0.0f : fminf(l->blend_deg, 0.5f * (l->rings[i].outer_deg - prev));
+        const fov_ring_rect *rr = &fr->ring_rect[i];
+        rect[4 * i] = (float)rr->x0;
+        rect[4 * i + 1] = (float)rr->y0;
+        rect[4 * i + 2] = (float)rr->x1;
+        rect[4 * i + 3] = (float)rr->y1;
+        block[i] = (float)rr->block;
+    }
+    glProgramUniform2f(c->id, c->u_display_px, (float)r->width, (float)r->height);
+    glProgramUniform2f(c->id, c->u_array_px, (float)r->width, (float)r->height);
+    glProgramUniform1f(c->id, c->u_focal_px, fov_focal_px(&d));
+    glProgramUniform2f(c->id, c->u_gaze_px, fr->gaze_px[0], fr->gaze_px[1]);
+    glProgramUniform1fv(c->id, c->u_ring_outer, l->count, outer);
+    glProgramUniform1fv(c->id, c->u_ring_band, l->count, band);
+    glProgramUniform4fv(c->id, c->u_ring_rect, l->count, rect);
+    glProgramUniform1fv(c->id, c->u_ring_block, l->count, block);
+}
+
+/* One program's segments: blocks and cells as points of their side, edge cells as triangles. */
+static void draw_segments(const int first[SEGS], const int count[SEGS])
+{
+    static const float point_px[SEGS] = {BLOCK, CELL, 0};
+    for (int s = 0; s < SEGS; s++) {
+        if (count[s] == 0)
+            continue;
+        if (s == SEG_EDGES) {
+            glDrawArrays(GL_TRIANGLES, first[s], count[s]);
+            continue;
+        }
+        glPointSize(point_px[s]);
+        glDrawArrays(GL_POINTS, first[s], count[s]);
+    }
+    glPointSize(1.0f);
+}
+
+void renderer_draw_composite(renderer *r, const frame_record *fr)
+{
+    classify(r, fr);
+    int first[PROGS][SEGS], count[PROGS][SEGS], n = 0;
+    for (int p = 0; p < PROGS; p++)
+        for (int s = 0; s < SEGS; s++) {
+            first[p][s] = n;
+            put_segment(r, p, s, r->tile_verts, &n);
+            count[p][s] = n - first[p][s];
+        }
+    glNamedBufferSubData(r->tile_vbo, 0, (GLsizeiptr)(sizeof(float) * 3 * (size_t)n), r->tile_verts);
+    /* With TAA the composite reads the resolved rings this frame wrote. */
+    glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);
+    glBindTextureUnit(1, r->pl.taa ? r->taa_coverage[r->parity] : r->rt.coverage);
+    glBindSampler(0, r->ring_sampler);
+    glBindSampler(1, r->ring_sampler);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->out_fbo);
+    glViewport(0, 0, r->width, r->height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glBindVertexArray(r->tile_vao);
+    const composite_program *progs[PROGS] = {&r->comp_tile, &r->comp};
+    for (int p = 0; p < PROGS; p++) {
+        if (count[p][SEG_BLOCKS] + count[p][SEG_CELLS] + count[p][SEG_EDGES] == 0)
+            continue;
+        composite_uniforms(r, progs[p], fr);
+        glUseProgram(progs[p]->id);
+        draw_segments(first[p], count[p]);
+    }
+    glBindSampler(0, 0);
+    glBindSampler(1, 0);
+}
