@@ -14,6 +14,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* >>cells */
 enum { CELL = FOV_TILE_PX, BLOCK = 64, CELLS_PER_BLOCK = BLOCK / CELL };
@@ -39,11 +40,9 @@ static int blocks_x(const renderer *r)
 }
 
 /* The ring every pixel of window rectangle [x0, x1) x [y0, y1) (row 0 at the bottom) takes
- * without blending, or -1: searched per pixel (always, without tiles). */
+ * without blending, or -1: searched per pixel. */
 static int window_rect_ring(const renderer *r, const frame_record *fr, int x0, int y0, int x1, int y1)
 {
-    if (!r->pl.composite_tiles)
-        return -1;
     display_desc d = {r->width, r->height, fr->hfov_deg};
     return fov_tile_ring(&d, &r->pl.layout, fr->gaze_px[0], fr->gaze_px[1], x0, r->height - y1, x1, r->height - y0);
 }
@@ -190,16 +189,33 @@ static void draw_segments(const int first[SEGS], const int count[SEGS])
     glPointSize(1.0f);
 }
 
-void renderer_draw_composite(renderer *r, const frame_record *fr)
+/* Writes the frame's vertices into r->tile_verts, each program's segments in order; returns how
+ * many. Without tiles (--composite per-pixel, --overlay) the display is one rectangle searched per
+ * pixel, as before the cells: the tests compare the cells' image with it bit for bit. */
+static int put_vertices(renderer *r, const frame_record *fr, int first[PROGS][SEGS], int count[PROGS][SEGS])
 {
+    int n = 0;
+    memset(count, 0, sizeof(int) * PROGS * SEGS);
+    memset(first, 0, sizeof(int) * PROGS * SEGS);
+    if (!r->pl.composite_tiles) {
+        put_rect(r, r->tile_verts, &n, 0, 0, r->width, r->height, -1);
+        count[PROG_SEARCH][SEG_EDGES] = n;
+        return n;
+    }
     classify(r, fr);
-    int first[PROGS][SEGS], count[PROGS][SEGS], n = 0;
     for (int p = 0; p < PROGS; p++)
         for (int s = 0; s < SEGS; s++) {
             first[p][s] = n;
             put_segment(r, p, s, r->tile_verts, &n);
             count[p][s] = n - first[p][s];
         }
+    return n;
+}
+
+void renderer_draw_composite(renderer *r, const frame_record *fr)
+{
+    int first[PROGS][SEGS], count[PROGS][SEGS];
+    int n = put_vertices(r, fr, first, count);
     glNamedBufferSubData(r->tile_vbo, 0, (GLsizeiptr)(sizeof(float) * 3 * (size_t)n), r->tile_verts);
     /* With TAA the composite reads the resolved rings this frame wrote. */
     glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);

@@ -135,10 +135,8 @@ static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, 
             glProgramUniform1ui(pg->id, pg->u_draw_order, r->list_draw_order);
             r->list_draw_order += (uint32_t)count;
         }
-        if (pg->u_hash_instance >= 0) { /* the hashed modes' layer keys (draw_order.glsl) */
+        if (pg->u_hash_instance >= 0) /* the hashed modes' layer keys (draw_order.glsl) */
             glProgramUniform1ui(pg->id, pg->u_hash_instance, (GLuint)(ga->slot_base + first));
-            glProgramUniform1ui(pg->id, pg->u_hash_primitive, ga->prims[p].first_triangle);
-        }
         if (pg->u_ring_lod_instance >= 0) /* the per-instance rank rotation's key (common/ring_lod.glsl) */
             glProgramUniform1ui(pg->id, pg->u_ring_lod_instance, (GLuint)(ga->slot_base + first));
         glBindVertexArray(ga->prims[p].vao);

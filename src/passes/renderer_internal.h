@@ -43,7 +43,7 @@ typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
-        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive, u_ring_lod,
+        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_ring_lod,
         u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max, u_count_slot;
 } gpu_program;
 
@@ -63,8 +63,10 @@ typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
     GLuint card_vbo[2];      /* plan.ring_lod, MASK primitives: (card centre, rank) and the card's
                               * side per vertex */
+    GLuint tri_vbo;          /* hashed modes' MASK primitives: ATTR_TRIANGLE per vertex */
     GLsizei index_count;
-    uint32_t first_triangle; /* triangles of the asset's earlier primitives (u_hash_primitive) */
+    uint32_t vertex_count;   /* on the GPU: duplicated provoking vertices included */
+    uint32_t *vsrc;          /* during the upload, where vertices were duplicated: each one's source */
 } gpu_prim;
 
 typedef struct gpu_asset {
