@@ -218,8 +218,7 @@ void renderer_destroy(renderer *r)
     glDeleteVertexArrays(1, &r->tile_vao);
     glDeleteBuffers(1, &r->tile_vbo);
     free(r->tile_verts);
-    free(r->cell_ring);
-    free(r->block_ring);
+    free(r->squares);
     free(r->read_buf);
     free(r->read_row);
     glDeleteTextures(1, &r->list_head);

@@ -5,11 +5,12 @@
  * so the image does not depend on the classification (docs/foveation.md "Composite").
  *
  * The cells are squares aligned to the target's rows from the bottom, as llvmpipe bins it in
- * 64-pixel tiles, and drawn as points: a 64-pixel block of one ring is one point that covers a
- * whole bin (llvmpipe shades it without any coverage test), the rest 16-pixel points. Points have
- * no diagonal edge: two triangles per rectangle shade every 4x4 block their diagonal crosses twice
- * (the rectangles this replaced ran 1.20 fragment invocations per display pixel). Cells cut by the
- * display's edge (sizes not a multiple of 16) are drawn as rectangles of two triangles. */
+ * 64-pixel tiles, split as a quadtree down to FOV_TILE_PX and drawn as points: a 64-pixel square
+ * of one ring is one point that covers a whole bin (llvmpipe shades it without any coverage test),
+ * and fewer, larger points cost less setup. Points have no diagonal edge: two triangles per
+ * rectangle shade every 4x4 block their diagonal crosses twice (the rectangles this replaced ran
+ * 1.20 fragment invocations per display pixel). Squares cut by the display's edge (sizes not a
+ * multiple of 16) are drawn as rectangles of two triangles. */
 #include "passes/renderer_internal.h"
 
 #include <math.h>
@@ -17,26 +18,20 @@
 #include <string.h>
 
 /* >>cells */
-enum { CELL = FOV_TILE_PX, BLOCK = 64, CELLS_PER_BLOCK = BLOCK / CELL };
-_Static_assert(BLOCK % FOV_TILE_PX == 0, "a block is a whole number of cells");
+/* Square sides, largest first: one llvmpipe bin, then halves down to the classification tile. */
+static const int k_sides[] = {64, 32, FOV_TILE_PX};
+enum { SIDES = sizeof k_sides / sizeof k_sides[0], SEG_EDGES = SIDES, SEGS };
+_Static_assert(FOV_TILE_PX == 16, "sides halve from 64 down to the tile");
 
-/* Which program draws a cell, and as what. */
+/* Which program draws a square: the tile program where it has a ring, else the search. */
 enum { PROG_TILE, PROG_SEARCH, PROGS };
-enum { SEG_BLOCKS, SEG_CELLS, SEG_EDGES, SEGS };
 
-static int cells_x(const renderer *r)
+static int side_segment(int side)
 {
-    return (r->width + CELL - 1) / CELL;
-}
-
-static int cells_y(const renderer *r)
-{
-    return (r->height + CELL - 1) / CELL;
-}
-
-static int blocks_x(const renderer *r)
-{
-    return (r->width + BLOCK - 1) / BLOCK;
+    int s = 0;
+    while (s < SIDES - 1 && k_sides[s] != side)
+        s++;
+    return s;
 }
 
 /* The ring every pixel of window rectangle [x0, x1) x [y0, y1) (row 0 at the bottom) takes
@@ -47,27 +42,32 @@ static int window_rect_ring(const renderer *r, const frame_record *fr, int x0, i
     return fov_tile_ring(&d, &r->pl.layout, fr->gaze_px[0], fr->gaze_px[1], x0, r->height - y1, x1, r->height - y0);
 }
 
-/* Classifies the display: r->block_ring per whole 64-pixel block (-1: not of one ring, or cut by
- * the display's edge, or points that large are not supported), r->cell_ring per cell of the
- * blocks that are not. */
+/* Quadtree over window square (x0, y0, side): a square wholly on the display and of one ring is
+ * one entry, and so is every 16-pixel square (searched, or cut by the display's edge); the others
+ * split into their quarters on the display. */
+static void split(renderer *r, const frame_record *fr, int x0, int y0, int side)
+{
+    int x1 = x0 + side < r->width ? x0 + side : r->width, y1 = y0 + side < r->height ? y0 + side : r->height;
+    bool whole = x1 == x0 + side && y1 == y0 + side && r->point_max >= (float)side;
+    int ring = window_rect_ring(r, fr, x0, y0, x1, y1);
+    if ((whole && ring >= 0) || side == FOV_TILE_PX) {
+        r->squares[r->square_count++] = (comp_square){x0, y0, x1, y1, side, ring, whole};
+        return;
+    }
+    int h = side / 2;
+    for (int q = 0; q < 4; q++) {
+        int qx = x0 + (q & 1) * h, qy = y0 + (q >> 1) * h;
+        if (qx < r->width && qy < r->height)
+            split(r, fr, qx, qy, h);
+    }
+}
+
 static void classify(renderer *r, const frame_record *fr)
 {
-    int cx = cells_x(r), cy = cells_y(r), bx = blocks_x(r);
-    for (int j = 0; j * BLOCK < r->height; j++)
-        for (int i = 0; i * BLOCK < r->width; i++) {
-            int x0 = i * BLOCK, y0 = j * BLOCK;
-            bool whole = x0 + BLOCK <= r->width && y0 + BLOCK <= r->height && r->point_max >= BLOCK;
-            int ring = whole ? window_rect_ring(r, fr, x0, y0, x0 + BLOCK, y0 + BLOCK) : -1;
-            r->block_ring[j * bx + i] = (signed char)ring;
-            if (ring >= 0)
-                continue;
-            for (int y = j * CELLS_PER_BLOCK; y < (j + 1) * CELLS_PER_BLOCK && y < cy; y++)
-                for (int x = i * CELLS_PER_BLOCK; x < (i + 1) * CELLS_PER_BLOCK && x < cx; x++) {
-                    int x1 = (x + 1) * CELL < r->width ? (x + 1) * CELL : r->width;
-                    int y1 = (y + 1) * CELL < r->height ? (y + 1) * CELL : r->height;
-                    r->cell_ring[y * cx + x] = (signed char)window_rect_ring(r, fr, x * CELL, y * CELL, x1, y1);
-                }
-        }
+    r->square_count = 0;
+    for (int y = 0; y < r->height; y += k_sides[0])
+        for (int x = 0; x < r->width; x += k_sides[0])
+            split(r, fr, x, y, k_sides[0]);
 }
 
 /* Appends one vertex (x, y in display pixels, top-left origin; ring) at v[*n]. */
@@ -79,12 +79,6 @@ static void put_vertex(float *v, int *n, float x, float y, int ring)
     q[2] = (float)ring;
 }
 
-/* A point of side s over window square (x0, y0): its centre in display pixels. */
-static void put_point(const renderer *r, float *v, int *n, int x0, int y0, int s, int ring)
-{
-    put_vertex(v, n, (float)x0 + 0.5f * (float)s, (float)(r->height - y0) - 0.5f * (float)s, ring);
-}
-
 /* Window rectangle [x0, x1) x [y0, y1) as two triangles. */
 static void put_rect(const renderer *r, float *v, int *n, int x0, int y0, int x1, int y1, int ring)
 {
@@ -94,48 +88,36 @@ static void put_rect(const renderer *r, float *v, int *n, int x0, int y0, int x1
         put_vertex(v, n, c[k][0], c[k][1], ring);
 }
 
-/* Appends the vertices of one program's segment (a block or cell belongs to PROG_TILE when it
- * has a ring). */
+/* Appends the vertices of one program's segment: points of one side (their centres), or the
+ * squares cut by the display's edge as rectangles. */
 static void put_segment(const renderer *r, int prog, int seg, float *v, int *n)
 {
-    int cx = cells_x(r), cy = cells_y(r), bx = blocks_x(r);
-    for (int y = 0; y < cy; y++)
-        for (int x = 0; x < cx; x++) {
-            int b = r->block_ring[(y / CELLS_PER_BLOCK) * bx + x / CELLS_PER_BLOCK];
-            bool block_origin = x % CELLS_PER_BLOCK == 0 && y % CELLS_PER_BLOCK == 0;
-            if (b >= 0) { /* one point per block, at its first cell */
-                if (seg == SEG_BLOCKS && prog == PROG_TILE && block_origin)
-                    put_point(r, v, n, x * CELL, y * CELL, BLOCK, b);
-                continue;
-            }
-            int ring = r->cell_ring[y * cx + x];
-            if ((ring >= 0) != (prog == PROG_TILE))
-                continue;
-            int x1 = (x + 1) * CELL, y1 = (y + 1) * CELL;
-            bool whole = x1 <= r->width && y1 <= r->height && r->point_max >= CELL;
-            if (seg == SEG_CELLS && whole)
-                put_point(r, v, n, x * CELL, y * CELL, CELL, ring);
-            else if (seg == SEG_EDGES && !whole)
-                put_rect(r, v, n, x * CELL, y * CELL, x1 < r->width ? x1 : r->width, y1 < r->height ? y1 : r->height,
-                         ring);
-        }
+    for (int i = 0; i < r->square_count; i++) {
+        const comp_square *q = &r->squares[i];
+        if ((q->ring >= 0) != (prog == PROG_TILE) || (q->whole ? side_segment(q->side) : SEG_EDGES) != seg)
+            continue;
+        if (q->whole)
+            put_vertex(v, n, (float)q->x0 + 0.5f * (float)q->side, (float)(r->height - q->y0) - 0.5f * (float)q->side,
+                       q->ring);
+        else
+            put_rect(r, v, n, q->x0, q->y0, q->x1, q->y1, q->ring);
+    }
 }
 
 fs_status renderer_composite_create(renderer *r)
 {
-    size_t cells = (size_t)cells_x(r) * (size_t)cells_y(r);
-    size_t blocks = (size_t)blocks_x(r) * (size_t)((r->height + BLOCK - 1) / BLOCK);
-    /* at most 6 vertices of (x, y, ring) per cell: a cell cut by the display's edge is two triangles */
-    r->tile_verts = malloc(sizeof(float) * 18 * cells);
-    r->cell_ring = malloc(cells);
-    r->block_ring = malloc(blocks);
-    if (!r->tile_verts || !r->cell_ring || !r->block_ring)
+    size_t tiles = (size_t)((r->width + FOV_TILE_PX - 1) / FOV_TILE_PX) * (size_t)((r->height + FOV_TILE_PX - 1) / FOV_TILE_PX);
+    /* at most one square per tile, 6 vertices of (x, y, ring) each (a square cut by the display's
+     * edge is two triangles) */
+    r->tile_verts = malloc(sizeof(float) * 18 * tiles);
+    r->squares = malloc(sizeof *r->squares * tiles);
+    if (!r->tile_verts || !r->squares)
         return FS_ERR_NOMEM;
     GLfloat range[2] = {1.0f, 1.0f};
     glGetFloatv(GL_POINT_SIZE_RANGE, range);
     r->point_max = range[1];
     glCreateBuffers(1, &r->tile_vbo);
-    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * cells), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * tiles), NULL, GL_DYNAMIC_STORAGE_BIT);
     glCreateVertexArrays(1, &r->tile_vao);
     glVertexArrayVertexBuffer(r->tile_vao, 0, r->tile_vbo, 0, 3 * sizeof(float));
     glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -172,10 +154,10 @@ static void composite_uniforms(const renderer *r, const composite_program *c, co
     glProgramUniform1fv(c->id, c->u_ring_block, l->count, block);
 }
 
-/* One program's segments: blocks and cells as points of their side, edge cells as triangles. */
+/* One program's segments: squares as points of their side, those cut by the display's edge as
+ * triangles. */
 static void draw_segments(const int first[SEGS], const int count[SEGS])
 {
-    static const float point_px[SEGS] = {BLOCK, CELL, 0};
     for (int s = 0; s < SEGS; s++) {
         if (count[s] == 0)
             continue;
@@ -183,7 +165,7 @@ static void draw_segments(const int first[SEGS], const int count[SEGS])
             glDrawArrays(GL_TRIANGLES, first[s], count[s]);
             continue;
         }
-        glPointSize(point_px[s]);
+        glPointSize((float)k_sides[s]);
         glDrawArrays(GL_POINTS, first[s], count[s]);
     }
     glPointSize(1.0f);
@@ -230,7 +212,10 @@ void renderer_draw_composite(renderer *r, const frame_record *fr)
     glBindVertexArray(r->tile_vao);
     const composite_program *progs[PROGS] = {&r->comp_tile, &r->comp};
     for (int p = 0; p < PROGS; p++) {
-        if (count[p][SEG_BLOCKS] + count[p][SEG_CELLS] + count[p][SEG_EDGES] == 0)
+        int total = 0;
+        for (int k = 0; k < SEGS; k++)
+            total += count[p][k];
+        if (total == 0)
             continue;
         composite_uniforms(r, progs[p], fr);
         glUseProgram(progs[p]->id);

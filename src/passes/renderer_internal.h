@@ -52,6 +52,14 @@ typedef struct composite_program {
     GLint u_display_px, u_focal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
 } composite_program;
 
+/* A square of the composite (renderer_composite.c): window pixels [x0, x1) x [y0, y1) (row 0 at
+ * the bottom) of a square of `side` at (x0, y0), cut by the display's edge unless `whole`; the ring
+ * all its pixels take, or -1 (searched per pixel). */
+typedef struct comp_square {
+    int x0, y0, x1, y1, side, ring;
+    bool whole;
+} comp_square;
+
 typedef struct taa_program {
     GLuint id;
     GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
@@ -121,7 +129,8 @@ struct renderer {
     composite_program comp_tile;           /* plan.composite_tiles: the cells of one ring */
     GLuint tile_vao, tile_vbo;             /* the composite's cells, rebuilt every frame */
     float *tile_verts;                     /* scratch: up to 6 vertices (x, y, ring) per cell */
-    signed char *cell_ring, *block_ring;   /* scratch: each cell's and 64-pixel block's ring, or -1 */
+    comp_square *squares;                  /* scratch: the frame's squares, at most one per tile */
+    int square_count;
     float point_max;                       /* the largest point size the GL draws */
     ring_targets rt;
     GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
