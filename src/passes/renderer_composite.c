@@ -106,7 +106,8 @@ static void put_segment(const renderer *r, int prog, int seg, float *v, int *n)
 
 fs_status renderer_composite_create(renderer *r)
 {
-    size_t tiles = (size_t)((r->width + FOV_TILE_PX - 1) / FOV_TILE_PX) * (size_t)((r->height + FOV_TILE_PX - 1) / FOV_TILE_PX);
+    size_t tiles_x = (size_t)((r->width + FOV_TILE_PX - 1) / FOV_TILE_PX);
+    size_t tiles = tiles_x * (size_t)((r->height + FOV_TILE_PX - 1) / FOV_TILE_PX);
     /* at most one square per tile, 6 vertices of (x, y, ring) each (a square cut by the display's
      * edge is two triangles) */
     r->tile_verts = malloc(sizeof(float) * 18 * tiles);
