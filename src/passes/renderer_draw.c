@@ -1,13 +1,12 @@
 /* renderer_draw.c: one frame (renderer_draw): each ring's culling and forward passes, the exact
- * reference's list pass and resolve, the TAA resolve, the composite (renderer_composite.c); the settings later frames
- * use, and each stage's timing and statistics queries, covered pixels of full-screen stages and
- * footprint bytes (renderer_stats.c reads them back: renderer_last_stats). */
+ * reference's list pass and resolve, the TAA resolve, then the composite (renderer_composite.c);
+ * the settings later frames use, and each stage's timing and statistics queries, covered pixels of
+ * full-screen stages and footprint bytes (renderer_stats.c reads them back: renderer_last_stats). */
 #include "passes/renderer_internal.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "common/shared_defs.h"
 #include "core/log.h"
