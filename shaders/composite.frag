@@ -4,10 +4,11 @@
 // ring.id (ring + blend weight of the next) and eccentricity (degrees).
 // The rings are layers of one texture array, so a pixel fetches only the one or two rings it uses
 // (a sampler array would need a dynamically uniform index, i.e. fetching every ring everywhere).
-// The display is drawn as rectangles classified on the CPU (composite.vert): with COMPOSITE_TILE
-// this program draws the rectangles whose every pixel takes one ring without blending, and skips
-// the eccentricity and the search (a branch would not: llvmpipe runs both sides of it); without,
-// it draws the others and searches per pixel. Both fetch exactly the same texels, so the result
+// The display is drawn as cells classified on the CPU (composite.vert): with COMPOSITE_TILE
+// this program draws the cells whose every pixel takes one ring without blending, and skips
+// the eccentricity and the search (a branch would not: llvmpipe runs both sides of it), taking the
+// ring's rectangle and block from the cell (flat inputs); without, it draws the others and
+// searches per pixel. Both fetch exactly the same texels, so the result
 // does not depend on the classification (tested: tiled == per-pixel, bit for bit).
 #include "common/foveation.glsl"
 
@@ -17,7 +18,11 @@ uniform vec2 u_array_px;                     // width, height of the array layer
 uniform vec4 u_ring_rect[FOV_RING_COUNT];    // x0, y0, x1, y1 in display pixels (top-left origin)
 uniform float u_ring_block[FOV_RING_COUNT];  // display pixels per ring pixel (1, 2, 4, ...)
 
-flat in int v_ring;                          // COMPOSITE_TILE: the rectangle's ring
+flat in int v_ring;                          // COMPOSITE_TILE: the cell's ring,
+#ifdef COMPOSITE_TILE
+flat in vec4 v_ring_rect;                    // its u_ring_rect
+flat in float v_ring_block;                  // and its u_ring_block
+#endif
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_coverage;
@@ -29,13 +34,16 @@ layout(location = 2) out vec4 o_debug;       // .r = ring.id, .g = eccentricity
 // renders into the corner of its layer, so bilinear taps are clamped to the rendered texel centres:
 // where a footprint was clipped at the display edge this replicates the edge, as clamp-to-edge
 // would, instead of reading texels outside the rendered region.
-vec3 ring_uvw(int i, vec2 p)
+vec3 ring_uvw_of(vec4 r, float b, int i, vec2 p)
 {
-    vec4 r = u_ring_rect[i];
-    float b = u_ring_block[i];
     vec2 t = vec2(p.x - r.x, r.w - p.y) / b;      // ring texels
     vec2 size = vec2(r.z - r.x, r.w - r.y) / b;   // rendered texels
     return vec3(clamp(t, vec2(0.5), size - 0.5) / u_array_px, float(i));
+}
+
+vec3 ring_uvw(int i, vec2 p)
+{
+    return ring_uvw_of(u_ring_rect[i], u_ring_block[i], i, p);
 }
 
 void main()
@@ -53,7 +61,11 @@ void main()
     float next;
     fov_composite_weight(e, ring, next);
 #endif
+#ifdef COMPOSITE_TILE
+    vec3 uvw = ring_uvw_of(v_ring_rect, v_ring_block, ring, p);
+#else
     vec3 uvw = ring_uvw(ring, p);
+#endif
     vec4 c = textureLod(u_ring_color, uvw, 0.0);
     float cov = textureLod(u_ring_coverage, uvw, 0.0).r;
     if (next > 0.0) {

@@ -24,7 +24,7 @@ uniform uint u_draw_order;       // the draw's first instance in the API order o
 #endif
 #ifdef FORWARD_HASH_LAYER
 flat in uint v_hash_instance;    // the instance's scene slot (common/draw_order.glsl)
-uniform uint u_hash_primitive;   // triangles of the asset's primitives drawn before this one
+flat in uint v_hash_triangle;    // the asset's triangle (common/draw_order.glsl)
 #endif
 #ifdef PASS_MASK
 #include "common/alpha_test.glsl"

@@ -50,6 +50,8 @@ flat out uint v_instance;   // the instance within its draw (common/draw_order.g
 #ifdef FORWARD_HASH_LAYER
 uniform uint u_hash_instance; // the scene slot of the draw's first instance (common/draw_order.glsl)
 flat out uint v_hash_instance;
+layout(location = ATTR_TRIANGLE) in uint a_triangle; // the asset's triangle this vertex provokes
+flat out uint v_hash_triangle;
 #endif
 
 void main()
@@ -95,6 +97,7 @@ void main()
 #endif
 #ifdef FORWARD_HASH_LAYER
     v_hash_instance = u_hash_instance + uint(gl_InstanceID);
+    v_hash_triangle = a_triangle;
 #endif
     gl_Position = u_view_proj * world;
 }

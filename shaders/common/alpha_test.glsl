@@ -45,7 +45,7 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
         return alpha >= 1.0 || (alpha > 0.0 && alpha >= max(cutoff, float(ALPHA_THRESHOLD_MIN)));
     // Each instance and triangle hashes its own lattice (docs/hashed-alpha.md, "Layers"): far away,
     // one noise cell holds many overlapping leaves, which would otherwise share one threshold.
-    uint layer = alpha_hash_layer(v_hash_instance, u_hash_primitive + uint(gl_PrimitiveID));
+    uint layer = alpha_hash_layer(v_hash_instance, v_hash_triangle);
     float t = alpha_hashed_threshold_layer(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso, layer);
 #ifdef TAA_HASH_OFFSET
     t = alpha_hashed_frame_offset(t, u_frame);
@@ -60,7 +60,7 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
     // Seed 000 §6: per-sample thresholds with a hashed offset and odd increment. One hashed value
     // per fragment gives chi; xi1 and xi2 are derived from it (fract of multiples of a uniform
     // variable are uniform), so layers with different hashes get decorrelated masks.
-    uint layer = alpha_hash_layer(v_hash_instance, u_hash_primitive + uint(gl_PrimitiveID));
+    uint layer = alpha_hash_layer(v_hash_instance, v_hash_triangle);
     float t = alpha_hashed_threshold_layer(obj, dFdx(obj), dFdy(obj), u_hash_scale, u_hash_kind, u_hash_aniso, layer);
 #ifdef TAA_HASH_OFFSET
     t = alpha_hashed_frame_offset(t, u_frame);

@@ -16,8 +16,12 @@
 // triangle (alpha_hash_layer, docs/hashed-alpha.md "Layers"). The instance id is its slot in the
 // scene (u_hash_instance, the draw's first slot, + gl_InstanceID in v_hash_instance), not its place
 // in this frame's draws, which culling changes: the key, and so the noise, stays put over frames,
-// rings and modes. The triangle is u_hash_primitive (triangles of the asset's earlier primitives)
-// + gl_PrimitiveID.
+// rings and modes. The triangle is the asset's triangle index (triangles of its earlier primitives
+// + the primitive's own, as gl_PrimitiveID counts them), a flat vertex attribute (ATTR_TRIANGLE,
+// v_hash_triangle) that the upload gives each triangle's provoking vertex, duplicating a vertex
+// that two triangles end on. Not gl_PrimitiveID: where a fragment shader reads it and no geometry
+// shader writes it, llvmpipe's draw module reassembles every triangle (a realloc per triangle and a
+// memcpy per vertex: 5 % of a hashed foveated frame, docs/benchmarks.md "Throughput on llvmpipe").
 #if defined(PASS_MASK)
 #if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C
 #define FORWARD_HASH_LAYER 1

@@ -44,6 +44,9 @@
 #define ATTR_UV 2
 #define ATTR_COLOR 3
 #define ATTR_INSTANCE 4
+/* Hashed modes' MASK primitives only: per vertex, the asset's triangle it is the provoking (last)
+ * vertex of, read flat (common/draw_order.glsl). */
+#define ATTR_TRIANGLE 12
 /* Swaying instances only (the plan's SWAY variant): per instance, the sway offset and height
  * (ATTR_SWAY) and its frequency and phase (ATTR_SWAY_WAVE); see common/sway.glsl. */
 #define ATTR_SWAY 8

@@ -78,6 +78,9 @@ typedef struct bench_summaries {
      * pixels / shaded pixels, and full resolution's covered fragments / the foveated frame's (the
      * stages that draw the scene, over the same frames; -1 = unknown) */
     double speedup, ideal, covered_ideal;
+    /* the speedup with the composite's synced stage time taken off each foveated frame: what
+     * foveation saves, without llvmpipe's full-screen pass (-1 = unknown) */
+    double speedup_no_composite;
     bool has_fov;
 } bench_summaries;
 

@@ -40,7 +40,7 @@ static const uniform_slot k_pass_uniforms[] = {
     PASS(u_view_proj), PASS(u_has_base_tex), PASS(u_base_color), PASS(u_alpha_cutoff), PASS(u_double_sided),
     PASS(u_mip_bias), PASS(u_mip_scale), PASS(u_eye), PASS(u_light_dir), PASS(u_light_color), PASS(u_ambient),
     PASS(u_hash_scale), PASS(u_hash_kind), PASS(u_hash_aniso), PASS(u_fade_n), PASS(u_frame), PASS(u_time),
-    PASS(u_prev_time), PASS(u_draw_order), PASS(u_list_capacity), PASS(u_hash_instance), PASS(u_hash_primitive),
+    PASS(u_prev_time), PASS(u_draw_order), PASS(u_list_capacity), PASS(u_hash_instance),
     PASS(u_ring_lod), PASS(u_ring_lod_instance), PASS(u_ring_lod_px), PASS(u_alpha_lod_max), PASS(u_count_slot),
 };
 #undef PASS
@@ -189,6 +189,7 @@ void renderer_destroy(renderer *r)
                     glDeleteBuffers(4, ga->prims[p].vbo);
                     glDeleteBuffers(1, &ga->prims[p].ibo);
                     glDeleteBuffers(2, ga->prims[p].card_vbo);
+                    glDeleteBuffers(1, &ga->prims[p].tri_vbo);
                 }
             if (ga->textures)
                 glDeleteTextures(as->image_count, ga->textures);
@@ -216,8 +217,8 @@ void renderer_destroy(renderer *r)
     glDeleteProgram(r->comp_tile.id);
     glDeleteVertexArrays(1, &r->tile_vao);
     glDeleteBuffers(1, &r->tile_vbo);
-    free(r->tiles);
     free(r->tile_verts);
+    free(r->squares);
     free(r->read_buf);
     free(r->read_row);
     glDeleteTextures(1, &r->list_head);

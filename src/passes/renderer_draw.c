@@ -1,13 +1,12 @@
 /* renderer_draw.c: one frame (renderer_draw): each ring's culling and forward passes, the exact
- * reference's list pass and resolve, the TAA resolve, the composite; the settings later frames
- * use, and each stage's timing and statistics queries, covered pixels of full-screen stages and
- * footprint bytes (renderer_stats.c reads them back: renderer_last_stats). */
+ * reference's list pass and resolve, the TAA resolve, then the composite (renderer_composite.c);
+ * the settings later frames use, and each stage's timing and statistics queries, covered pixels of
+ * full-screen stages and footprint bytes (renderer_stats.c reads them back: renderer_last_stats). */
 #include "passes/renderer_internal.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "common/shared_defs.h"
 #include "core/log.h"
@@ -135,10 +134,8 @@ static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, 
             glProgramUniform1ui(pg->id, pg->u_draw_order, r->list_draw_order);
             r->list_draw_order += (uint32_t)count;
         }
-        if (pg->u_hash_instance >= 0) { /* the hashed modes' layer keys (draw_order.glsl) */
+        if (pg->u_hash_instance >= 0) /* the hashed modes' layer keys (draw_order.glsl) */
             glProgramUniform1ui(pg->id, pg->u_hash_instance, (GLuint)(ga->slot_base + first));
-            glProgramUniform1ui(pg->id, pg->u_hash_primitive, ga->prims[p].first_triangle);
-        }
         if (pg->u_ring_lod_instance >= 0) /* the per-instance rank rotation's key (common/ring_lod.glsl) */
             glProgramUniform1ui(pg->id, pg->u_ring_lod_instance, (GLuint)(ga->slot_base + first));
         glBindVertexArray(ga->prims[p].vao);
@@ -492,85 +489,6 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     }
 }
 
-/* The composite's uniforms, the same in both of its programs. */
-static void composite_uniforms(const renderer *r, const composite_program *c, const frame_record *fr)
-{
-    const fov_layout *l = &r->pl.layout;
-    display_desc d = {r->width, r->height, fr->hfov_deg};
-    float outer[MAX_FOV_RINGS], band[MAX_FOV_RINGS], rect[4 * MAX_FOV_RINGS], block[MAX_FOV_RINGS];
-    for (int i = 0; i < l->count; i++) {
-        float prev = i > 0 ? l->rings[i - 1].outer_deg : 0.0f;
-        outer[i] = isinf(l->rings[i].outer_deg) ? 1e9f : l->rings[i].outer_deg;
-        band[i] = isinf(l->rings[i].outer_deg) ? 0.0f : fminf(l->blend_deg, 0.5f * (l->rings[i].outer_deg - prev));
-        const fov_ring_rect *rr = &fr->ring_rect[i];
-        rect[4 * i] = (float)rr->x0;
-        rect[4 * i + 1] = (float)rr->y0;
-        rect[4 * i + 2] = (float)rr->x1;
-        rect[4 * i + 3] = (float)rr->y1;
-        block[i] = (float)rr->block;
-    }
-    glProgramUniform2f(c->id, c->u_display_px, (float)r->width, (float)r->height);
-    glProgramUniform2f(c->id, c->u_array_px, (float)r->width, (float)r->height);
-    glProgramUniform1f(c->id, c->u_focal_px, fov_focal_px(&d));
-    glProgramUniform2f(c->id, c->u_gaze_px, fr->gaze_px[0], fr->gaze_px[1]);
-    glProgramUniform1fv(c->id, c->u_ring_outer, l->count, outer);
-    glProgramUniform1fv(c->id, c->u_ring_band, l->count, band);
-    glProgramUniform4fv(c->id, c->u_ring_rect, l->count, rect);
-    glProgramUniform1fv(c->id, c->u_ring_block, l->count, block);
-}
-
-/* The display as rectangles (fov_composite_tiles), those of one ring first: writes their vertices
- * into the tile buffer and returns how many of the rectangles are of one ring (*total: all). */
-static int composite_rectangles(renderer *r, const frame_record *fr, int *total)
-{
-    display_desc d = {r->width, r->height, fr->hfov_deg};
-    int n = 0;
-    if (r->pl.composite_tiles)
-        n = fov_composite_tiles(&d, &r->pl.layout, fr->gaze_px[0], fr->gaze_px[1], r->tiles, r->tile_max);
-    else /* one rectangle: the display, searched per pixel */
-        r->tiles[n++] = (fov_tile){0, 0, r->width, r->height, -1};
-    int pure = 0;
-    for (int i = 0; i < n; i++)
-        pure += r->tiles[i].ring >= 0;
-    for (int i = 0, a = 0, b = pure; i < n; i++) {
-        const fov_tile *t = &r->tiles[i];
-        float x0 = (float)t->x0, y0 = (float)t->y0, x1 = (float)t->x1, y1 = (float)t->y1, k = (float)t->ring;
-        const float v[18] = {x0, y0, k, x1, y0, k, x1, y1, k, x0, y0, k, x1, y1, k, x0, y1, k};
-        memcpy(r->tile_verts + 18 * (size_t)(t->ring >= 0 ? a++ : b++), v, sizeof v);
-    }
-    *total = n;
-    return pure;
-}
-
-static void draw_composite(renderer *r, const frame_record *fr)
-{
-    int n, pure = composite_rectangles(r, fr, &n);
-    glNamedBufferSubData(r->tile_vbo, 0, (GLsizeiptr)(sizeof(float) * 18 * (size_t)n), r->tile_verts);
-    /* With TAA the composite reads the resolved rings this frame wrote. */
-    glBindTextureUnit(0, r->pl.taa ? r->taa_color[r->parity] : r->rt.color);
-    glBindTextureUnit(1, r->pl.taa ? r->taa_coverage[r->parity] : r->rt.coverage);
-    glBindSampler(0, r->ring_sampler);
-    glBindSampler(1, r->ring_sampler);
-    glBindFramebuffer(GL_FRAMEBUFFER, r->out_fbo);
-    glViewport(0, 0, r->width, r->height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glBindVertexArray(r->tile_vao);
-    if (pure > 0) {
-        composite_uniforms(r, &r->comp_tile, fr);
-        glUseProgram(r->comp_tile.id);
-        glDrawArrays(GL_TRIANGLES, 0, 6 * pure);
-    }
-    if (n > pure) {
-        composite_uniforms(r, &r->comp, fr);
-        glUseProgram(r->comp.id);
-        glDrawArrays(GL_TRIANGLES, 6 * pure, 6 * (n - pure));
-    }
-    glBindSampler(0, 0);
-    glBindSampler(1, 0);
-}
-
 fs_status renderer_draw(renderer *r, const frame_record *fr)
 {
     FS_ASSERT(fr->ring_count == r->pl.layout.count);
@@ -635,7 +553,7 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
             r->shaded_pixels += (long long)fr->ring_rect[i].width * fr->ring_rect[i].height;
         }
         stage_begin(r, k);
-        draw_composite(r, fr);
+        renderer_draw_composite(r, fr);
         stage_end(r, k, &t_prev);
         r->fullscreen_px[k] = display_px; /* its rectangles tile the display */
         r->stage_bytes[k] = pass_bytes_composite(tb, ring_px, fr->ring_count, display_px);

@@ -6,7 +6,8 @@
  *   renderer_upload.c  the resources the passes declare, the scene on the GPU (textures, samplers,
  *                      primitives, instances), the render targets, the exact reference's list store
  *   renderer_draw.c    one frame: each ring's culling and forward passes, the list pass and its
- *                      resolve, the TAA resolve, the composite; stage timing and statistics
+ *                      resolve, the TAA resolve; stage timing and statistics
+ *   renderer_composite.c  the composite: the display classified into cells, drawn as points
  *   renderer_stats.c   renderer_last_stats: the stages' queries, covered fragments, footprint bytes
  *   renderer_read.c    read-back (images, depth, fragment lists) and the framebuffer the viewer blits
  *
@@ -42,7 +43,7 @@ typedef struct gpu_program {
     GLuint id;
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
-        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_hash_primitive, u_ring_lod,
+        u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_ring_lod,
         u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max, u_count_slot;
 } gpu_program;
 
@@ -50,6 +51,14 @@ typedef struct composite_program {
     GLuint id;
     GLint u_display_px, u_focal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
 } composite_program;
+
+/* A square of the composite (renderer_composite.c): window pixels [x0, x1) x [y0, y1) (row 0 at
+ * the bottom) of a square of `side` at (x0, y0), cut by the display's edge unless `whole`; the ring
+ * all its pixels take, or -1 (searched per pixel). */
+typedef struct comp_square {
+    int x0, y0, x1, y1, side, ring;
+    bool whole;
+} comp_square;
 
 typedef struct taa_program {
     GLuint id;
@@ -62,8 +71,10 @@ typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
     GLuint card_vbo[2];      /* plan.ring_lod, MASK primitives: (card centre, rank) and the card's
                               * side per vertex */
+    GLuint tri_vbo;          /* hashed modes' MASK primitives: ATTR_TRIANGLE per vertex */
     GLsizei index_count;
-    uint32_t first_triangle; /* triangles of the asset's earlier primitives (u_hash_primitive) */
+    uint32_t vertex_count;   /* on the GPU: duplicated provoking vertices included */
+    uint32_t *vsrc;          /* during the upload, where vertices were duplicated: each one's source */
 } gpu_prim;
 
 typedef struct gpu_asset {
@@ -115,11 +126,12 @@ struct renderer {
     sort_item *blend_order;                /* scratch for the BLEND sort: one per instance */
     gpu_program programs[PLAN_MAX_PASSES]; /* one per plan pass, same index */
     composite_program comp;
-    composite_program comp_tile;           /* plan.composite_tiles: the rectangles of one ring */
-    GLuint tile_vao, tile_vbo;             /* the composite's rectangles, rebuilt every frame */
-    fov_tile *tiles;                       /* scratch: fov_tile_max rectangles */
-    float *tile_verts;                     /* scratch: 6 vertices (x, y, ring) per rectangle */
-    int tile_max;
+    composite_program comp_tile;           /* plan.composite_tiles: the cells of one ring */
+    GLuint tile_vao, tile_vbo;             /* the composite's cells, rebuilt every frame */
+    float *tile_verts;                     /* scratch: up to 6 vertices (x, y, ring) per cell */
+    comp_square *squares;                  /* scratch: the frame's squares, at most one per tile */
+    int square_count;
+    float point_max;                       /* the largest point size the GL draws */
     ring_targets rt;
     GLuint out_fbo, out_tex[OUT_COUNT];    /* display targets of the composite */
     GLuint empty_vao;                      /* TAA's full-screen triangle needs a bound VAO */
@@ -182,6 +194,11 @@ struct renderer {
 /* >>create: renderer_create's steps after the programs (renderer_upload.c) */
 fs_status renderer_upload_scene(renderer *r);
 fs_status renderer_create_targets(renderer *r);
+/* >>composite (renderer_composite.c) */
+/* The composite's vertex buffer and scratch (its targets and sampler are renderer_upload.c's). */
+fs_status renderer_composite_create(renderer *r);
+/* The composite pass of frame fr into the display targets. */
+void renderer_draw_composite(renderer *r, const frame_record *fr);
 /* Bytes per pixel of the targets the plan creates, from the resource tables (pass_bytes.h). */
 target_bytes renderer_target_bytes(const renderer *r);
 

@@ -86,7 +86,73 @@ static GLuint make_sampler(const material *m)
  * at ATTR_SWAY_WAVE, 8 floats per instance. */
 enum { SWAY_FLOATS = 8 };
 
-static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint sway_vbo)
+/* Hashed modes' MASK primitives (common/draw_order.glsl): every triangle's provoking (last)
+ * vertex carries the asset's triangle index, t0 + its index in the primitive (what u_hash_primitive
+ * + gl_PrimitiveID gave). A vertex that two triangles end on is duplicated for the second, with the
+ * same attributes (so the same image), and that triangle's last index points at the copy. Writes
+ * *out (its own arrays; prim_free_copy), out_src (each vertex's source vertex in p) and out_tri. */
+static fs_status prim_triangle_ids(const prim *p, uint32_t t0, prim *out, uint32_t **out_src, uint32_t **out_tri)
+{
+    uint32_t tris = p->index_count / 3u, max = p->vertex_count + tris;
+    uint32_t *src = malloc(sizeof(uint32_t) * ((size_t)max + 1)), *tri = malloc(sizeof(uint32_t) * ((size_t)max + 1));
+    unsigned char *taken = calloc((size_t)p->vertex_count + 1, 1);
+    *out = (prim){.material = p->material, .index_count = p->index_count,
+                  .indices = malloc(sizeof(uint32_t) * ((size_t)p->index_count + 1))};
+    if (!src || !tri || !taken || !out->indices) {
+        free(src);
+        free(tri);
+        free(taken);
+        free(out->indices);
+        out->indices = NULL;
+        return FS_ERR_NOMEM;
+    }
+    uint32_t n = p->vertex_count;
+    for (uint32_t v = 0; v < n; v++) {
+        src[v] = v;
+        tri[v] = 0; /* provokes no triangle: never read */
+    }
+    memcpy(out->indices, p->indices, sizeof(uint32_t) * p->index_count);
+    for (uint32_t t = 0; t < tris; t++) {
+        uint32_t v = p->indices[3 * t + 2];
+        if (taken[v]) {
+            src[n] = v;
+            out->indices[3 * t + 2] = v = n++;
+        }
+        taken[src[v]] = 1;
+        tri[v] = t0 + t;
+    }
+    free(taken);
+    out->vertex_count = n;
+    const float *in[4] = {p->positions, p->normals, p->uvs, p->colors};
+    float **dst[4] = {&out->positions, &out->normals, &out->uvs, &out->colors};
+    const size_t comps[4] = {3, 3, 2, 4};
+    fs_status st = FS_OK;
+    for (int a = 0; a < 4; a++) {
+        *dst[a] = malloc(sizeof(float) * comps[a] * ((size_t)n + 1));
+        if (!*dst[a]) {
+            st = FS_ERR_NOMEM;
+            continue;
+        }
+        for (uint32_t v = 0; v < n; v++)
+            memcpy(*dst[a] + comps[a] * v, in[a] + comps[a] * src[v], sizeof(float) * comps[a]);
+    }
+    *out_src = src;
+    *out_tri = tri;
+    return st;
+}
+
+static void prim_free_copy(prim *p)
+{
+    free(p->positions);
+    free(p->normals);
+    free(p->uvs);
+    free(p->colors);
+    free(p->indices);
+}
+
+/* A primitive's buffers and vertex array; tri: ATTR_TRIANGLE per vertex (prim_triangle_ids), or
+ * NULL. */
+static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint sway_vbo, const uint32_t *tri)
 {
     glCreateVertexArrays(1, &g->vao);
     glCreateBuffers(4, g->vbo);
@@ -118,9 +184,32 @@ static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint 
         glEnableVertexArrayAttrib(g->vao, ATTR_SWAY);
         glEnableVertexArrayAttrib(g->vao, ATTR_SWAY_WAVE);
     }
+    if (tri) {
+        glCreateBuffers(1, &g->tri_vbo);
+        glNamedBufferStorage(g->tri_vbo, (GLsizeiptr)(sizeof(uint32_t) * p->vertex_count), tri, 0);
+        glVertexArrayVertexBuffer(g->vao, 8, g->tri_vbo, 0, sizeof(uint32_t));
+        glVertexArrayAttribIFormat(g->vao, ATTR_TRIANGLE, 1, GL_UNSIGNED_INT, 0);
+        glVertexArrayAttribBinding(g->vao, ATTR_TRIANGLE, 8);
+        glEnableVertexArrayAttrib(g->vao, ATTR_TRIANGLE);
+    }
     glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * p->index_count), p->indices, 0);
     glVertexArrayElementBuffer(g->vao, g->ibo);
     g->index_count = (GLsizei)p->index_count;
+}
+
+/* Card attributes (4 floats, then 1 per vertex, of `n` source vertices) for a primitive whose
+ * vertices were duplicated (prim_triangle_ids): vertex v takes source vertex src[v]'s; `count`
+ * vertices out. */
+static float *gather_cards(const float *attr, const float *side, const uint32_t *src, uint32_t count)
+{
+    float *out = malloc(sizeof(float) * 5 * ((size_t)count + 1));
+    if (!out)
+        return NULL;
+    for (uint32_t v = 0; v < count; v++) {
+        memcpy(out + 4 * (size_t)v, attr + 4 * (size_t)src[v], 4 * sizeof(float));
+        out[4 * (size_t)count + v] = side[src[v]];
+    }
+    return out;
 }
 
 /* Ring LOD (plan.ring_lod; docs/ring-lod.md): each MASK primitive's (card centre, rank) per vertex
@@ -154,9 +243,18 @@ static fs_status upload_cards(renderer *r, const asset *as, gpu_asset *ga)
         prim_cards_vertex_attrib(&cards.prims[p], pr, attr);
         prim_cards_vertex_side(&cards.prims[p], pr, side);
         gpu_prim *g = &ga->prims[p];
+        float *gathered = g->vsrc ? gather_cards(attr, side, g->vsrc, g->vertex_count) : attr;
+        if (!gathered) {
+            free(attr);
+            st = FS_ERR_NOMEM;
+            break;
+        }
         glCreateBuffers(2, g->card_vbo);
-        glNamedBufferStorage(g->card_vbo[0], (GLsizeiptr)(sizeof(float) * 4 * pr->vertex_count), attr, 0);
-        glNamedBufferStorage(g->card_vbo[1], (GLsizeiptr)(sizeof(float) * pr->vertex_count), side, 0);
+        glNamedBufferStorage(g->card_vbo[0], (GLsizeiptr)(sizeof(float) * 4 * g->vertex_count), gathered, 0);
+        glNamedBufferStorage(g->card_vbo[1], (GLsizeiptr)(sizeof(float) * g->vertex_count),
+                             gathered + 4 * (size_t)g->vertex_count, 0);
+        if (gathered != attr)
+            free(gathered);
         free(attr);
         const GLuint locs[2] = {ATTR_CARD, ATTR_CARD_SIDE};
         const GLint comps[2] = {4, 1};
@@ -196,6 +294,30 @@ static fs_status material_fade(const plan *pl, const material *m, const asset *a
     *out = fmaxf(1.0f, fminf(pl->alpha.fade_n, (float)drift));
     log_info("ALPHA: [%s] material \"%s\": hashed noise fades in over %.1f mip levels", as->name, m->name, *out);
     return FS_OK;
+}
+
+/* Primitive p of asset `as` (its triangles start at the asset's triangle t0): hashed modes' MASK
+ * primitives with their triangle ids (prim_triangle_ids), the others as they are. */
+static fs_status upload_prim_of(const renderer *r, const asset *as, int p, uint32_t t0, gpu_asset *ga)
+{
+    const prim *pr = &as->prims[p];
+    const material *m = &as->materials[pr->material];
+    gpu_prim *g = &ga->prims[p];
+    g->vertex_count = pr->vertex_count;
+    if (m->alpha_kind != ALPHA_KIND_MASK || !alpha_mode_has(plan_material_mode(&r->pl, m), ALPHA_TRAIT_HASH)) {
+        upload_prim(pr, g, ga->instance_vbo, ga->sway_vbo, NULL);
+        return FS_OK;
+    }
+    prim q;
+    uint32_t *tri = NULL;
+    fs_status st = prim_triangle_ids(pr, t0, &q, &g->vsrc, &tri);
+    if (st == FS_OK) {
+        upload_prim(&q, g, ga->instance_vbo, ga->sway_vbo, tri);
+        g->vertex_count = q.vertex_count;
+    }
+    prim_free_copy(&q);
+    free(tri);
+    return st;
 }
 
 fs_status renderer_upload_scene(renderer *r)
@@ -283,16 +405,18 @@ fs_status renderer_upload_scene(renderer *r)
                     return st;
             }
         }
-        for (int p = 0; p < as->prim_count; p++) {
-            upload_prim(&as->prims[p], &ga->prims[p], ga->instance_vbo, ga->sway_vbo);
-            if (p > 0)
-                ga->prims[p].first_triangle = ga->prims[p - 1].first_triangle + as->prims[p - 1].index_count / 3u;
-        }
-        if (r->pl.ring_lod) {
-            fs_status st = upload_cards(r, as, ga);
+        for (int p = 0, t0 = 0; p < as->prim_count; t0 += (int)(as->prims[p].index_count / 3u), p++) {
+            fs_status st = upload_prim_of(r, as, p, (uint32_t)t0, ga);
             if (st != FS_OK)
                 return st;
         }
+        fs_status st = r->pl.ring_lod ? upload_cards(r, as, ga) : FS_OK;
+        for (int p = 0; p < as->prim_count; p++) { /* the duplicated vertices' sources: cards only */
+            free(ga->prims[p].vsrc);
+            ga->prims[p].vsrc = NULL;
+        }
+        if (st != FS_OK)
+            return st;
     }
     return FS_OK;
 }
@@ -463,21 +587,9 @@ fs_status renderer_create_targets(renderer *r)
         glNamedFramebufferTexture(r->out_fbo, bufs[k], r->out_tex[k], 0);
     }
     glNamedFramebufferDrawBuffers(r->out_fbo, outs, bufs);
-    /* The composite's rectangles: at most one per tile, 6 vertices of (x, y, ring) each. */
-    display_desc dd = {r->width, r->height, r->pl.hfov_deg};
-    r->tile_max = fov_tile_max(&dd);
-    r->tiles = malloc(sizeof *r->tiles * (size_t)r->tile_max);
-    r->tile_verts = malloc(sizeof(float) * 18 * (size_t)r->tile_max);
-    if (!r->tiles || !r->tile_verts)
-        return FS_ERR_NOMEM;
-    glCreateBuffers(1, &r->tile_vbo);
-    glNamedBufferStorage(r->tile_vbo, (GLsizeiptr)(sizeof(float) * 18 * (size_t)r->tile_max), NULL,
-                         GL_DYNAMIC_STORAGE_BIT);
-    glCreateVertexArrays(1, &r->tile_vao);
-    glVertexArrayVertexBuffer(r->tile_vao, 0, r->tile_vbo, 0, 3 * sizeof(float));
-    glVertexArrayAttribFormat(r->tile_vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(r->tile_vao, 0, 0);
-    glEnableVertexArrayAttrib(r->tile_vao, 0);
+    fs_status st = renderer_composite_create(r);
+    if (st != FS_OK)
+        return st;
     glCreateSamplers(1, &r->ring_sampler);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(r->ring_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
