@@ -334,6 +334,8 @@ typedef struct cmp_run {
     temporal te;
     bool have_prev_ref;
     double t0; /* when the frames began */
+    phase_clock pc;    /* --verbose: where the time went */
+    double writer_cpu; /* the EXR writer threads' CPU time, -1 until they end */
 } cmp_run;
 
 /* One measured (or history-end) frame as every mode sees it. */
@@ -400,7 +402,7 @@ static fs_status compare_open_outputs(cmp_run *c, fs_status st)
         log_error("%s: cannot create: %s", c->csv_tmp, strerror(errno));
         st = FS_ERR_IO;
     }
-    c->w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
+    c->w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression, .cpu_seconds = &c->writer_cpu}) : NULL;
     if (st == FS_OK && !c->w)
         st = FS_ERR_NOMEM;
     if (c->csv)
@@ -439,6 +441,8 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
                               d->progress_interval);
     progress_per_frame(&c->rp.pr, c->passes, c->co->demo ? "demo" : "compare");
     c->t0 = time_now();
+    c->writer_cpu = -1.0;
+    phase_clock_begin(&c->pc);
     /* The frame just before F also gets its reference, the previous frame of F's temporal metrics. */
     c->first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
     c->warm = c->first > 0 ? c->first - 1 : 0; /* the frame before F, at least */
@@ -542,6 +546,7 @@ static fs_status compare_frame(cmp_run *c, int i)
     c->rp.base = (i < c->first ? 0 : i - c->first) * c->passes;
     cmp_frame f = {.i = i, .measured = i >= c->first};
     f.fr = session_frame(&c->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+    phase_clock_switch(&c->pc, PHASE_MODES);
     if (i < c->first - 1) { /* history only */
         for (int m = 0; m < nm && st == FS_OK; m++)
             st = renderer_draw(c->runs[m].r, &f.fr);
@@ -561,8 +566,10 @@ static fs_status compare_frame(cmp_run *c, int i)
         if (st == FS_OK)
             st = renderer_read(mr->r, &mr->img);
     }
+    phase_clock_switch(&c->pc, PHASE_REFERENCE);
     if (st == FS_OK)
         st = reference_frame(c->rf, &f.fr, &c->ref, &f.ri);
+    phase_clock_switch(&c->pc, PHASE_METRICS);
     if (st != FS_OK)
         return st;
     c->ref_err[i] = f.ri.error;
@@ -583,6 +590,7 @@ static fs_status compare_frame(cmp_run *c, int i)
     f.still = temporal_still(&c->te, &f.fr);
     if (st == FS_OK)
         st = compare_measure_modes(c, &f);
+    phase_clock_switch(&c->pc, PHASE_OUTPUTS);
     st = compare_write_frame(c, &f, st);
     if (st != FS_OK)
         return st;
@@ -710,6 +718,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         st = compare_frame(c, i);
     }
     progress_end(&c->rp.pr);
+    phase_clock_switch(&c->pc, PHASE_FINISH);
     st = compare_close_outputs(c, st);
     fs_status vst = grid_video_end(c->gv, st == FS_OK);
     c->gv = NULL;
@@ -729,6 +738,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         look_hints_print(&(look_hints_desc){.out = c->out, .name = d->name, .first_frame = c->first,
                                             .mode = alpha_mode_name(c->runs[0].mode),
                                             .video = co->demo ? "demo.mp4" : "compare.mp4", .fps = d->fps});
+    phase_clock_switch(&c->pc, -1);
+    phase_clock_print(&c->pc, co->demo ? "demo" : "compare", c->writer_cpu);
     compare_free(c);
     free(c);
     return st;

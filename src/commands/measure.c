@@ -6,6 +6,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+#include "core/log.h"
+#include "core/proc_stats.h"
+#include "core/progress.h"
 
 #include "metrics/flip.h"
 #include "metrics/warp.h"
@@ -184,4 +189,48 @@ void temporal_end(temporal *t)
     renderer_destroy(t->probe);
     free(t->buf);
     free(t->valid);
+}
+
+/* >>phase clock */
+
+static double thread_cpu_s(void)
+{
+    struct timespec ts;
+    return clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0 ? (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9 : 0.0;
+}
+
+void phase_clock_begin(phase_clock *pc)
+{
+    memset(pc, 0, sizeof *pc);
+    pc->cur = -1;
+}
+
+void phase_clock_switch(phase_clock *pc, int phase)
+{
+    double wall = time_now(), cpu = proc_stats_now().cpu_ms * 1e-3, own = thread_cpu_s();
+    if (pc->cur >= 0) {
+        pc->wall[pc->cur] += wall - pc->at_wall;
+        pc->cpu[pc->cur] += cpu - pc->at_cpu;
+        pc->own_cpu[pc->cur] += own - pc->at_own;
+    }
+    pc->cur = phase;
+    pc->at_wall = wall;
+    pc->at_cpu = cpu;
+    pc->at_own = own;
+}
+
+void phase_clock_print(const phase_clock *pc, const char *name, double writer_cpu_s)
+{
+    static const char *const names[PHASE_COUNT] = {"modes", "reference", "metrics", "outputs", "finish"};
+    double w = 0, c = 0, o = 0;
+    for (int p = 0; p < PHASE_COUNT; p++) {
+        log_info("TIME: %s %-9s %7.2f s wall %7.2f s CPU (process) %7.2f s CPU (main thread)", name, names[p],
+                 pc->wall[p], pc->cpu[p], pc->own_cpu[p]);
+        w += pc->wall[p];
+        c += pc->cpu[p];
+        o += pc->own_cpu[p];
+    }
+    log_info("TIME: %s %-9s %7.2f s wall %7.2f s CPU (process) %7.2f s CPU (main thread)", name, "total", w, c, o);
+    if (writer_cpu_s >= 0)
+        log_info("TIME: %s EXR writer threads %.2f s CPU (inside the process CPU above)", name, writer_cpu_s);
 }
