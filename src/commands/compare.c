@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -332,6 +333,8 @@ typedef struct cmp_run {
     size_t band_n;
     float *band_buf;
     temporal te;
+    float *warp_scratch; /* per mode, its previous image warped into this frame (4 planes) */
+    int measure_threads; /* modes measured at once (online CPUs, at most the modes) */
     bool have_prev_ref;
     double t0; /* when the frames began */
     phase_clock pc;    /* --verbose: where the time went */
@@ -433,6 +436,11 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
     c->band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * c->band_n) : NULL;
     if (st == FS_OK && !c->band_buf)
         st = FS_ERR_NOMEM;
+    c->warp_scratch = st == FS_OK ? malloc(sizeof(float) * 4 * c->band_n * (size_t)c->nm) : NULL;
+    if (st == FS_OK && !c->warp_scratch)
+        st = FS_ERR_NOMEM;
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    c->measure_threads = cpus < 1 ? 1 : cpus < c->nm ? (int)cpus : c->nm;
     if (st == FS_OK)
         st = temporal_begin(&c->te, s);
     session_catch_sigint();
@@ -455,30 +463,83 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
     return st;
 }
 
+/* One mode's metrics of the frame (FLIP map, per-ring metrics, temporal error) into rm. Reads the
+ * frame and the temporal state, writes only the mode's own FLIP map and warp scratch: the modes
+ * of a frame may be measured at once. */
+static fs_status measure_mode(const cmp_run *c, const cmp_frame *f, int m, ring_metrics *rm)
+{
+    const mode_run *mr = &c->runs[m];
+    metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
+    bool prev = mr->have_prev && c->have_prev_ref;
+    fs_status st = measure_flip(&vi, &f->vr, &f->dd, mr->flip);
+    if (st == FS_OK)
+        st = metrics_compute(&vi, &f->vr, &f->vb, mr->flip, prev ? &vp : NULL, &f->mask, rm);
+    if (st == FS_OK)
+        st = temporal_measure_in(&c->te, c->warp_scratch + (size_t)m * 4 * c->band_n, &vi, prev ? &vp : NULL,
+                                 &f->vr, &f->mask,
+                                 temporal_reference_noise2(c->rf, f->still, f->ri.error, f->i > 0 ? c->ref_err[f->i - 1] : 0.0),
+                                 rm);
+    return st;
+}
+
+/* A thread's share of the modes: first, first + step, ... */
+typedef struct measure_share {
+    const cmp_run *c;
+    const cmp_frame *f;
+    ring_metrics (*rm)[MAX_FOV_RINGS + 1];
+    fs_status *st;
+    int first, step;
+} measure_share;
+
+static void *measure_share_run(void *arg)
+{
+    const measure_share *sh = arg;
+    for (int m = sh->first; m < sh->c->nm; m += sh->step)
+        sh->st[m] = measure_mode(sh->c, sh->f, m, sh->rm[m]);
+    return NULL;
+}
+
+/* Every mode's metrics of the frame, on up to measure_threads threads (this one included); a
+ * thread that cannot start leaves its share to this one. The results do not depend on the threads:
+ * each mode is measured by the same code on its own data. */
+static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics (*rm)[MAX_FOV_RINGS + 1])
+{
+    fs_status st[ALPHA_MODE_COUNT];
+    measure_share sh[ALPHA_MODE_COUNT];
+    pthread_t th[ALPHA_MODE_COUNT];
+    bool started[ALPHA_MODE_COUNT] = {false};
+    int n = c->measure_threads;
+    for (int t = 0; t < n; t++)
+        sh[t] = (measure_share){.c = c, .f = f, .rm = rm, .st = st, .first = t, .step = n};
+    for (int t = 1; t < n; t++)
+        started[t] = pthread_create(&th[t], NULL, measure_share_run, &sh[t]) == 0;
+    measure_share_run(&sh[0]);
+    for (int t = 1; t < n; t++) {
+        if (started[t])
+            pthread_join(th[t], NULL);
+        else
+            measure_share_run(&sh[t]);
+    }
+    for (int m = 0; m < c->nm; m++)
+        if (st[m] != FS_OK)
+            return st[m];
+    return FS_OK;
+}
+
 /* Every mode measured against the frame's reference; measured frames go into metrics.csv and the
- * modes' sums. */
+ * modes' sums, in the modes' order. */
 static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f)
 {
-    fs_status st = FS_OK;
     int i = f->i;
-    for (int m = 0; m < c->nm && st == FS_OK; m++) {
+    ring_metrics rm[ALPHA_MODE_COUNT][MAX_FOV_RINGS + 1];
+    memset(rm, 0, sizeof rm);
+    fs_status st = measure_all_modes(c, f, rm);
+    for (int m = 0; m < c->nm && st == FS_OK && f->measured; m++) {
         mode_run *mr = &c->runs[m];
-        ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
-        metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
-        bool prev = mr->have_prev && c->have_prev_ref;
-        st = measure_flip(&vi, &f->vr, &f->dd, mr->flip);
-        if (st == FS_OK)
-            st = metrics_compute(&vi, &f->vr, &f->vb, mr->flip, prev ? &vp : NULL, &f->mask, rm);
-        if (st == FS_OK)
-            st = temporal_measure(&c->te, &vi, prev ? &vp : NULL, &f->vr, &f->mask,
-                                  temporal_reference_noise2(c->rf, f->still, f->ri.error, i > 0 ? c->ref_err[i - 1] : 0.0),
-                                  rm);
-        if (!f->measured)
-            continue;
-        measure_accumulate(mr, rm, c->ml.count, f->still);
-        measure_gate_ratios(rm, c->ml.count, c->s.pl.rings ? &c->ml : NULL); /* metrics.csv: -1 where too little reference */
+        measure_accumulate(mr, rm[m], c->ml.count, f->still);
+        measure_gate_ratios(rm[m], c->ml.count, c->s.pl.rings ? &c->ml : NULL); /* metrics.csv: -1 where too little reference */
         for (int k = 0; k <= c->ml.count && st == FS_OK; k++)
-            if (!metrics_csv_row(c->csv, i, f->fr.time, alpha_mode_name(mr->mode), k < c->ml.count ? k : -1, &rm[k],
+            if (!metrics_csv_row(c->csv, i, f->fr.time, alpha_mode_name(mr->mode), k < c->ml.count ? k : -1, &rm[m][k],
                                  f->still, mr->frame_ms[i])) {
                 log_error("%s: cannot write: %s", c->csv_tmp, strerror(errno));
                 st = FS_ERR_IO;
@@ -678,6 +739,7 @@ static void compare_free(cmp_run *c)
     exr_image_free(&c->ref);
     exr_image_free(&c->prev_ref);
     free(c->band_buf);
+    free(c->warp_scratch);
     for (int m = 0; m < c->nm; m++) {
         mode_run *mr = &c->runs[m];
         exr_image_free(&mr->img);
@@ -767,5 +829,9 @@ fs_status cmd_demo(const run_desc *d)
         dd.ref.supersample = DEMO_SUPERSAMPLE;
     if (!dd.ref.samples)
         dd.ref.samples = DEMO_SAMPLES;
+    /* PIZ: the same pixels (lossless, every OpenEXR reader has it) in about 60 % of ZIP's CPU time,
+     * for files about 10 % larger (docs/compare.md "Where the time goes"). */
+    if (!dd.compression_set)
+        dd.compression = EXR_COMPRESS_PIZ;
     return compare_run(&dd, &(compare_opts){.default_out = "out/demo", .demo = true});
 }

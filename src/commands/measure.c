@@ -147,9 +147,18 @@ fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view
 fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
                                   const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm)
 {
+    float *scratch = t->buf + 6 * (size_t)t->width * (size_t)t->height; /* temporal_view(t, 1) */
+    return temporal_measure_in(t, scratch, img, prev_img, ref, mask, noise2, rm);
+}
+
+fs_status temporal_measure_in(const temporal *t, float *scratch, const metrics_view *img, const metrics_view *prev_img,
+                              const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm)
+{
     if (!t->warped || !prev_img)
         return FS_OK;
-    metrics_view wi = temporal_view(t, 1), wr = temporal_view(t, 0);
+    size_t n = (size_t)t->width * (size_t)t->height;
+    metrics_view wi = {t->width, t->height, scratch, scratch + n, scratch + 2 * n, scratch + 3 * n};
+    metrics_view wr = temporal_view(t, 0);
     float *const out[4] = {(float *)wi.r, (float *)wi.g, (float *)wi.b, (float *)wi.coverage};
     warp_apply(t->coords, t->valid, prev_img, out); /* the frame's warp, built once in temporal_frame */
     fs_status st = metrics_temporal(img, &wi, ref, &wr, t->valid, mask, rm);

@@ -85,6 +85,10 @@ fs_status temporal_begin(temporal *t, const session *s);
 fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref);
 fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
                            const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm);
+/* temporal_measure with the method's warped planes in `scratch` (4 * width * height floats) instead
+ * of t's own: t is only read, so modes with their own scratch may be measured at once, on threads. */
+fs_status temporal_measure_in(const temporal *t, float *scratch, const metrics_view *img, const metrics_view *prev_img,
+                              const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm);
 double temporal_reference_noise2(const reference *rf, bool still, double e_now, double e_prev);
 bool temporal_still(const temporal *t, const frame_record *fr);
 void temporal_next(temporal *t, const frame_record *fr);
