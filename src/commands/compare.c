@@ -303,6 +303,18 @@ typedef struct compare_opts {
     bool demo;
 } compare_opts;
 
+/* One measured (or history-end) frame as every mode sees it. */
+typedef struct cmp_frame {
+    int i;
+    bool measured; /* i >= first: measured and written */
+    frame_record fr;
+    display_desc dd;
+    reference_info ri;
+    ring_mask mask;
+    metrics_view vr, vpr, vb; /* the reference, the previous one, the band-limited one */
+    bool still;               /* the camera did not move since the previous frame */
+} cmp_frame;
+
 /* One compare run: what its phases share (compare_run runs them in order). */
 typedef struct cmp_run {
     const run_desc *d;
@@ -339,19 +351,15 @@ typedef struct cmp_run {
     double t0; /* when the frames began */
     phase_clock pc;    /* --verbose: where the time went */
     double writer_cpu; /* the EXR writer threads' CPU time, -1 until they end */
+    /* The frame worker: while the main thread draws frame i + 1's reference (GL, this thread only),
+     * it measures frame i and writes its outputs (compare_frame). */
+    exr_image ref_next;    /* frame i + 1's reference, until the worker is done with frame i's */
+    cmp_frame pend;        /* the frame the worker has */
+    bool pending, running; /* it has one; on its own thread (else it ran here) */
+    pthread_t worker;
+    fs_status worker_st;
 } cmp_run;
 
-/* One measured (or history-end) frame as every mode sees it. */
-typedef struct cmp_frame {
-    int i;
-    bool measured; /* i >= first: measured and written */
-    frame_record fr;
-    display_desc dd;
-    reference_info ri;
-    ring_mask mask;
-    metrics_view vr, vpr, vb; /* the reference, the previous one, the band-limited one */
-    bool still;               /* the camera did not move since the previous frame */
-} cmp_frame;
 
 /* The modes (--modes, default traditional and hashed), each with its plan, renderer and arrays. */
 static fs_status compare_build_modes(cmp_run *c)
@@ -489,20 +497,24 @@ typedef struct measure_share {
     ring_metrics (*rm)[MAX_FOV_RINGS + 1];
     fs_status *st;
     int first, step;
+    double cpu; /* the thread's CPU time (--verbose) */
 } measure_share;
 
 static void *measure_share_run(void *arg)
 {
-    const measure_share *sh = arg;
+    measure_share *sh = arg;
+    double t0 = measure_thread_cpu_s();
     for (int m = sh->first; m < sh->c->nm; m += sh->step)
         sh->st[m] = measure_mode(sh->c, sh->f, m, sh->rm[m]);
+    sh->cpu = measure_thread_cpu_s() - t0;
     return NULL;
 }
 
 /* Every mode's metrics of the frame, on up to measure_threads threads (this one included); a
  * thread that cannot start leaves its share to this one. The results do not depend on the threads:
  * each mode is measured by the same code on its own data. */
-static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics (*rm)[MAX_FOV_RINGS + 1])
+static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics (*rm)[MAX_FOV_RINGS + 1],
+                                   double *helper_cpu)
 {
     fs_status st[ALPHA_MODE_COUNT];
     measure_share sh[ALPHA_MODE_COUNT];
@@ -515,10 +527,12 @@ static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics 
         started[t] = pthread_create(&th[t], NULL, measure_share_run, &sh[t]) == 0;
     measure_share_run(&sh[0]);
     for (int t = 1; t < n; t++) {
-        if (started[t])
+        if (started[t]) {
             pthread_join(th[t], NULL);
-        else
+            *helper_cpu += sh[t].cpu;
+        } else {
             measure_share_run(&sh[t]);
+        }
     }
     for (int m = 0; m < c->nm; m++)
         if (st[m] != FS_OK)
@@ -528,12 +542,12 @@ static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics 
 
 /* Every mode measured against the frame's reference; measured frames go into metrics.csv and the
  * modes' sums, in the modes' order. */
-static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f)
+static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f, double *helper_cpu)
 {
     int i = f->i;
     ring_metrics rm[ALPHA_MODE_COUNT][MAX_FOV_RINGS + 1];
     memset(rm, 0, sizeof rm);
-    fs_status st = measure_all_modes(c, f, rm);
+    fs_status st = measure_all_modes(c, f, rm, helper_cpu);
     for (int m = 0; m < c->nm && st == FS_OK && f->measured; m++) {
         mode_run *mr = &c->runs[m];
         measure_accumulate(mr, rm[m], c->ml.count, f->still);
@@ -597,67 +611,134 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
     temporal_next(&c->te, &f->fr);
 }
 
-/* Frame i: drawn by every mode (only that, for the TAA history before first - 1), its reference,
- * the measurements and the outputs. */
-static fs_status compare_frame(cmp_run *c, int i)
+/* The worker's share of frame c->pend: every mode's metrics, then the frame's outputs. Touches only
+ * what the main thread leaves alone until compare_join: the frame, the modes' FLIP maps and warp
+ * scratch, metrics.csv, the sums, the writers. */
+static void *frame_worker(void *arg)
 {
-    const run_desc *d = c->d;
+    cmp_run *c = arg;
+    phase_clock *pc = &c->pc;
+    double w0 = time_now(), c0 = measure_thread_cpu_s(), helpers = 0.0;
+    fs_status st = compare_measure_modes(c, &c->pend, &helpers);
+    double w1 = time_now(), c1 = measure_thread_cpu_s();
+    pc->job_wall[JOB_METRICS] += w1 - w0;
+    pc->job_cpu[JOB_METRICS] += c1 - c0 + helpers;
+    c->worker_st = compare_write_frame(c, &c->pend, st);
+    pc->job_wall[JOB_OUTPUTS] += time_now() - w1;
+    pc->job_cpu[JOB_OUTPUTS] += measure_thread_cpu_s() - c1;
+    return NULL;
+}
+
+/* Hands frame f to the worker (on this thread when none can start: slower, not wrong). */
+static void compare_start_worker(cmp_run *c, const cmp_frame *f)
+{
+    c->pend = *f;
+    c->pending = true;
+    c->running = pthread_create(&c->worker, NULL, frame_worker, c) == 0;
+    if (!c->running)
+        frame_worker(c);
+}
+
+/* Waits for the worker's frame; when it went well, that frame becomes the previous one. */
+static fs_status compare_join(cmp_run *c)
+{
+    if (!c->pending)
+        return FS_OK;
+    if (c->running)
+        pthread_join(c->worker, NULL);
+    c->pending = c->running = false;
+    if (c->worker_st != FS_OK)
+        return c->worker_st;
+    compare_next_frame(c, &c->pend);
+    progress_update(&c->rp.pr, (c->pend.i + 1 - c->first) * c->passes);
+    return FS_OK;
+}
+
+/* Every mode's draw of frame i, timed; only that for the TAA history before first - 1. */
+static fs_status compare_draw_modes(cmp_run *c, const cmp_frame *f)
+{
     fs_status st = FS_OK;
-    int nm = c->nm;
-    c->rp.base = (i < c->first ? 0 : i - c->first) * c->passes;
-    cmp_frame f = {.i = i, .measured = i >= c->first};
-    f.fr = session_frame(&c->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
-    phase_clock_switch(&c->pc, PHASE_MODES);
-    if (i < c->first - 1) { /* history only */
-        for (int m = 0; m < nm && st == FS_OK; m++)
-            st = renderer_draw(c->runs[m].r, &f.fr);
-        return st;
-    }
-    if (f.fr.cut) /* no frame-to-frame change across a cut */
-        for (int m = 0; m < nm; m++)
-            c->runs[m].have_prev = false;
-    c->have_prev_ref = c->have_prev_ref && !f.fr.cut;
-    for (int m = 0; m < nm && st == FS_OK; m++) {
+    for (int m = 0; m < c->nm && st == FS_OK; m++) {
         mode_run *mr = &c->runs[m];
+        if (!f->measured && f->i < c->first - 1) {
+            st = renderer_draw(mr->r, &f->fr);
+            continue;
+        }
         renderer_finish(mr->r);
         double a = time_now();
-        st = renderer_draw(mr->r, &f.fr);
+        st = renderer_draw(mr->r, &f->fr);
         renderer_finish(mr->r);
-        mr->frame_ms[i] = (time_now() - a) * 1e3;
+        mr->frame_ms[f->i] = (time_now() - a) * 1e3;
         if (st == FS_OK)
             st = renderer_read(mr->r, &mr->img);
     }
-    phase_clock_switch(&c->pc, PHASE_REFERENCE);
-    if (st == FS_OK)
-        st = reference_frame(c->rf, &f.fr, &c->ref, &f.ri);
-    phase_clock_switch(&c->pc, PHASE_METRICS);
-    if (st != FS_OK)
-        return st;
-    c->ref_err[i] = f.ri.error;
-    c->ref_cached += f.measured && f.ri.cached;
-    f.dd = (display_desc){c->s.pl.width, c->s.pl.height, f.fr.hfov_deg};
-    st = ring_mask_build(&f.dd, &c->ml, f.fr.gaze_px[0], f.fr.gaze_px[1], &f.mask);
-    f.vr = measure_view(&c->ref);
-    f.vpr = measure_view(&c->prev_ref);
+    return st;
+}
+
+/* What the worker needs of frame f besides the images: its ring mask, the band-limited
+ * reference, this frame's depth and the previous reference warped into it. */
+static fs_status compare_prepare(cmp_run *c, cmp_frame *f)
+{
+    c->ref_err[f->i] = f->ri.error;
+    c->ref_cached += f->measured && f->ri.cached;
+    f->dd = (display_desc){c->s.pl.width, c->s.pl.height, f->fr.hfov_deg};
+    fs_status st = ring_mask_build(&f->dd, &c->ml, f->fr.gaze_px[0], f->fr.gaze_px[1], &f->mask);
+    f->vr = measure_view(&c->ref);
+    f->vpr = measure_view(&c->prev_ref);
     /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
     float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
                             c->band_buf + 3 * c->band_n};
     if (st == FS_OK)
-        st = metrics_band_limit(&f.vr, &f.dd, &c->s.pl.layout, f.fr.ring_rect, f.fr.gaze_px[0], f.fr.gaze_px[1], band,
-                                &f.vb);
+        st = metrics_band_limit(&f->vr, &f->dd, &c->s.pl.layout, f->fr.ring_rect, f->fr.gaze_px[0], f->fr.gaze_px[1],
+                                band, &f->vb);
     /* This frame's depth, and the previous reference warped into this frame (one warp for all). */
     if (st == FS_OK)
-        st = temporal_frame(&c->te, &f.fr, c->have_prev_ref ? &f.vpr : NULL);
-    f.still = temporal_still(&c->te, &f.fr);
+        st = temporal_frame(&c->te, &f->fr, c->have_prev_ref ? &f->vpr : NULL);
+    f->still = temporal_still(&c->te, &f->fr);
+    return st;
+}
+
+/* Frame i, in the order that lets the worker measure and write frame i - 1 while this thread
+ * draws frame i's reference (the most of a frame's time): the reference, then (frame i - 1 done)
+ * every mode, then what the worker needs, then the worker starts on frame i. The modes are timed
+ * with the worker idle, as before. Every renderer draws from its own state, so the order of the
+ * reference and the modes changes no pixel (test_demo_speed.sh checks the metrics). */
+static fs_status compare_frame(cmp_run *c, int i)
+{
+    const run_desc *d = c->d;
+    fs_status st = FS_OK;
+    c->rp.base = (i < c->first ? 0 : i - c->first) * c->passes;
+    cmp_frame f = {.i = i, .measured = i >= c->first};
+    f.fr = session_frame(&c->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+    if (i < c->first - 1) { /* history only */
+        phase_clock_switch(&c->pc, PHASE_MODES);
+        return compare_draw_modes(c, &f);
+    }
+    phase_clock_switch(&c->pc, PHASE_REFERENCE);
+    st = reference_frame(c->rf, &f.fr, &c->ref_next, &f.ri);
+    phase_clock_switch(&c->pc, PHASE_WAIT);
+    fs_status wst = compare_join(c);
     if (st == FS_OK)
-        st = compare_measure_modes(c, &f);
-    phase_clock_switch(&c->pc, PHASE_OUTPUTS);
-    st = compare_write_frame(c, &f, st);
+        st = wst;
     if (st != FS_OK)
         return st;
-    compare_next_frame(c, &f);
-    progress_update(&c->rp.pr, (i + 1 - c->first) * c->passes);
-    return st;
+    phase_clock_switch(&c->pc, PHASE_MODES);
+    if (f.fr.cut) /* no frame-to-frame change across a cut */
+        for (int m = 0; m < c->nm; m++)
+            c->runs[m].have_prev = false;
+    c->have_prev_ref = c->have_prev_ref && !f.fr.cut;
+    st = compare_draw_modes(c, &f);
+    if (st != FS_OK)
+        return st;
+    exr_image_move(&c->ref, &c->ref_next);
+    phase_clock_switch(&c->pc, PHASE_PREPARE);
+    st = compare_prepare(c, &f);
+    if (st != FS_OK) {
+        ring_mask_free(&f.mask);
+        return st;
+    }
+    compare_start_worker(c, &f);
+    return FS_OK;
 }
 
 /* Ends the frames' outputs: the EXR writer's queue, metrics.csv (renamed into place, or removed
@@ -737,6 +818,7 @@ static void compare_free(cmp_run *c)
 {
     run_folder_close(&c->fo);
     exr_image_free(&c->ref);
+    exr_image_free(&c->ref_next);
     exr_image_free(&c->prev_ref);
     free(c->band_buf);
     free(c->warp_scratch);
@@ -779,6 +861,10 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         }
         st = compare_frame(c, i);
     }
+    phase_clock_switch(&c->pc, PHASE_WAIT);
+    fs_status jst = compare_join(c); /* the last frame's worker, or the one a failure left running */
+    if (st == FS_OK)
+        st = jst;
     progress_end(&c->rp.pr);
     phase_clock_switch(&c->pc, PHASE_FINISH);
     st = compare_close_outputs(c, st);

@@ -202,7 +202,7 @@ void temporal_end(temporal *t)
 
 /* >>phase clock */
 
-static double thread_cpu_s(void)
+double measure_thread_cpu_s(void)
 {
     struct timespec ts;
     return clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0 ? (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9 : 0.0;
@@ -216,7 +216,7 @@ void phase_clock_begin(phase_clock *pc)
 
 void phase_clock_switch(phase_clock *pc, int phase)
 {
-    double wall = time_now(), cpu = proc_stats_now().cpu_ms * 1e-3, own = thread_cpu_s();
+    double wall = time_now(), cpu = proc_stats_now().cpu_ms * 1e-3, own = measure_thread_cpu_s();
     if (pc->cur >= 0) {
         pc->wall[pc->cur] += wall - pc->at_wall;
         pc->cpu[pc->cur] += cpu - pc->at_cpu;
@@ -230,7 +230,8 @@ void phase_clock_switch(phase_clock *pc, int phase)
 
 void phase_clock_print(const phase_clock *pc, const char *name, double writer_cpu_s)
 {
-    static const char *const names[PHASE_COUNT] = {"modes", "reference", "metrics", "outputs", "finish"};
+    static const char *const names[PHASE_COUNT] = {"modes", "reference", "prepare", "wait", "finish"};
+    static const char *const jobs[JOB_COUNT] = {"metrics", "outputs"};
     double w = 0, c = 0, o = 0;
     for (int p = 0; p < PHASE_COUNT; p++) {
         log_info("TIME: %s %-9s %7.2f s wall %7.2f s CPU (process) %7.2f s CPU (main thread)", name, names[p],
@@ -240,6 +241,9 @@ void phase_clock_print(const phase_clock *pc, const char *name, double writer_cp
         o += pc->own_cpu[p];
     }
     log_info("TIME: %s %-9s %7.2f s wall %7.2f s CPU (process) %7.2f s CPU (main thread)", name, "total", w, c, o);
+    for (int j = 0; j < JOB_COUNT; j++)
+        log_info("TIME: %s worker %-9s %7.2f s wall %7.2f s CPU (its threads; beside the main thread's phases)", name,
+                 jobs[j], pc->job_wall[j], pc->job_cpu[j]);
     if (writer_cpu_s >= 0)
         log_info("TIME: %s EXR writer threads %.2f s CPU (inside the process CPU above)", name, writer_cpu_s);
 }

@@ -95,28 +95,39 @@ void temporal_next(temporal *t, const frame_record *fr);
 void temporal_end(temporal *t);
 
 /* >>phase clock: where a run's time goes (--verbose prints it; docs/compare.md "Where the time
- * goes"). Each phase sums its wall time, the process's CPU time (every thread: llvmpipe's and the
- * EXR writer's too, whatever they did meanwhile) and the calling thread's own CPU time. */
+ * goes"). The main thread's phases sum their wall time, the process's CPU time (every thread:
+ * llvmpipe's, the EXR writer's, the frame worker's, whatever they did meanwhile) and the main
+ * thread's own CPU time. The frame worker's jobs (compare measures and writes frame i while the
+ * main thread draws frame i + 1's reference) sum their wall time and their own threads' CPU time. */
 typedef enum run_phase {
     PHASE_MODES,     /* every mode's draw and readback */
     PHASE_REFERENCE, /* the reference: drawn (passes, resolve, sums) or read from the cache, and stored */
-    PHASE_METRICS,   /* ring masks, band limit, warp, FLIP and the per-ring metrics */
-    PHASE_OUTPUTS,   /* the grid, the layers, the video frame, the EXR queue (waits when it is full) */
+    PHASE_PREPARE,   /* ring masks, band limit, the temporal error's depth pass and warp */
+    PHASE_WAIT,      /* waiting for the worker to finish the frame before */
     PHASE_FINISH,    /* after the frames: the EXR queue drained, the video finished, the reports */
     PHASE_COUNT
 } run_phase;
 
+typedef enum worker_job {
+    JOB_METRICS, /* FLIP and the per-ring metrics of every mode */
+    JOB_OUTPUTS, /* the grid, the layers, the video frame, the EXR queue (waits when it is full) */
+    JOB_COUNT
+} worker_job;
+
 typedef struct phase_clock {
     double wall[PHASE_COUNT], cpu[PHASE_COUNT], own_cpu[PHASE_COUNT]; /* seconds */
+    double job_wall[JOB_COUNT], job_cpu[JOB_COUNT];                     /* the worker's */
     double at_wall, at_cpu, at_own;
     int cur; /* the phase running, -1 for none */
 } phase_clock;
 
+/* The calling thread's CPU time in seconds (0 when it cannot be read). */
+double measure_thread_cpu_s(void);
 void phase_clock_begin(phase_clock *pc);
 /* Ends the phase running (if any) and starts `phase` (-1: none). */
 void phase_clock_switch(phase_clock *pc, int phase);
-/* One line per phase on stderr (log_info: --verbose only), then the EXR writer threads' own CPU
- * time (writer_cpu_s; < 0: not known), which the phases' process CPU already holds. */
+/* One line per phase and job on stderr (log_info: --verbose only), then the EXR writer threads'
+ * own CPU time (writer_cpu_s; < 0: not known), which the phases' process CPU already holds. */
 void phase_clock_print(const phase_clock *pc, const char *name, double writer_cpu_s);
 
 #endif
