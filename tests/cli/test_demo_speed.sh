@@ -2,7 +2,9 @@
 # What makes `fovsim demo` faster must not change what it shows (docs/compare.md "Where the time
 # goes"): the modes of a frame are measured on several threads, so a mode's metrics and maps must
 # be the ones it gets measured alone; the demo writes PIZ frames (the same pixels as ZIP), which the
-# OpenEXR tools read; --compression zip still gives ZIP; --verbose says where the time went.
+# OpenEXR tools read; --compression zip still gives ZIP; --verbose says where the time went. The
+# frame worker (frame i measured and written while frame i + 1's reference is drawn) runs in every
+# compare: every check here goes through it.
 # Small sizes, few frames: about 20 s.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
@@ -63,9 +65,13 @@ for part in 0 1; do
 done
 check "the run record holds the compression used" grep -q "compression: piz" "$T/demo_piz/fovsim-run.txt"
 # --verbose: one TIME line per phase, and the total
-for phase in modes reference metrics outputs finish total; do
+for phase in modes reference prepare wait finish total; do
   check "--verbose prints the $phase phase's time" grep -qE "^TIME: demo $phase +[0-9.]+ s wall +[0-9.]+ s CPU" "$T/demo_piz.err"
 done
+for job in metrics outputs; do
+  check "--verbose prints the worker's $job time" grep -qE "^TIME: demo worker $job +[0-9.]+ s wall +[0-9.]+ s CPU" "$T/demo_piz.err"
+done
+check "--verbose prints the EXR writer threads' CPU time" grep -qE "^TIME: demo EXR writer threads [0-9.]+ s CPU" "$T/demo_piz.err"
 check "without --verbose, no TIME lines" bash -c "! grep -q '^TIME' '$T/demo_zip.err'"
 
 summary
