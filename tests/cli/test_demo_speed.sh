@@ -74,4 +74,24 @@ done
 check "--verbose prints the EXR writer threads' CPU time" grep -qE "^TIME: demo EXR writer threads [0-9.]+ s CPU" "$T/demo_piz.err"
 check "without --verbose, no TIME lines" bash -c "! grep -q '^TIME' '$T/demo_zip.err'"
 
+# ---- a full disk while the worker writes the frames: exit 6, one line naming the file, no partial
+# frame, no temporary file, and no metrics.csv, summary.json or report
+if mkdir -p "$T/full" && mount -t tmpfs -o size=900k tmpfs "$T/full" 2>/dev/null; then
+  "$BIN" demo "${SMALL[@]}" --frames 12 --out "$T/full/demo" --quiet >/dev/null 2>"$T/full.err"
+  rc=$?
+  check "full disk -> exit 6" test $rc -eq 6
+  check "full disk: one line naming a file and the full disk" \
+    bash -c "grep -q 'demo/.*No space left' '$T/full.err' && [ \$(wc -l <'$T/full.err') -eq 1 ]"
+  check "full disk: no temporary file left" test -z "$(find "$T/full" -name '*.tmp*')"
+  check "full disk: no metrics.csv, summary.json or report.html" \
+    bash -c "! ls '$T/full/demo/metrics.csv' '$T/full/demo/summary.json' '$T/full/demo/report.html' 2>/dev/null | grep -q ."
+  bad=0; n=0
+  for f in "$T"/full/demo/compare.*.exr; do [ -e "$f" ] || continue; n=$((n+1)); exrheader "$f" >/dev/null 2>&1 || bad=1; done
+  check "full disk: every frame left ($n) is complete" test $bad -eq 0
+  check "full disk: it ran out before the last frame" test ! -e "$T/full/demo/compare.0011.exr"
+  umount "$T/full"
+else
+  echo "skip full-disk checks: cannot mount a tmpfs (not root?)" >&2
+fi
+
 summary
