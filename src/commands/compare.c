@@ -701,8 +701,9 @@ static fs_status compare_prepare(cmp_run *c, cmp_frame *f)
 /* Frame i, in the order that lets the worker measure and write frame i - 1 while this thread
  * draws frame i's reference (the most of a frame's time): the reference, then (frame i - 1 done)
  * every mode, then what the worker needs, then the worker starts on frame i. The modes are timed
- * with the worker idle, as before. Every renderer draws from its own state, so the order of the
- * reference and the modes changes no pixel (test_demo_speed.sh checks the metrics). */
+ * with the worker idle, as before. Every renderer draws from its own state, so drawing the
+ * reference before the modes changes no pixel (the frames, cache entries, video and metrics came
+ * out byte-identical to the earlier order's, docs/compare.md "Where the time goes"). */
 static fs_status compare_frame(cmp_run *c, int i)
 {
     const run_desc *d = c->d;
