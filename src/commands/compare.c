@@ -611,6 +611,22 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
     temporal_next(&c->te, &f->fr);
 }
 
+/* What the measurements need of frame f besides the images, on the worker: its ring mask, the
+ * reference as the rings the modes were drawn with would show it (alpha_rmse), and the previous
+ * reference warped into this frame (one warp for all modes). */
+static fs_status worker_prepare(cmp_run *c, cmp_frame *f)
+{
+    fs_status st = ring_mask_build(&f->dd, &c->ml, f->fr.gaze_px[0], f->fr.gaze_px[1], &f->mask);
+    float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
+                            c->band_buf + 3 * c->band_n};
+    if (st == FS_OK)
+        st = metrics_band_limit(&f->vr, &f->dd, &c->s.pl.layout, f->fr.ring_rect, f->fr.gaze_px[0], f->fr.gaze_px[1],
+                                band, &f->vb);
+    if (st == FS_OK)
+        temporal_warp_reference(&c->te, &f->vpr);
+    return st;
+}
+
 /* The worker's share of frame c->pend: every mode's metrics, then the frame's outputs. Touches only
  * what the main thread leaves alone until compare_join: the frame, the modes' FLIP maps and warp
  * scratch, metrics.csv, the sums, the writers. */
@@ -619,7 +635,9 @@ static void *frame_worker(void *arg)
     cmp_run *c = arg;
     phase_clock *pc = &c->pc;
     double w0 = time_now(), c0 = measure_thread_cpu_s(), helpers = 0.0;
-    fs_status st = compare_measure_modes(c, &c->pend, &helpers);
+    fs_status st = worker_prepare(c, &c->pend);
+    if (st == FS_OK)
+        st = compare_measure_modes(c, &c->pend, &helpers);
     double w1 = time_now(), c1 = measure_thread_cpu_s();
     pc->job_wall[JOB_METRICS] += w1 - w0;
     pc->job_cpu[JOB_METRICS] += c1 - c0 + helpers;
@@ -675,25 +693,16 @@ static fs_status compare_draw_modes(cmp_run *c, const cmp_frame *f)
     return st;
 }
 
-/* What the worker needs of frame f besides the images: its ring mask, the band-limited
- * reference, this frame's depth and the previous reference warped into it. */
+/* What needs GL of frame f besides the images (this thread): the temporal error's depth pass
+ * and warp. */
 static fs_status compare_prepare(cmp_run *c, cmp_frame *f)
 {
     c->ref_err[f->i] = f->ri.error;
     c->ref_cached += f->measured && f->ri.cached;
     f->dd = (display_desc){c->s.pl.width, c->s.pl.height, f->fr.hfov_deg};
-    fs_status st = ring_mask_build(&f->dd, &c->ml, f->fr.gaze_px[0], f->fr.gaze_px[1], &f->mask);
     f->vr = measure_view(&c->ref);
     f->vpr = measure_view(&c->prev_ref);
-    /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
-    float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
-                            c->band_buf + 3 * c->band_n};
-    if (st == FS_OK)
-        st = metrics_band_limit(&f->vr, &f->dd, &c->s.pl.layout, f->fr.ring_rect, f->fr.gaze_px[0], f->fr.gaze_px[1],
-                                band, &f->vb);
-    /* This frame's depth, and the previous reference warped into this frame (one warp for all). */
-    if (st == FS_OK)
-        st = temporal_frame(&c->te, &f->fr, c->have_prev_ref ? &f->vpr : NULL);
+    fs_status st = temporal_depth(&c->te, &f->fr, c->have_prev_ref);
     f->still = temporal_still(&c->te, &f->fr);
     return st;
 }
@@ -734,10 +743,8 @@ static fs_status compare_frame(cmp_run *c, int i)
     exr_image_move(&c->ref, &c->ref_next);
     phase_clock_switch(&c->pc, PHASE_PREPARE);
     st = compare_prepare(c, &f);
-    if (st != FS_OK) {
-        ring_mask_free(&f.mask);
+    if (st != FS_OK)
         return st;
-    }
     compare_start_worker(c, &f);
     return FS_OK;
 }

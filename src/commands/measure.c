@@ -118,8 +118,7 @@ static metrics_view temporal_view(const temporal *t, int k)
     return (metrics_view){t->width, t->height, p, p + n, p + 2 * n, p + 3 * n};
 }
 
-/* This frame's depth, and the previous reference (NULL: none, e.g. after a cut) warped into it. */
-fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref)
+fs_status temporal_depth(temporal *t, const frame_record *fr, bool have_prev_ref)
 {
     display_desc dd = {t->width, t->height, fr->hfov_deg};
     frame_record fp = *fr;
@@ -132,12 +131,25 @@ fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view
     warp_desc wd = {.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
                     .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
                     .prev_zfar = t->prev.zfar};
-    t->warped = st == FS_OK && t->have_prev && prev_ref && warp_build(&wd, t->coords, t->valid) >= 0;
-    if (t->warped) {
-        metrics_view wr = temporal_view(t, 0);
-        float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
-        warp_apply(t->coords, t->valid, prev_ref, out);
-    }
+    t->warped = st == FS_OK && t->have_prev && have_prev_ref && warp_build(&wd, t->coords, t->valid) >= 0;
+    return st;
+}
+
+void temporal_warp_reference(temporal *t, const metrics_view *prev_ref)
+{
+    if (!t->warped)
+        return;
+    metrics_view wr = temporal_view(t, 0);
+    float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
+    warp_apply(t->coords, t->valid, prev_ref, out);
+}
+
+/* This frame's depth, and the previous reference (NULL: none, e.g. after a cut) warped into it. */
+fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref)
+{
+    fs_status st = temporal_depth(t, fr, prev_ref != NULL);
+    if (st == FS_OK)
+        temporal_warp_reference(t, prev_ref);
     return st;
 }
 

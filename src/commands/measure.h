@@ -83,6 +83,11 @@ void measure_gate_ratios(ring_metrics *rm, int count, const fov_layout *l);
  * temporal_measure per mode, temporal_next; temporal_end frees it. */
 fs_status temporal_begin(temporal *t, const session *s);
 fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref);
+/* temporal_frame in two: the GL part (this frame's depth pass and the warp into it; have_prev_ref:
+ * a previous reference will be warped), then the CPU part (the previous reference through the
+ * warp), which compare's frame worker runs. */
+fs_status temporal_depth(temporal *t, const frame_record *fr, bool have_prev_ref);
+void temporal_warp_reference(temporal *t, const metrics_view *prev_ref);
 fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
                            const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm);
 /* temporal_measure with the method's warped planes in `scratch` (4 * width * height floats) instead
@@ -102,14 +107,15 @@ void temporal_end(temporal *t);
 typedef enum run_phase {
     PHASE_MODES,     /* every mode's draw and readback */
     PHASE_REFERENCE, /* the reference: drawn (passes, resolve, sums) or read from the cache, and stored */
-    PHASE_PREPARE,   /* ring masks, band limit, the temporal error's depth pass and warp */
+    PHASE_PREPARE,   /* the temporal error's depth pass and warp (the GL the worker needs) */
     PHASE_WAIT,      /* waiting for the worker to finish the frame before */
     PHASE_FINISH,    /* after the frames: the EXR queue drained, the video finished, the reports */
     PHASE_COUNT
 } run_phase;
 
 typedef enum worker_job {
-    JOB_METRICS, /* FLIP and the per-ring metrics of every mode */
+    JOB_METRICS, /* ring masks, band limit, the previous reference warped, every mode's FLIP and
+                  * per-ring metrics */
     JOB_OUTPUTS, /* the grid, the layers, the video frame, the EXR queue (waits when it is full) */
     JOB_COUNT
 } worker_job;
