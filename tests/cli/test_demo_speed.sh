@@ -11,7 +11,7 @@ BIN=${FOVSIM_BIN:?set by CMake}
 T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/demo_speed
 rm -rf "$T"; mkdir -p "$T"
 . "$(dirname "$0")/harness.sh"
-for tool in exrheader oiiotool python3; do
+for tool in exrheader exrinfo oiiotool ffmpeg python3; do
   command -v $tool >/dev/null || { echo "FAIL '$tool' is not installed (scripts/setup.sh installs it)" >&2; exit 1; }
 done
 
@@ -63,6 +63,9 @@ for part in 0 1; do
     --diff >"$T/piz_zip.$part.diff" 2>&1
   check "part $part: PIZ and ZIP frames hold the same pixels" grep -q "PASS" "$T/piz_zip.$part.diff"
 done
+check "exrinfo reads the PIZ frame" exrinfo_reads "$T/demo_piz/compare.0003.exr" "piz"
+check "ffmpeg decodes the PIZ frame to what it decodes the ZIP frame to" \
+  bash -c "a=\$(ffmpeg -v error -i '$T/demo_piz/compare.0003.exr' -f md5 -) && [ -n \"\$a\" ] && [ \"\$a\" = \"\$(ffmpeg -v error -i '$T/demo_zip/compare.0003.exr' -f md5 -)\" ]"
 check "the run record holds the compression used" grep -q "compression: piz" "$T/demo_piz/fovsim-run.txt"
 # --verbose: one TIME line per phase, and the total
 for phase in modes reference prepare wait finish total; do
