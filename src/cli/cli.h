@@ -58,6 +58,7 @@ typedef struct run_desc {
     alpha_mode alpha;        /* --alpha, DEFAULT = the scene's */
     int gpu;                 /* --gpu N, -1 = auto */
     bool verbose, quiet, gl_debug;
+    bool compression_set;    /* --compression was given (else zip, piz for demo) */
     float progress_interval; /* --progress-interval S: seconds between progress lines off a terminal */
     exr_compression_kind compression; /* --compression zip|none|piz */
     const char *rings;       /* --rings auto|off|SPEC; NULL = the scene's, else auto */

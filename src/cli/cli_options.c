@@ -338,8 +338,8 @@ const cli_option k_cli_options[] = {
      .misuse = NOT_IN_VIEW},
     {"--name", ARG_CUSTOM, ALL_BUT_VIEW, "NAME", "file prefix (default frame)", FIELD(name), .set = set_name,
      .flags = OPT_RECORDED, .misuse = NOT_IN_VIEW},
-    {"--compression", ARG_CHOICE, CMDS_DRAWING, "C", "zip (default), none or piz", FIELD(compression),
-     .choices = k_compression, .flags = OPT_RECORDED},
+    {"--compression", ARG_CHOICE, CMDS_DRAWING, "C", "zip (default; demo: piz), none or piz", FIELD(compression),
+     .choices = k_compression, GIVEN(compression_set), .flags = OPT_RECORDED},
     {"--resume", ARG_FLAG, CMDS_RUN_FOLDER, NULL,
      "keep the complete frames an interrupted run of the same configuration\nleft in DIR and draw the rest "
      "(DIR/fovsim-run.txt records it)", FIELD(resume), .misuse = ONLY_RUN_FOLDER},

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -332,6 +333,18 @@ typedef struct compare_opts {
     bool demo;
 } compare_opts;
 
+/* One measured (or history-end) frame as every mode sees it. */
+typedef struct cmp_frame {
+    int i;
+    bool measured; /* i >= first: measured and written */
+    frame_record fr;
+    display_desc dd;
+    reference_info ri;
+    ring_mask mask;
+    metrics_view vr, vpr, vb; /* the reference, the previous one, the band-limited one */
+    bool still;               /* the camera did not move since the previous frame */
+} cmp_frame;
+
 /* One compare run: what its phases share (compare_run runs them in order). */
 typedef struct cmp_run {
     const run_desc *d;
@@ -362,25 +375,25 @@ typedef struct cmp_run {
     size_t band_n;
     float *band_buf;
     temporal te;
+    float *warp_scratch; /* per mode, its previous image warped into this frame (4 planes) */
+    int measure_threads; /* modes measured at once (online CPUs, at most the modes) */
     bool have_prev_ref;
     double t0; /* when the frames began */
     double *work[ALPHA_MODE_COUNT]; /* per mode: CMP_WORK values per frame */
     cost_model cm;                  /* --cost-model */
     bool have_cm;
     bool cm_warned; /* a frame's prediction was unknown (said once) */
+    phase_clock pc;    /* --verbose: where the time went */
+    double writer_cpu; /* the EXR writer threads' CPU time, -1 until they end */
+    /* The frame worker: while the main thread draws frame i + 1's reference (GL, this thread only),
+     * it measures frame i and writes its outputs (compare_frame). */
+    exr_image ref_next;    /* frame i + 1's reference, until the worker is done with frame i's */
+    cmp_frame pend;        /* the frame the worker has */
+    bool pending, running; /* it has one; on its own thread (else it ran here) */
+    pthread_t worker;
+    fs_status worker_st;
 } cmp_run;
 
-/* One measured (or history-end) frame as every mode sees it. */
-typedef struct cmp_frame {
-    int i;
-    bool measured; /* i >= first: measured and written */
-    frame_record fr;
-    display_desc dd;
-    reference_info ri;
-    ring_mask mask;
-    metrics_view vr, vpr, vb; /* the reference, the previous one, the band-limited one */
-    bool still;               /* the camera did not move since the previous frame */
-} cmp_frame;
 
 /* The modes (--modes, default traditional and hashed), each with its plan, renderer and arrays. */
 static fs_status compare_build_modes(cmp_run *c)
@@ -436,7 +449,7 @@ static fs_status compare_open_outputs(cmp_run *c, fs_status st)
         log_error("%s: cannot create: %s", c->csv_tmp, strerror(errno));
         st = FS_ERR_IO;
     }
-    c->w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression}) : NULL;
+    c->w = st == FS_OK ? exr_writer_create(&(exr_writer_desc){.compression = d->compression, .cpu_seconds = &c->writer_cpu}) : NULL;
     if (st == FS_OK && !c->w)
         st = FS_ERR_NOMEM;
     if (c->csv)
@@ -467,6 +480,11 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
     c->band_buf = st == FS_OK ? malloc(sizeof(float) * 4 * c->band_n) : NULL;
     if (st == FS_OK && !c->band_buf)
         st = FS_ERR_NOMEM;
+    c->warp_scratch = st == FS_OK ? malloc(sizeof(float) * 4 * c->band_n * (size_t)c->nm) : NULL;
+    if (st == FS_OK && !c->warp_scratch)
+        st = FS_ERR_NOMEM;
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    c->measure_threads = cpus < 1 ? 1 : cpus < c->nm ? (int)cpus : c->nm;
     if (st == FS_OK)
         st = temporal_begin(&c->te, s);
     session_catch_sigint();
@@ -475,6 +493,8 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
                               d->progress_interval);
     progress_per_frame(&c->rp.pr, c->passes, c->co->demo ? "demo" : "compare");
     c->t0 = time_now();
+    c->writer_cpu = -1.0;
+    phase_clock_begin(&c->pc);
     /* The frame just before F also gets its reference, the previous frame of F's temporal metrics. */
     c->first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
     c->warm = c->first > 0 ? c->first - 1 : 0; /* the frame before F, at least */
@@ -487,30 +507,89 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
     return st;
 }
 
-/* Every mode measured against the frame's reference; measured frames go into metrics.csv and the
- * modes' sums. */
-static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f)
+/* One mode's metrics of the frame (FLIP map, per-ring metrics, temporal error) into rm. Reads the
+ * frame and the temporal state, writes only the mode's own FLIP map and warp scratch: the modes
+ * of a frame may be measured at once. */
+static fs_status measure_mode(const cmp_run *c, const cmp_frame *f, int m, ring_metrics *rm)
 {
-    fs_status st = FS_OK;
+    const mode_run *mr = &c->runs[m];
+    metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
+    bool prev = mr->have_prev && c->have_prev_ref;
+    fs_status st = measure_flip(&vi, &f->vr, &f->dd, mr->flip);
+    if (st == FS_OK)
+        st = metrics_compute(&vi, &f->vr, &f->vb, mr->flip, prev ? &vp : NULL, &f->mask, rm);
+    if (st == FS_OK)
+        st = temporal_measure_in(&c->te, c->warp_scratch + (size_t)m * 4 * c->band_n, &vi, prev ? &vp : NULL,
+                                 &f->vr, &f->mask,
+                                 temporal_reference_noise2(c->rf, f->still, f->ri.error, f->i > 0 ? c->ref_err[f->i - 1] : 0.0),
+                                 rm);
+    return st;
+}
+
+/* A thread's share of the modes: first, first + step, ... */
+typedef struct measure_share {
+    const cmp_run *c;
+    const cmp_frame *f;
+    ring_metrics (*rm)[MAX_FOV_RINGS + 1];
+    fs_status *st;
+    int first, step;
+    double cpu; /* the thread's CPU time (--verbose) */
+} measure_share;
+
+static void *measure_share_run(void *arg)
+{
+    measure_share *sh = arg;
+    double t0 = measure_thread_cpu_s();
+    for (int m = sh->first; m < sh->c->nm; m += sh->step)
+        sh->st[m] = measure_mode(sh->c, sh->f, m, sh->rm[m]);
+    sh->cpu = measure_thread_cpu_s() - t0;
+    return NULL;
+}
+
+/* Every mode's metrics of the frame, on up to measure_threads threads (this one included); a
+ * thread that cannot start leaves its share to this one. The results do not depend on the threads:
+ * each mode is measured by the same code on its own data. */
+static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics (*rm)[MAX_FOV_RINGS + 1],
+                                   double *helper_cpu)
+{
+    fs_status st[ALPHA_MODE_COUNT];
+    measure_share sh[ALPHA_MODE_COUNT];
+    pthread_t th[ALPHA_MODE_COUNT];
+    bool started[ALPHA_MODE_COUNT] = {false};
+    int n = c->measure_threads;
+    for (int t = 0; t < n; t++)
+        sh[t] = (measure_share){.c = c, .f = f, .rm = rm, .st = st, .first = t, .step = n};
+    for (int t = 1; t < n; t++)
+        started[t] = pthread_create(&th[t], NULL, measure_share_run, &sh[t]) == 0;
+    measure_share_run(&sh[0]);
+    for (int t = 1; t < n; t++) {
+        if (started[t]) {
+            pthread_join(th[t], NULL);
+            *helper_cpu += sh[t].cpu;
+        } else {
+            measure_share_run(&sh[t]);
+        }
+    }
+    for (int m = 0; m < c->nm; m++)
+        if (st[m] != FS_OK)
+            return st[m];
+    return FS_OK;
+}
+
+/* Every mode measured against the frame's reference; measured frames go into metrics.csv and the
+ * modes' sums, in the modes' order. */
+static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f, double *helper_cpu)
+{
     int i = f->i;
-    for (int m = 0; m < c->nm && st == FS_OK; m++) {
+    ring_metrics rm[ALPHA_MODE_COUNT][MAX_FOV_RINGS + 1];
+    memset(rm, 0, sizeof rm);
+    fs_status st = measure_all_modes(c, f, rm, helper_cpu);
+    for (int m = 0; m < c->nm && st == FS_OK && f->measured; m++) {
         mode_run *mr = &c->runs[m];
-        ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
-        metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
-        bool prev = mr->have_prev && c->have_prev_ref;
-        st = measure_flip(&vi, &f->vr, &f->dd, mr->flip);
-        if (st == FS_OK)
-            st = metrics_compute(&vi, &f->vr, &f->vb, mr->flip, prev ? &vp : NULL, &f->mask, rm);
-        if (st == FS_OK)
-            st = temporal_measure(&c->te, &vi, prev ? &vp : NULL, &f->vr, &f->mask,
-                                  temporal_reference_noise2(c->rf, f->still, f->ri.error, i > 0 ? c->ref_err[i - 1] : 0.0),
-                                  rm);
-        if (!f->measured)
-            continue;
-        measure_accumulate(mr, rm, c->ml.count, f->still);
-        measure_gate_ratios(rm, c->ml.count, c->s.pl.rings ? &c->ml : NULL); /* metrics.csv: -1 where too little reference */
+        measure_accumulate(mr, rm[m], c->ml.count, f->still);
+        measure_gate_ratios(rm[m], c->ml.count, c->s.pl.rings ? &c->ml : NULL); /* metrics.csv: -1 where too little reference */
         for (int k = 0; k <= c->ml.count && st == FS_OK; k++)
-            if (!metrics_csv_row(c->csv, i, f->fr.time, alpha_mode_name(mr->mode), k < c->ml.count ? k : -1, &rm[k],
+            if (!metrics_csv_row(c->csv, i, f->fr.time, alpha_mode_name(mr->mode), k < c->ml.count ? k : -1, &rm[m][k],
                                  f->still, mr->frame_ms[i])) {
                 log_error("%s: cannot write: %s", c->csv_tmp, strerror(errno));
                 st = FS_ERR_IO;
@@ -568,8 +647,6 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
     temporal_next(&c->te, &f->fr);
 }
 
-/* Frame i: drawn by every mode (only that, for the TAA history before first - 1), its reference,
- * the measurements and the outputs. */
 /* Mode m's counts of frame i (its statistics: the queries are done once the frame is finished),
  * and the frame time the cost model predicts from them. */
 static void compare_count(cmp_run *c, int m, int i)
@@ -591,63 +668,144 @@ static void compare_count(cmp_run *c, int m, int i)
     }
 }
 
+/* What the measurements need of frame f besides the images, on the worker: its ring mask, the
+ * reference as the rings the modes were drawn with would show it (alpha_rmse), and the previous
+ * reference warped into this frame (one warp for all modes). */
+static fs_status worker_prepare(cmp_run *c, cmp_frame *f)
+{
+    /* Per-ring figures around where the viewer looks (the true gaze), not where the rings were drawn. */
+    fs_status st = ring_mask_build(&f->dd, &c->ml, f->fr.true_gaze_px[0], f->fr.true_gaze_px[1], &f->mask);
+    float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
+                            c->band_buf + 3 * c->band_n};
+    if (st == FS_OK)
+        st = metrics_band_limit(&f->vr, &f->dd, &c->s.pl.layout, f->fr.ring_rect, f->fr.gaze_px[0], f->fr.gaze_px[1],
+                                band, &f->vb);
+    if (st == FS_OK)
+        temporal_warp_reference(&c->te, &f->vpr);
+    return st;
+}
+
+/* The worker's share of frame c->pend: every mode's metrics, then the frame's outputs. Touches only
+ * what the main thread leaves alone until compare_join: the frame, the modes' FLIP maps and warp
+ * scratch, metrics.csv, the sums, the writers. */
+static void *frame_worker(void *arg)
+{
+    cmp_run *c = arg;
+    phase_clock *pc = &c->pc;
+    double w0 = time_now(), c0 = measure_thread_cpu_s(), helpers = 0.0;
+    fs_status st = worker_prepare(c, &c->pend);
+    if (st == FS_OK)
+        st = compare_measure_modes(c, &c->pend, &helpers);
+    double w1 = time_now(), c1 = measure_thread_cpu_s();
+    pc->job_wall[JOB_METRICS] += w1 - w0;
+    pc->job_cpu[JOB_METRICS] += c1 - c0 + helpers;
+    c->worker_st = compare_write_frame(c, &c->pend, st);
+    pc->job_wall[JOB_OUTPUTS] += time_now() - w1;
+    pc->job_cpu[JOB_OUTPUTS] += measure_thread_cpu_s() - c1;
+    return NULL;
+}
+
+/* Hands frame f to the worker (on this thread when none can start: slower, not wrong). */
+static void compare_start_worker(cmp_run *c, const cmp_frame *f)
+{
+    c->pend = *f;
+    c->pending = true;
+    c->running = pthread_create(&c->worker, NULL, frame_worker, c) == 0;
+    if (!c->running)
+        frame_worker(c);
+}
+
+/* Waits for the worker's frame; when it went well, that frame becomes the previous one. */
+static fs_status compare_join(cmp_run *c)
+{
+    if (!c->pending)
+        return FS_OK;
+    if (c->running)
+        pthread_join(c->worker, NULL);
+    c->pending = c->running = false;
+    if (c->worker_st != FS_OK)
+        return c->worker_st;
+    compare_next_frame(c, &c->pend);
+    progress_update(&c->rp.pr, (c->pend.i + 1 - c->first) * c->passes);
+    return FS_OK;
+}
+
+/* Every mode's draw of frame i, timed; only that for the TAA history before first - 1. */
+static fs_status compare_draw_modes(cmp_run *c, const cmp_frame *f)
+{
+    fs_status st = FS_OK;
+    for (int m = 0; m < c->nm && st == FS_OK; m++) {
+        mode_run *mr = &c->runs[m];
+        if (!f->measured && f->i < c->first - 1) {
+            st = renderer_draw(mr->r, &f->fr);
+            continue;
+        }
+        renderer_finish(mr->r);
+        double a = time_now();
+        st = renderer_draw(mr->r, &f->fr);
+        renderer_finish(mr->r);
+        mr->frame_ms[f->i] = (time_now() - a) * 1e3;
+        compare_count(c, m, f->i);
+        if (st == FS_OK)
+            st = renderer_read(mr->r, &mr->img);
+    }
+    return st;
+}
+
+/* What needs GL of frame f besides the images (this thread): the temporal error's depth pass
+ * and warp. */
+static fs_status compare_prepare(cmp_run *c, cmp_frame *f)
+{
+    c->ref_err[f->i] = f->ri.error;
+    c->ref_cached += f->measured && f->ri.cached;
+    f->dd = (display_desc){c->s.pl.width, c->s.pl.height, f->fr.hfov_deg};
+    f->vr = measure_view(&c->ref);
+    f->vpr = measure_view(&c->prev_ref);
+    fs_status st = temporal_depth(&c->te, &f->fr, c->have_prev_ref);
+    f->still = temporal_still(&c->te, &f->fr);
+    return st;
+}
+
+/* Frame i, in the order that lets the worker measure and write frame i - 1 while this thread
+ * draws frame i's reference (the most of a frame's time): the reference, then (frame i - 1 done)
+ * every mode, then what the worker needs, then the worker starts on frame i. The modes are timed
+ * with the worker idle, as before. Every renderer draws from its own state, so drawing the
+ * reference before the modes changes no pixel (the frames, cache entries, video and metrics came
+ * out byte-identical to the earlier order's, docs/compare.md "Where the time goes"). */
 static fs_status compare_frame(cmp_run *c, int i)
 {
     const run_desc *d = c->d;
     fs_status st = FS_OK;
-    int nm = c->nm;
     c->rp.base = (i < c->first ? 0 : i - c->first) * c->passes;
     cmp_frame f = {.i = i, .measured = i >= c->first};
     f.fr = session_frame(&c->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
     if (i < c->first - 1) { /* history only */
-        for (int m = 0; m < nm && st == FS_OK; m++)
-            st = renderer_draw(c->runs[m].r, &f.fr);
-        return st;
+        phase_clock_switch(&c->pc, PHASE_MODES);
+        return compare_draw_modes(c, &f);
     }
+    phase_clock_switch(&c->pc, PHASE_REFERENCE);
+    st = reference_frame(c->rf, &f.fr, &c->ref_next, &f.ri);
+    phase_clock_switch(&c->pc, PHASE_WAIT);
+    fs_status wst = compare_join(c);
+    if (st == FS_OK)
+        st = wst;
+    if (st != FS_OK)
+        return st;
+    phase_clock_switch(&c->pc, PHASE_MODES);
     if (f.fr.cut) /* no frame-to-frame change across a cut */
-        for (int m = 0; m < nm; m++)
+        for (int m = 0; m < c->nm; m++)
             c->runs[m].have_prev = false;
     c->have_prev_ref = c->have_prev_ref && !f.fr.cut;
-    for (int m = 0; m < nm && st == FS_OK; m++) {
-        mode_run *mr = &c->runs[m];
-        renderer_finish(mr->r);
-        double a = time_now();
-        st = renderer_draw(mr->r, &f.fr);
-        renderer_finish(mr->r);
-        mr->frame_ms[i] = (time_now() - a) * 1e3;
-        compare_count(c, m, i);
-        if (st == FS_OK)
-            st = renderer_read(mr->r, &mr->img);
-    }
-    if (st == FS_OK)
-        st = reference_frame(c->rf, &f.fr, &c->ref, &f.ri);
+    st = compare_draw_modes(c, &f);
     if (st != FS_OK)
         return st;
-    c->ref_err[i] = f.ri.error;
-    c->ref_cached += f.measured && f.ri.cached;
-    f.dd = (display_desc){c->s.pl.width, c->s.pl.height, f.fr.hfov_deg};
-    /* Per-ring figures around where the viewer looks (the true gaze), not where the rings were drawn. */
-    st = ring_mask_build(&f.dd, &c->ml, f.fr.true_gaze_px[0], f.fr.true_gaze_px[1], &f.mask);
-    f.vr = measure_view(&c->ref);
-    f.vpr = measure_view(&c->prev_ref);
-    /* The reference as the rings the modes were drawn with would show it (alpha_rmse). */
-    float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
-                            c->band_buf + 3 * c->band_n};
-    if (st == FS_OK)
-        st = metrics_band_limit(&f.vr, &f.dd, &c->s.pl.layout, f.fr.ring_rect, f.fr.gaze_px[0], f.fr.gaze_px[1], band,
-                                &f.vb);
-    /* This frame's depth, and the previous reference warped into this frame (one warp for all). */
-    if (st == FS_OK)
-        st = temporal_frame(&c->te, &f.fr, c->have_prev_ref ? &f.vpr : NULL);
-    f.still = temporal_still(&c->te, &f.fr);
-    if (st == FS_OK)
-        st = compare_measure_modes(c, &f);
-    st = compare_write_frame(c, &f, st);
+    exr_image_move(&c->ref, &c->ref_next);
+    phase_clock_switch(&c->pc, PHASE_PREPARE);
+    st = compare_prepare(c, &f);
     if (st != FS_OK)
         return st;
-    compare_next_frame(c, &f);
-    progress_update(&c->rp.pr, (i + 1 - c->first) * c->passes);
-    return st;
+    compare_start_worker(c, &f);
+    return FS_OK;
 }
 
 /* Ends the frames' outputs: the EXR writer's queue, metrics.csv (renamed into place, or removed
@@ -727,8 +885,10 @@ static void compare_free(cmp_run *c)
 {
     run_folder_close(&c->fo);
     exr_image_free(&c->ref);
+    exr_image_free(&c->ref_next);
     exr_image_free(&c->prev_ref);
     free(c->band_buf);
+    free(c->warp_scratch);
     for (int m = 0; m < c->nm; m++) {
         mode_run *mr = &c->runs[m];
         exr_image_free(&mr->img);
@@ -772,7 +932,12 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         }
         st = compare_frame(c, i);
     }
+    phase_clock_switch(&c->pc, PHASE_WAIT);
+    fs_status jst = compare_join(c); /* the last frame's worker, or the one a failure left running */
+    if (st == FS_OK)
+        st = jst;
     progress_end(&c->rp.pr);
+    phase_clock_switch(&c->pc, PHASE_FINISH);
     st = compare_close_outputs(c, st);
     fs_status vst = grid_video_end(c->gv, st == FS_OK);
     c->gv = NULL;
@@ -792,6 +957,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         look_hints_print(&(look_hints_desc){.out = c->out, .name = d->name, .first_frame = c->first,
                                             .mode = alpha_mode_name(c->runs[0].mode),
                                             .video = co->demo ? "demo.mp4" : "compare.mp4", .fps = d->fps});
+    phase_clock_switch(&c->pc, -1);
+    phase_clock_print(&c->pc, co->demo ? "demo" : "compare", c->writer_cpu);
     compare_free(c);
     free(c);
     return st;
@@ -819,5 +986,9 @@ fs_status cmd_demo(const run_desc *d)
         dd.ref.supersample = DEMO_SUPERSAMPLE;
     if (!dd.ref.samples)
         dd.ref.samples = DEMO_SAMPLES;
+    /* PIZ: the same pixels (lossless, every OpenEXR reader has it) in about 60 % of ZIP's CPU time,
+     * for files about 10 % larger (docs/compare.md "Where the time goes"). */
+    if (!dd.compression_set)
+        dd.compression = EXR_COMPRESS_PIZ;
     return compare_run(&dd, &(compare_opts){.default_out = "out/demo", .demo = true});
 }

@@ -6,6 +6,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+#include "core/log.h"
+#include "core/proc_stats.h"
+#include "core/progress.h"
 
 #include "metrics/flip.h"
 #include "metrics/warp.h"
@@ -113,8 +118,7 @@ static metrics_view temporal_view(const temporal *t, int k)
     return (metrics_view){t->width, t->height, p, p + n, p + 2 * n, p + 3 * n};
 }
 
-/* This frame's depth, and the previous reference (NULL: none, e.g. after a cut) warped into it. */
-fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref)
+fs_status temporal_depth(temporal *t, const frame_record *fr, bool have_prev_ref)
 {
     display_desc dd = {t->width, t->height, fr->hfov_deg};
     frame_record fp = *fr;
@@ -127,12 +131,25 @@ fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view
     warp_desc wd = {.width = t->width, .height = t->height, .depth = t->depth[0], .view_proj = fr->view_proj,
                     .prev_view_proj = t->prev.view_proj, .prev_depth = t->depth[1], .prev_znear = t->prev.znear,
                     .prev_zfar = t->prev.zfar};
-    t->warped = st == FS_OK && t->have_prev && prev_ref && warp_build(&wd, t->coords, t->valid) >= 0;
-    if (t->warped) {
-        metrics_view wr = temporal_view(t, 0);
-        float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
-        warp_apply(t->coords, t->valid, prev_ref, out);
-    }
+    t->warped = st == FS_OK && t->have_prev && have_prev_ref && warp_build(&wd, t->coords, t->valid) >= 0;
+    return st;
+}
+
+void temporal_warp_reference(temporal *t, const metrics_view *prev_ref)
+{
+    if (!t->warped)
+        return;
+    metrics_view wr = temporal_view(t, 0);
+    float *const out[4] = {(float *)wr.r, (float *)wr.g, (float *)wr.b, (float *)wr.coverage};
+    warp_apply(t->coords, t->valid, prev_ref, out);
+}
+
+/* This frame's depth, and the previous reference (NULL: none, e.g. after a cut) warped into it. */
+fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref)
+{
+    fs_status st = temporal_depth(t, fr, prev_ref != NULL);
+    if (st == FS_OK)
+        temporal_warp_reference(t, prev_ref);
     return st;
 }
 
@@ -142,9 +159,18 @@ fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view
 fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
                                   const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm)
 {
+    float *scratch = t->buf + 6 * (size_t)t->width * (size_t)t->height; /* temporal_view(t, 1) */
+    return temporal_measure_in(t, scratch, img, prev_img, ref, mask, noise2, rm);
+}
+
+fs_status temporal_measure_in(const temporal *t, float *scratch, const metrics_view *img, const metrics_view *prev_img,
+                              const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm)
+{
     if (!t->warped || !prev_img)
         return FS_OK;
-    metrics_view wi = temporal_view(t, 1), wr = temporal_view(t, 0);
+    size_t n = (size_t)t->width * (size_t)t->height;
+    metrics_view wi = {t->width, t->height, scratch, scratch + n, scratch + 2 * n, scratch + 3 * n};
+    metrics_view wr = temporal_view(t, 0);
     float *const out[4] = {(float *)wi.r, (float *)wi.g, (float *)wi.b, (float *)wi.coverage};
     warp_apply(t->coords, t->valid, prev_img, out); /* the frame's warp, built once in temporal_frame */
     fs_status st = metrics_temporal(img, &wi, ref, &wr, t->valid, mask, rm);
@@ -184,4 +210,52 @@ void temporal_end(temporal *t)
     renderer_destroy(t->probe);
     free(t->buf);
     free(t->valid);
+}
+
+/* >>phase clock */
+
+double measure_thread_cpu_s(void)
+{
+    struct timespec ts;
+    return clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0 ? (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9 : 0.0;
+}
+
+void phase_clock_begin(phase_clock *pc)
+{
+    memset(pc, 0, sizeof *pc);
+    pc->cur = -1;
+}
+
+void phase_clock_switch(phase_clock *pc, int phase)
+{
+    double wall = time_now(), cpu = proc_stats_now().cpu_ms * 1e-3, own = measure_thread_cpu_s();
+    if (pc->cur >= 0) {
+        pc->wall[pc->cur] += wall - pc->at_wall;
+        pc->cpu[pc->cur] += cpu - pc->at_cpu;
+        pc->own_cpu[pc->cur] += own - pc->at_own;
+    }
+    pc->cur = phase;
+    pc->at_wall = wall;
+    pc->at_cpu = cpu;
+    pc->at_own = own;
+}
+
+void phase_clock_print(const phase_clock *pc, const char *name, double writer_cpu_s)
+{
+    static const char *const names[PHASE_COUNT] = {"modes", "reference", "prepare", "wait", "finish"};
+    static const char *const jobs[JOB_COUNT] = {"metrics", "outputs"};
+    double w = 0, c = 0, o = 0;
+    for (int p = 0; p < PHASE_COUNT; p++) {
+        log_info("TIME: %s %-9s %7.2f s wall %7.2f s CPU (process) %7.2f s CPU (main thread)", name, names[p],
+                 pc->wall[p], pc->cpu[p], pc->own_cpu[p]);
+        w += pc->wall[p];
+        c += pc->cpu[p];
+        o += pc->own_cpu[p];
+    }
+    log_info("TIME: %s %-9s %7.2f s wall %7.2f s CPU (process) %7.2f s CPU (main thread)", name, "total", w, c, o);
+    for (int j = 0; j < JOB_COUNT; j++)
+        log_info("TIME: %s worker %-9s %7.2f s wall %7.2f s CPU (its threads; beside the main thread's phases)", name,
+                 jobs[j], pc->job_wall[j], pc->job_cpu[j]);
+    if (writer_cpu_s >= 0)
+        log_info("TIME: %s EXR writer threads %.2f s CPU (inside the process CPU above)", name, writer_cpu_s);
 }

@@ -83,11 +83,57 @@ void measure_gate_ratios(ring_metrics *rm, int count, const fov_layout *l);
  * temporal_measure per mode, temporal_next; temporal_end frees it. */
 fs_status temporal_begin(temporal *t, const session *s);
 fs_status temporal_frame(temporal *t, const frame_record *fr, const metrics_view *prev_ref);
+/* temporal_frame in two: the GL part (this frame's depth pass and the warp into it; have_prev_ref:
+ * a previous reference will be warped), then the CPU part (the previous reference through the
+ * warp), which compare's frame worker runs. */
+fs_status temporal_depth(temporal *t, const frame_record *fr, bool have_prev_ref);
+void temporal_warp_reference(temporal *t, const metrics_view *prev_ref);
 fs_status temporal_measure(temporal *t, const metrics_view *img, const metrics_view *prev_img,
                            const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm);
+/* temporal_measure with the method's warped planes in `scratch` (4 * width * height floats) instead
+ * of t's own: t is only read, so modes with their own scratch may be measured at once, on threads. */
+fs_status temporal_measure_in(const temporal *t, float *scratch, const metrics_view *img, const metrics_view *prev_img,
+                              const metrics_view *ref, const ring_mask *mask, double noise2, ring_metrics *rm);
 double temporal_reference_noise2(const reference *rf, bool still, double e_now, double e_prev);
 bool temporal_still(const temporal *t, const frame_record *fr);
 void temporal_next(temporal *t, const frame_record *fr);
 void temporal_end(temporal *t);
+
+/* >>phase clock: where a run's time goes (--verbose prints it; docs/compare.md "Where the time
+ * goes"). The main thread's phases sum their wall time, the process's CPU time (every thread:
+ * llvmpipe's, the EXR writer's, the frame worker's, whatever they did meanwhile) and the main
+ * thread's own CPU time. The frame worker's jobs (compare measures and writes frame i while the
+ * main thread draws frame i + 1's reference) sum their wall time and their own threads' CPU time. */
+typedef enum run_phase {
+    PHASE_MODES,     /* every mode's draw and readback */
+    PHASE_REFERENCE, /* the reference: drawn (passes, resolve, sums) or read from the cache, and stored */
+    PHASE_PREPARE,   /* the temporal error's depth pass and warp (the GL the worker needs) */
+    PHASE_WAIT,      /* waiting for the worker to finish the frame before */
+    PHASE_FINISH,    /* after the frames: the EXR queue drained, the video finished, the reports */
+    PHASE_COUNT
+} run_phase;
+
+typedef enum worker_job {
+    JOB_METRICS, /* ring masks, band limit, the previous reference warped, every mode's FLIP and
+                  * per-ring metrics */
+    JOB_OUTPUTS, /* the grid, the layers, the video frame, the EXR queue (waits when it is full) */
+    JOB_COUNT
+} worker_job;
+
+typedef struct phase_clock {
+    double wall[PHASE_COUNT], cpu[PHASE_COUNT], own_cpu[PHASE_COUNT]; /* seconds */
+    double job_wall[JOB_COUNT], job_cpu[JOB_COUNT];                     /* the worker's */
+    double at_wall, at_cpu, at_own;
+    int cur; /* the phase running, -1 for none */
+} phase_clock;
+
+/* The calling thread's CPU time in seconds (0 when it cannot be read). */
+double measure_thread_cpu_s(void);
+void phase_clock_begin(phase_clock *pc);
+/* Ends the phase running (if any) and starts `phase` (-1: none). */
+void phase_clock_switch(phase_clock *pc, int phase);
+/* One line per phase and job on stderr (log_info: --verbose only), then the EXR writer threads'
+ * own CPU time (writer_cpu_s; < 0: not known), which the phases' process CPU already holds. */
+void phase_clock_print(const phase_clock *pc, const char *name, double writer_cpu_s);
 
 #endif

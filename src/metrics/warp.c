@@ -15,12 +15,16 @@ static float linear_depth(float window, float n, float f)
 }
 
 /* Bilinear sample, taps clamped to the image; at integer coordinates the texel itself, exactly
- * (no 0 * (b - a) term, which is NaN next to an infinite texel). */
+ * (no 0 * (b - a) term, which is NaN next to an infinite texel). The clamp and floor are written
+ * as comparisons and a truncation, which are the same here (NaN and -Inf clamp to 0, +Inf to the
+ * last texel, and x >= 0 truncates to its floor): as libm calls they were most of the warp's time. */
 static float bilinear(const float *p, int w, int h, float x, float y)
 {
-    x = fminf(fmaxf(x, 0.0f), (float)(w - 1));
-    y = fminf(fmaxf(y, 0.0f), (float)(h - 1));
-    int x0 = (int)floorf(x), y0 = (int)floorf(y);
+    x = x > 0.0f ? x : 0.0f;
+    x = x < (float)(w - 1) ? x : (float)(w - 1);
+    y = y > 0.0f ? y : 0.0f;
+    y = y < (float)(h - 1) ? y : (float)(h - 1);
+    int x0 = (int)x, y0 = (int)y;
     int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
     float fx = x - (float)x0, fy = y - (float)y0;
     float a = p[y0 * w + x0];

@@ -153,6 +153,8 @@ typedef struct exr_writer_desc {
                                        * [1, EXR_MAX_WRITER_THREADS] */
     int zip_level;                    /* deflate level 1..9 for ZIP (larger is clamped to 9);
                                        * default EXR_ZIP_LEVEL_DEFAULT */
+    double *cpu_seconds;              /* NULL, or where exr_writer_finish stores the CPU time
+                                       * its threads used, all together (--verbose timing) */
 } exr_writer_desc;
 
 /* `*d` (NULL: all zero) with zero or negative fields (and an unknown compression) replaced by

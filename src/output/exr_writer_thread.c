@@ -5,6 +5,7 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "core/config.h"
@@ -37,6 +38,8 @@ struct exr_writer {
     int thread_count, started;
     bool stop;     /* set by finish: drain the queue, then exit */
     fs_status err; /* first failure, sticky */
+    double cpu_s;  /* the exited workers' CPU time */
+    double *cpu_out;
 };
 
 exr_writer_desc exr_writer_desc_defaults(const exr_writer_desc *d)
@@ -106,6 +109,9 @@ static void *writer_main(void *arg)
             pthread_cond_broadcast(&w->not_full); /* blocked submitters return the error */
         }
     }
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0)
+        w->cpu_s += (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
     pthread_mutex_unlock(&w->mu);
     return NULL;
 }
@@ -121,6 +127,8 @@ static fs_status writer_shutdown(exr_writer *w)
     for (int i = 0; i < w->started; i++)
         pthread_join(w->workers[i].thread, NULL);
     fs_status st = w->err; /* every worker has been joined: no lock needed */
+    if (w->cpu_out)
+        *w->cpu_out = w->cpu_s;
     pthread_cond_destroy(&w->not_full);
     pthread_cond_destroy(&w->not_empty);
     pthread_mutex_destroy(&w->mu);
@@ -144,6 +152,7 @@ exr_writer *exr_writer_create(const exr_writer_desc *desc)
     w->thread_count = d.thread_count;
     w->compression = d.compression;
     w->zip_level = d.zip_level;
+    w->cpu_out = d.cpu_seconds;
     w->err = FS_OK;
     if (pthread_mutex_init(&w->mu, NULL) != 0)
         goto fail_mu;

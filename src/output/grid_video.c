@@ -3,6 +3,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
@@ -19,7 +20,6 @@
 #include "output/png_write.h"
 
 #define PREVIEW_MAX_WIDTH 640 /* the previews are box-filtered down to at most this width */
-#define SRGB_LUT 65536        /* linear [0, 1] in steps of 1/65535 to sRGB 8 bit */
 
 struct grid_video {
     char dir[PATH_MAX];
@@ -124,26 +124,45 @@ static bool write_all(int fd, const unsigned char *p, size_t n)
     return true;
 }
 
+/* The LUT level of linear l: what lrintf(clamp(l, 0, 1) * 65535) gives, NaN and infinities 0. Adding
+ * and taking away 2^23 rounds a float in [0, 2^23) to an integer in the current rounding mode (to
+ * nearest, ties to even, as lrintf), with no call. */
+static inline int lut_level(float l)
+{
+    const float big = 8388608.0f; /* 2^23: from here up, floats are integers */
+    if (!(l > 0.0f))
+        return 0; /* also NaN, -Inf */
+    if (!(l < 1.0f))
+        return l <= FLT_MAX ? GRID_VIDEO_LUT - 1 : 0; /* +Inf as 0, like NaN */
+    float x = l * (float)(GRID_VIDEO_LUT - 1);
+    return (int)((x + big) - big);
+}
+
+void grid_video_to_rgb24(const float *const rgb[3], size_t n, const uint8_t *lut, unsigned char *out)
+{
+    const float *r = rgb[0], *g = rgb[1], *b = rgb[2];
+    for (size_t i = 0; i < n; i++) {
+        out[3 * i] = lut[lut_level(r[i])];
+        out[3 * i + 1] = lut[lut_level(g[i])];
+        out[3 * i + 2] = lut[lut_level(b[i])];
+    }
+}
+
 static fs_status video_frame(grid_video *v, const float *const rgb[3])
 {
     if (!v->lut) {
-        v->lut = malloc(SRGB_LUT);
+        v->lut = malloc(GRID_VIDEO_LUT);
         v->rgb = malloc((size_t)v->width * (size_t)v->height * 3);
         if (!v->lut || !v->rgb)
             return FS_ERR_NOMEM;
-        for (int i = 0; i < SRGB_LUT; i++)
-            v->lut[i] = (uint8_t)png_srgb_quantise((float)i / (SRGB_LUT - 1), 8);
+        for (int i = 0; i < GRID_VIDEO_LUT; i++)
+            v->lut[i] = (uint8_t)png_srgb_quantise((float)i / (GRID_VIDEO_LUT - 1), 8);
         fs_status st = start_ffmpeg(v);
         if (st != FS_OK)
             return st;
     }
     size_t n = (size_t)v->width * (size_t)v->height;
-    for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++) {
-            float l = rgb[c][i];
-            l = isfinite(l) ? fminf(fmaxf(l, 0.0f), 1.0f) : 0.0f;
-            v->rgb[i * 3 + (size_t)c] = v->lut[(int)lrintf(l * (SRGB_LUT - 1))];
-        }
+    grid_video_to_rgb24(rgb, n, v->lut, v->rgb);
     if (!write_all(v->fd, v->rgb, n * 3)) {
         log_error("%s/video.mp4: ffmpeg stopped reading its frames: %s (see %s/ffmpeg.log)", v->dir, strerror(errno),
                   v->dir);

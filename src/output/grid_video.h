@@ -14,6 +14,9 @@
 
 #include <stdbool.h>
 
+#include <stddef.h>
+#include <stdint.h>
+
 #include "core/status.h"
 #include "output/exr_write.h"
 
@@ -36,6 +39,13 @@ fs_status grid_video_frame(grid_video *v, int index, const exr_image *grid);
 /* Ends it: with ok, waits for ffmpeg and renames the video into place (a failure: one line naming
  * ffmpeg.log, FS_ERR_IO); without, stops and removes what was begun. Frees v (NULL: nothing). */
 fs_status grid_video_end(grid_video *v, bool ok);
+/* n linear pixels of planes rgb as rgb24 (interleaved) into out: each value clamped to [0, 1]
+ * (NaN and infinities as 0), stepped to the nearest of 65536 levels (ties to even) and looked up
+ * in lut (GRID_VIDEO_LUT entries, the sRGB 8-bit value of each level). Written without libm calls
+ * (one call per value was a third of the video's cost); the same bytes as the plain formula
+ * (test_png_write checks it). */
+#define GRID_VIDEO_LUT 65536
+void grid_video_to_rgb24(const float *const rgb[3], size_t n, const uint8_t *lut, unsigned char *out);
 /* Whether the run's folder holds the video, or the previews. */
 bool grid_video_has_video(const char *dir);
 /* The frame indices of the previews in DIR/preview/ (frame.NNNN.png), sorted, into idx (at most

@@ -1,9 +1,11 @@
 /* test_png_write.c: the sRGB PNG export (src/output/png_write.c) reproduces, bit for bit, the
  * FovVideoVDP and FLIP fixtures of ../shared/fixtures (made from the same half-float frames by
  * scripts/prep.py with numpy), and its quantisation's edge cases. */
+#include <float.h>
 #include <stdint.h>
 
 #include "output/exr_write.h"
+#include "output/grid_video.h"
 #include "output/png_write.h"
 #include "stb_png.h"
 #include "test.h"
@@ -19,6 +21,52 @@ TEST(quantisation_edges)
      * its neighbour; either way within one step of the middle. */
     uint16_t q = png_srgb_quantise(0.2140411f, 16);
     CHECK(q == 32767 || q == 32768);
+}
+
+/* The video's rgb24 conversion (grid_video_to_rgb24, without libm calls) gives the bytes of the
+ * plain formula it replaced, on every edge: ties of the 65536 levels, 0 and 1 and their
+ * neighbours, negatives, NaN, infinities, huge values and a dense sweep of [-0.01, 1.01]. */
+static uint8_t plain_rgb24(float l, const uint8_t *lut)
+{
+    l = isfinite(l) ? fminf(fmaxf(l, 0.0f), 1.0f) : 0.0f;
+    return lut[(int)lrintf(l * (GRID_VIDEO_LUT - 1))];
+}
+
+TEST(video_rgb24_matches_plain_formula)
+{
+    static uint8_t lut[GRID_VIDEO_LUT];
+    for (int i = 0; i < GRID_VIDEO_LUT; i++) /* a LUT whose bytes tell neighbouring levels apart */
+        lut[i] = (uint8_t)(i * 7 + i / 256);
+    enum { N = 600000 };
+    float *v = malloc(sizeof(float) * N);
+    unsigned char *out = malloc(3 * N);
+    CHECK(v && out);
+    if (!v || !out)
+        return;
+    size_t n = 0;
+    const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 2.0f, NAN, -NAN, INFINITY, -INFINITY, FLT_MAX, -FLT_MAX,
+                             FLT_MIN, 1e-30f, nextafterf(1.0f, 0.0f), nextafterf(1.0f, 2.0f), nextafterf(0.0f, 1.0f)};
+    for (size_t i = 0; i < sizeof special / sizeof special[0]; i++)
+        v[n++] = special[i];
+    for (int k = 0; k < 65535 && n + 3 < N; k += 7) { /* k + 1/2 of a level, and its neighbours */
+        float t = ((float)k + 0.5f) / 65535.0f;
+        v[n++] = t;
+        v[n++] = nextafterf(t, 0.0f);
+        v[n++] = nextafterf(t, 1.0f);
+    }
+    for (int i = 0; n < N; i++)
+        v[n++] = -0.01f + 1.02f * (float)i / (float)(N / 2);
+    float *pl[3] = {v, v + N / 3, v + 2 * (N / 3)};
+    grid_video_to_rgb24((const float *const *)pl, N / 3, lut, out);
+    int bad = 0;
+    for (size_t i = 0; i < N / 3; i++)
+        for (int c = 0; c < 3; c++)
+            bad += out[3 * i + (size_t)c] != plain_rgb24(pl[c][i], lut);
+    CHECK(bad == 0);
+    /* Not vacuous: the sweep reaches many levels. */
+    CHECK(plain_rgb24(0.25f, lut) != plain_rgb24(0.75f, lut));
+    free(v);
+    free(out);
 }
 
 /* Frame 6 of the fixtures: the linear half-float frame through png_write_srgb, read back with
@@ -75,6 +123,7 @@ TEST(unwritable_path_fails_cleanly)
 int main(void)
 {
     RUN(quantisation_edges);
+    RUN(video_rgb24_matches_plain_formula);
     RUN(reproduces_the_fixtures_bit_for_bit);
     RUN(unwritable_path_fails_cleanly);
     return test_summary();

@@ -5,6 +5,7 @@
  * warp reproduces the current frame; what the occluder hid, and what was outside the previous
  * view, is not warped. */
 #include <stdlib.h>
+#include <string.h>
 
 #include "metrics/warp.h"
 #include "test.h"
@@ -285,8 +286,63 @@ TEST(still_means_within_a_thousandth_of_a_pixel)
     CHECK(warp_min_depth(s.depth, W, H) < plane && warp_min_depth(s.depth, W, H) > 0.0f);
 }
 
+/* warp_apply's bilinear sample (clamp and floor without libm calls) gives the values of the plain
+ * formula it replaced, bit for bit, at positions inside, on and beyond the edges, and at NaN and
+ * infinities. */
+static float plain_bilinear(const float *p, int w, int h, float x, float y)
+{
+    x = fminf(fmaxf(x, 0.0f), (float)(w - 1));
+    y = fminf(fmaxf(y, 0.0f), (float)(h - 1));
+    int x0 = (int)floorf(x), y0 = (int)floorf(y);
+    int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
+    float fx = x - (float)x0, fy = y - (float)y0;
+    float a = p[y0 * w + x0];
+    if (fx != 0.0f)
+        a += fx * (p[y0 * w + x1] - a);
+    if (fy == 0.0f)
+        return a;
+    float b = p[y1 * w + x0];
+    if (fx != 0.0f)
+        b += fx * (p[y1 * w + x1] - b);
+    return a + fy * (b - a);
+}
+
+TEST(bilinear_matches_the_plain_formula)
+{
+    enum { PW = 7, PH = 5, N = PW * PH };
+    static float img[4][N], out[4][N], coords[2 * N];
+    static unsigned char valid[N];
+    for (int c = 0; c < 4; c++)
+        for (int i = 0; i < N; i++)
+            img[c][i] = (float)((i * 37 + c * 11) % 17) * 0.173f - 0.5f;
+    const float pos[] = {0.0f, -0.0f, 0.25f, 1.0f, 2.5f, 5.999f, 6.0f, 6.5f, 40.0f, -0.25f, -3.0f, NAN, INFINITY,
+                         -INFINITY, 3.75f, 4.0f, 4.5f, 1e-7f, 3.0000002f};
+    const int np = (int)(sizeof pos / sizeof pos[0]);
+    metrics_view mv = {PW, PH, img[0], img[1], img[2], img[3]};
+    float *const o[4] = {out[0], out[1], out[2], out[3]};
+    int bad = 0, tried = 0;
+    for (int a = 0; a < np; a++)
+        for (int b0 = 0; b0 < np; b0 += N) {
+            for (int i = 0; i < N; i++) {
+                coords[2 * i] = pos[a];
+                coords[2 * i + 1] = pos[(b0 + i) % np];
+                valid[i] = 1;
+            }
+            warp_apply(coords, valid, &mv, o);
+            for (int i = 0; i < N; i++)
+                for (int c = 0; c < 4; c++) {
+                    float want = plain_bilinear(img[c], PW, PH, coords[2 * i], coords[2 * i + 1]);
+                    bad += memcmp(&want, &out[c][i], sizeof want) != 0;
+                    tried++;
+                }
+        }
+    CHECK(bad == 0);
+    CHECK(tried == np * N * 4);
+}
+
 int main(void)
 {
+    RUN(bilinear_matches_the_plain_formula);
     RUN(an_unchanged_frame_scores_exactly_0_under_a_still_camera);
     RUN(still_means_within_a_thousandth_of_a_pixel);
     RUN(warp_is_exact_for_a_static_scene_under_camera_motion);
