@@ -367,9 +367,11 @@ static bool get_error(parse_ctx *c, const cJSON *kind, const char *key, const ch
     if (!get_number(c, o, "samples", jpath, true, &n) || !get_number(c, o, "median", jpath, false, &e->median) ||
         !get_number(c, o, "p90", jpath, false, &e->p90) || !get_number(c, o, "max", jpath, false, &e->max))
         return false;
-    e->n = (int)n;
     bool ok = n == floor(n) && n < 1e9 && (n == 0 || (e->median >= 0 && e->p90 >= 0 && e->max >= 0));
-    return ok || bad(c, jpath, "a whole number of samples and non-negative errors (-1 only with 0 samples)");
+    if (!ok)
+        return bad(c, jpath, "a whole number of samples and non-negative errors (-1 only with 0 samples)");
+    e->n = (int)n; /* after the range check: a larger number does not fit an int */
+    return true;
 }
 
 /* A class name: a full-screen kind's name, or forward/MODE or ring/MODE (MODE: [a-z0-9_-]+). */
@@ -397,9 +399,17 @@ static bool parse_class(parse_ctx *c, const cJSON *cls, const char *at, cost_fit
     const cJSON *co = cJSON_GetObjectItemCaseSensitive(cls, "coefficients_ms");
     if (!cJSON_IsObject(co))
         return bad(c, cat, "an object of per_primitive, per_invocation, per_byte and per_stage");
-    for (int j = 0; j < COST_TERMS; j++)
+    for (int j = 0; j < COST_TERMS; j++) {
         if (!get_number(c, co, k_coef_keys[j], cat, true, &f->coef[j]))
             return false;
+        /* No stage costs a second per unit: a larger coefficient is not a measurement, and it would
+         * make predictions overflow to infinity. */
+        if (f->coef[j] > COST_MAX_COEF_MS) {
+            char jpath[200];
+            snprintf(jpath, sizeof jpath, "%s.%s", cat, k_coef_keys[j]);
+            return bad(c, jpath, "at most 1000 ms per unit");
+        }
+    }
     f->fitted = true;
     return get_error(c, cls, "fit_error", at, &f->fit) && get_error(c, cls, "held_out_error", at, &f->held);
 }

@@ -40,6 +40,8 @@ typedef enum cost_kind {
 /* The most classes a model holds. */
 #define COST_MAX_CLASSES 48
 #define COST_CLASS_NAME_MAX 48
+/* The largest coefficient a model file may hold (ms per primitive, invocation, byte or stage). */
+#define COST_MAX_COEF_MS 1000.0
 
 /* One measured stage: its class (an index the caller gives), counts (COST_PRIMS .. COST_BYTES)
  * and time (ms). */

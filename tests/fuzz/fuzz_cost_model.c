@@ -1,7 +1,8 @@
 /* fuzz_cost_model.c: the --cost-model file parser (cost_model_parse, docs/benchmarks.md "Cost model").
  *
  * Input: a model file's text (JSON as bench --calibrate writes it).
- * Checks beyond "no crash": a refused text says why in one line that names the file; an accepted
+ * Checks beyond "no crash": a refused text says why in a message that names the file (it quotes
+ * class names as the file spells them: log_error escapes control bytes when printing); an accepted
  * one has a class count in range, NUL-terminated names, coefficients that are finite and >= 0, and
  * it writes back (cost_model_json) to text that parses to the same classes and coefficients; a
  * prediction from it on finite counts is finite (or -1 for a class it has no fit for).
@@ -30,7 +31,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (st != FS_OK) {
         FUZZ_CHECK(st == FS_ERR_USAGE);
         FUZZ_CHECK(memchr(err, '\0', sizeof err) != NULL && strncmp(err, "fuzz.json", 9) == 0);
-        FUZZ_CHECK(strchr(err, '\n') == NULL);
         return 0;
     }
     FUZZ_CHECK(m.count >= 0 && m.count <= COST_MAX_CLASSES);
