@@ -30,8 +30,8 @@
 #endif
 #endif
 
-// FORWARD_TRIANGLE: either of the above reads ATTR_TRIANGLE. The upload gives it to every primitive these
-// passes draw (renderer_upload.c, prim_needs_triangles).
+// FORWARD_TRIANGLE: either of the above reads ATTR_TRIANGLE. The upload gives it to every
+// primitive these passes draw (renderer_upload.c, prim_needs_triangles).
 #if defined(FORWARD_DRAW_ORDER) || defined(FORWARD_HASH_LAYER)
 #define FORWARD_TRIANGLE 1
 #endif
