@@ -20,6 +20,7 @@
 #include "common/draw_order.glsl"
 #ifdef FORWARD_DRAW_ORDER
 flat in uint v_instance;
+flat in uint v_primitive;        // gl_PrimitiveID, without its cost on llvmpipe (common/draw_order.glsl)
 uniform uint u_draw_order;       // the draw's first instance in the API order of this pass's draws
 #endif
 #ifdef FORWARD_HASH_LAYER
@@ -146,7 +147,7 @@ void main()
     // expectation of both is the front-to-back composite of these fragments.
     float a = min(alpha, 1.0);
     if (a > 0.0)
-        abuffer_append(rgb * a, a, gl_FragCoord.z, u_draw_order + v_instance, uint(gl_PrimitiveID));
+        abuffer_append(rgb * a, a, gl_FragCoord.z, u_draw_order + v_instance, v_primitive);
     o_color = vec4(0.0); // colour writes are masked off in this pass
     o_coverage = vec4(0.0);
 #elif defined(PASS_BLEND)

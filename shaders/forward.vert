@@ -44,13 +44,17 @@ out vec3 v_object_pos;
 out vec2 v_uv;
 out vec4 v_color;
 #include "common/draw_order.glsl"
+#ifdef FORWARD_TRIANGLE
+// The triangle this vertex provokes: (in the asset, in the primitive = gl_PrimitiveID)
+layout(location = ATTR_TRIANGLE) in uvec2 a_triangle;
+#endif
 #ifdef FORWARD_DRAW_ORDER
 flat out uint v_instance;   // the instance within its draw (common/draw_order.glsl)
+flat out uint v_primitive;  // the triangle within its primitive (common/draw_order.glsl)
 #endif
 #ifdef FORWARD_HASH_LAYER
 uniform uint u_hash_instance; // the scene slot of the draw's first instance (common/draw_order.glsl)
 flat out uint v_hash_instance;
-layout(location = ATTR_TRIANGLE) in uint a_triangle; // the asset's triangle this vertex provokes
 flat out uint v_hash_triangle;
 #endif
 
@@ -94,10 +98,11 @@ void main()
     v_color = a_color;
 #ifdef FORWARD_DRAW_ORDER
     v_instance = uint(gl_InstanceID);
+    v_primitive = a_triangle.y;
 #endif
 #ifdef FORWARD_HASH_LAYER
     v_hash_instance = u_hash_instance + uint(gl_InstanceID);
-    v_hash_triangle = a_triangle;
+    v_hash_triangle = a_triangle.x;
 #endif
     gl_Position = u_view_proj * world;
 }

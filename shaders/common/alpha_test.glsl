@@ -29,7 +29,7 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
     // a threshold (that would correlate them like a fixed dither). The salt mixes the primitive, the
     // fragment's depth bits and its draw order (common/draw_order.glsl): coplanar cards of other
     // draws or instances share the first two, and would otherwise pass and fail together.
-    uint salt = uint(gl_PrimitiveID) * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z) ^
+    uint salt = v_primitive * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z) ^
                 (u_draw_order + v_instance) * 0x85EBCA6Bu;
     return alpha >= alpha_stochastic_threshold(uint(gl_FragCoord.x), uint(gl_FragCoord.y), u_frame, salt);
 #elif ALPHA_MODE == ALPHA_MODE_ID_HASHED

@@ -1,9 +1,11 @@
 // draw_order.glsl: whether a forward pass knows each fragment's place in the API order of its draws
 // (FORWARD_DRAW_ORDER: u_draw_order, the draw's first instance, + the instance in the vertex
-// shader's v_instance). The exact reference's list pass orders equal depths by it; stochastic alpha
-// tests salt their thresholds with it, so that coplanar layers drawn by different draws or
-// instances (same primitive index, same depth) are tested independently. Included by forward.vert
-// and forward.frag, after the pass's defines.
+// shader's v_instance; then the triangle within the draw's primitive, v_primitive). The exact
+// reference's list pass orders equal depths by it; stochastic alpha tests salt their thresholds
+// with it, so that coplanar layers drawn by different draws or instances (same primitive index,
+// same depth) are tested independently. v_primitive is exactly what gl_PrimitiveID counts, read
+// from the flat attribute ATTR_TRIANGLE (its y; FORWARD_HASH_LAYER below says why not
+// gl_PrimitiveID). Included by forward.vert and forward.frag, after the pass's defines.
 #if defined(PASS_LIST)
 #define FORWARD_DRAW_ORDER 1
 #elif defined(PASS_MASK)
@@ -26,4 +28,10 @@
 #if ALPHA_MODE == ALPHA_MODE_ID_HASHED || ALPHA_MODE == ALPHA_MODE_ID_HASHED_A2C
 #define FORWARD_HASH_LAYER 1
 #endif
+#endif
+
+// FORWARD_TRIANGLE: either of the above reads ATTR_TRIANGLE. The upload gives it to every
+// primitive these passes draw (renderer_upload.c, prim_needs_triangles).
+#if defined(FORWARD_DRAW_ORDER) || defined(FORWARD_HASH_LAYER)
+#define FORWARD_TRIANGLE 1
 #endif

@@ -44,8 +44,10 @@
 #define ATTR_UV 2
 #define ATTR_COLOR 3
 #define ATTR_INSTANCE 4
-/* Hashed modes' MASK primitives only: per vertex, the asset's triangle it is the provoking (last)
- * vertex of, read flat (common/draw_order.glsl). */
+/* Primitives of the passes that key fragments by their triangle (hashed and stochastic MASK, the
+ * exact reference's MASK and BLEND): per vertex, uvec2(the asset's triangle, the primitive's
+ * triangle = gl_PrimitiveID) of the triangle it is the provoking (last) vertex of, read flat
+ * (common/draw_order.glsl). */
 #define ATTR_TRIANGLE 12
 /* Swaying instances only (the plan's SWAY variant): per instance, the sway offset and height
  * (ATTR_SWAY) and its frequency and phase (ATTR_SWAY_WAVE); see common/sway.glsl. */

@@ -71,7 +71,7 @@ typedef struct gpu_prim {
     GLuint vao, vbo[4], ibo;
     GLuint card_vbo[2];      /* plan.ring_lod, MASK primitives: (card centre, rank) and the card's
                               * side per vertex */
-    GLuint tri_vbo;          /* hashed modes' MASK primitives: ATTR_TRIANGLE per vertex */
+    GLuint tri_vbo;          /* where the passes read it: ATTR_TRIANGLE per vertex (renderer_upload.c) */
     GLsizei index_count;
     uint32_t vertex_count;   /* on the GPU: duplicated provoking vertices included */
     uint32_t *vsrc;          /* during the upload, where vertices were duplicated: each one's source */

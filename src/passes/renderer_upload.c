@@ -86,15 +86,16 @@ static GLuint make_sampler(const material *m)
  * at ATTR_SWAY_WAVE, 8 floats per instance. */
 enum { SWAY_FLOATS = 8 };
 
-/* Hashed modes' MASK primitives (common/draw_order.glsl): every triangle's provoking (last)
- * vertex carries the asset's triangle index, t0 + its index in the primitive (what u_hash_primitive
- * + gl_PrimitiveID gave). A vertex that two triangles end on is duplicated for the second, with the
- * same attributes (so the same image), and that triangle's last index points at the copy. Writes
- * *out (its own arrays; prim_free_copy), out_src (each vertex's source vertex in p) and out_tri. */
+/* The primitives of passes that key fragments by their triangle (prim_needs_triangles,
+ * common/draw_order.glsl): every triangle's provoking (last) vertex carries the asset's triangle
+ * index, t0 + its index t in the primitive, and t itself (what gl_PrimitiveID counts), two uints
+ * per vertex. A vertex that two triangles end on is duplicated for the second, with the same
+ * attributes (so the same image), and that triangle's last index points at the copy. Writes *out
+ * (its own arrays; prim_free_copy), out_src (each vertex's source vertex in p) and out_tri. */
 static fs_status prim_triangle_ids(const prim *p, uint32_t t0, prim *out, uint32_t **out_src, uint32_t **out_tri)
 {
     uint32_t tris = p->index_count / 3u, max = p->vertex_count + tris;
-    uint32_t *src = malloc(sizeof(uint32_t) * ((size_t)max + 1)), *tri = malloc(sizeof(uint32_t) * ((size_t)max + 1));
+    uint32_t *src = malloc(sizeof(uint32_t) * ((size_t)max + 1)), *tri = malloc(sizeof(uint32_t) * 2 * ((size_t)max + 1));
     unsigned char *taken = calloc((size_t)p->vertex_count + 1, 1);
     *out = (prim){.material = p->material, .index_count = p->index_count,
                   .indices = malloc(sizeof(uint32_t) * ((size_t)p->index_count + 1))};
@@ -109,7 +110,7 @@ static fs_status prim_triangle_ids(const prim *p, uint32_t t0, prim *out, uint32
     uint32_t n = p->vertex_count;
     for (uint32_t v = 0; v < n; v++) {
         src[v] = v;
-        tri[v] = 0; /* provokes no triangle: never read */
+        tri[2 * v] = tri[2 * v + 1] = 0; /* provokes no triangle: never read */
     }
     memcpy(out->indices, p->indices, sizeof(uint32_t) * p->index_count);
     for (uint32_t t = 0; t < tris; t++) {
@@ -119,7 +120,8 @@ static fs_status prim_triangle_ids(const prim *p, uint32_t t0, prim *out, uint32
             out->indices[3 * t + 2] = v = n++;
         }
         taken[src[v]] = 1;
-        tri[v] = t0 + t;
+        tri[2 * v] = t0 + t;
+        tri[2 * v + 1] = t;
     }
     free(taken);
     out->vertex_count = n;
@@ -150,8 +152,8 @@ static void prim_free_copy(prim *p)
     free(p->indices);
 }
 
-/* A primitive's buffers and vertex array; tri: ATTR_TRIANGLE per vertex (prim_triangle_ids), or
- * NULL. */
+/* A primitive's buffers and vertex array; tri: ATTR_TRIANGLE, two uints per vertex
+ * (prim_triangle_ids), or NULL. */
 static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint sway_vbo, const uint32_t *tri)
 {
     glCreateVertexArrays(1, &g->vao);
@@ -186,9 +188,9 @@ static void upload_prim(const prim *p, gpu_prim *g, GLuint instance_vbo, GLuint 
     }
     if (tri) {
         glCreateBuffers(1, &g->tri_vbo);
-        glNamedBufferStorage(g->tri_vbo, (GLsizeiptr)(sizeof(uint32_t) * p->vertex_count), tri, 0);
-        glVertexArrayVertexBuffer(g->vao, 8, g->tri_vbo, 0, sizeof(uint32_t));
-        glVertexArrayAttribIFormat(g->vao, ATTR_TRIANGLE, 1, GL_UNSIGNED_INT, 0);
+        glNamedBufferStorage(g->tri_vbo, (GLsizeiptr)(sizeof(uint32_t) * 2 * p->vertex_count), tri, 0);
+        glVertexArrayVertexBuffer(g->vao, 8, g->tri_vbo, 0, 2 * sizeof(uint32_t));
+        glVertexArrayAttribIFormat(g->vao, ATTR_TRIANGLE, 2, GL_UNSIGNED_INT, 0);
         glVertexArrayAttribBinding(g->vao, ATTR_TRIANGLE, 8);
         glEnableVertexArrayAttrib(g->vao, ATTR_TRIANGLE);
     }
@@ -296,15 +298,27 @@ static fs_status material_fade(const plan *pl, const material *m, const asset *a
     return FS_OK;
 }
 
-/* Primitive p of asset `as` (its triangles start at the asset's triangle t0): hashed modes' MASK
- * primitives with their triangle ids (prim_triangle_ids), the others as they are. */
+/* Whether the passes that draw primitives of material m read ATTR_TRIANGLE (FORWARD_TRIANGLE in
+ * common/draw_order.glsl): hashed and stochastic MASK passes, and the exact reference's list pass
+ * (MASK and BLEND). Every such primitive must have it: a missing attribute reads as 0. */
+static bool prim_needs_triangles(const plan *pl, const material *m)
+{
+    if (pl->reference_lists && m->alpha_kind != ALPHA_KIND_OPAQUE)
+        return true;
+    alpha_mode mode = plan_material_mode(pl, m);
+    return m->alpha_kind == ALPHA_KIND_MASK &&
+           (alpha_mode_has(mode, ALPHA_TRAIT_HASH) || mode == ALPHA_MODE_STOCHASTIC);
+}
+
+/* Primitive p of asset `as` (its triangles start at the asset's triangle t0): with their triangle
+ * ids where its passes read them (prim_triangle_ids), else as it is. */
 static fs_status upload_prim_of(const renderer *r, const asset *as, int p, uint32_t t0, gpu_asset *ga)
 {
     const prim *pr = &as->prims[p];
     const material *m = &as->materials[pr->material];
     gpu_prim *g = &ga->prims[p];
     g->vertex_count = pr->vertex_count;
-    if (m->alpha_kind != ALPHA_KIND_MASK || !alpha_mode_has(plan_material_mode(&r->pl, m), ALPHA_TRAIT_HASH)) {
+    if (!prim_needs_triangles(&r->pl, m)) {
         upload_prim(pr, g, ga->instance_vbo, ga->sway_vbo, NULL);
         return FS_OK;
     }
