@@ -251,9 +251,7 @@ typedef struct acc_run {
     int base;               /* the configuration the speedups are relative to */
     bool have_fs;           /* fragment counts known for every configuration */
     /* >>the cost model (--cost-model) and the x axis of accuracy.png (--cost) */
-    cost_model cm;
-    bool have_cm;
-    char cm_missing[160]; /* why a prediction was unknown (the first time) */
+    cost_predictor cp;
     double *cx;           /* per configuration: the --cost x value, INFINITY when unknown */
     bool *front_cost;     /* on the Pareto front of (cx, error) */
 } acc_run;
@@ -390,22 +388,6 @@ static fs_status acc_begin_measuring(acc_run *a, fs_status st)
     return st;
 }
 
-/* The frame time --cost-model predicts for the stats of a frame drawn with `mode`, -1 when none
- * (no model; a stage the model has no class for, said once). */
-static double acc_predict(acc_run *a, const renderer_stats *rs, alpha_mode mode)
-{
-    if (!a->have_cm)
-        return -1.0;
-    char why[160];
-    double ms = cost_frame_ms(&a->cm, rs, alpha_mode_name(mode), why, sizeof why);
-    if (ms < 0 && !a->cm_missing[0]) {
-        snprintf(a->cm_missing, sizeof a->cm_missing, "%s", why);
-        log_warn("--cost-model %s: %s (bench --calibrate --modes ... fits the alpha modes); predicted_ms is -1 "
-                 "where it is", a->d->bench.cost_model, why);
-    }
-    return ms;
-}
-
 /* Configuration c's draw of frame f: timed (wall clock, process CPU time, page faults, pipeline
  * statistics) and, once measured, read back and measured against the reference. */
 static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
@@ -439,7 +421,7 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
                                        (double)cs.covered, (double)rs.bytes_read, (double)rs.bytes_written};
     for (int q = 0; q < ACC_COUNTS; q++)
         cf->counts[q][i - warm] = counts[q];
-    cf->pred[i - warm] = acc_predict(a, &rs, mr->mode);
+    cf->pred[i - warm] = cost_predictor_frame_ms(&a->cp, &rs, alpha_mode_name(mr->mode));
     ring_metrics rm[MAX_FOV_RINGS + 1] = {0};
     metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
     bool prev = mr->have_prev && a->have_prev_ref && !fr.cut;
@@ -640,7 +622,7 @@ static void acc_md_header(acc_run *a)
        "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
     MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
        "holds under %g ring texels of coverage)\n", METRICS_MIN_REF_TEXELS);
-    if (a->have_cm)
+    if (a->cp.on)
         MD("- predicted ms: the frame time the cost model %s predicts from each frame's per-stage counts "
            "(median per frame; docs/benchmarks.md \"Cost model\")\n", d->bench.cost_model);
     MD("\n");
@@ -648,10 +630,10 @@ static void acc_md_header(acc_run *a)
        d->bench.error == ACC_ERROR_RMSE ? "PSNR" : k_error_names[d->bench.error]);
     for (int k = 0; k < a->ml.count; k++)
         MD(" cov. ring %d |", k);
-    if (a->have_cm)
+    if (a->cp.on)
         MD(" predicted ms |");
     MD("\n|---|---|---|---|---|---|---|---|---|---|");
-    for (int k = 0; k < a->ml.count + (a->have_cm ? 1 : 0); k++)
+    for (int k = 0; k < a->ml.count + (a->cp.on ? 1 : 0); k++)
         MD("---|");
     MD("\n");
 }
@@ -696,9 +678,9 @@ static void acc_row(acc_run *a, int c)
     for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
         CSV(",%.0f", cm[q]);
     CSV(",%.4f\n", cf->pred_med);
-    if (a->have_cm && cf->pred_med >= 0)
+    if (a->cp.on && cf->pred_med >= 0)
         MD(" %.2f |", cf->pred_med);
-    else if (a->have_cm)
+    else if (a->cp.on)
         MD(" n/a |");
     MD("\n");
 }
@@ -731,7 +713,7 @@ static fs_status acc_plot_cost(acc_run *a, int y_col)
     int rings = a->ml.count;
     if (d->bench.cost == ACC_COST_MODEL) { /* predicted_ms, the last column; -1 (unknown) not drawn */
         snprintf(title, sizeof title, "accuracy vs predicted time: %s %dx%d (cost model of %s)", s->sc.path,
-                 s->pl.width, s->pl.height, a->cm.renderer);
+                 s->pl.width, s->pl.height, a->cp.model.renderer);
         snprintf(x_expr, sizeof x_expr, "($%d >= 0 ? $%d : NaN)", 24 + 3 * rings, 24 + 3 * rings);
         snprintf(xlabel, sizeof xlabel, "frame time predicted by the cost model, median (ms; lower is better)");
     } else if (d->bench.cost == ACC_COST_WORK) { /* covered_fragments_median per display pixel */
@@ -850,8 +832,7 @@ fs_status cmd_bench_accuracy(const run_desc *d)
         free(a);
         return st;
     }
-    a->have_cm = d->bench.cost_model != NULL;
-    st = a->have_cm ? cost_model_load(d->bench.cost_model, gl_device_renderer(), &a->cm) : FS_OK;
+    st = cost_predictor_open(&a->cp, d->bench.cost_model, gl_device_renderer());
     if (st == FS_OK)
         st = acc_choose_layouts(a);
     if (st == FS_OK)

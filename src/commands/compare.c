@@ -380,9 +380,7 @@ typedef struct cmp_run {
     bool have_prev_ref;
     double t0; /* when the frames began */
     double *work[ALPHA_MODE_COUNT]; /* per mode: CMP_WORK values per frame */
-    cost_model cm;                  /* --cost-model */
-    bool have_cm;
-    bool cm_warned; /* a frame's prediction was unknown (said once) */
+    cost_predictor cp;              /* --cost-model */
     phase_clock pc;    /* --verbose: where the time went */
     double writer_cpu; /* the EXR writer threads' CPU time, -1 until they end */
     /* The frame worker: while the main thread draws frame i + 1's reference (GL, this thread only),
@@ -656,16 +654,7 @@ static void compare_count(cmp_run *c, int m, int i)
     w[CMP_PRIMS] = (double)rs.primitives;
     w[CMP_FS] = (double)rs.fragments;
     w[CMP_BYTES] = rs.bytes_read < 0 || rs.bytes_written < 0 ? -1.0 : (double)(rs.bytes_read + rs.bytes_written);
-    w[CMP_PREDICTED] = -1.0;
-    if (!c->have_cm)
-        return;
-    char why[160];
-    w[CMP_PREDICTED] = cost_frame_ms(&c->cm, &rs, alpha_mode_name(c->runs[m].mode), why, sizeof why);
-    if (w[CMP_PREDICTED] < 0 && !c->cm_warned) {
-        log_warn("--cost-model %s: %s (bench --calibrate --modes ... fits the alpha modes); no predicted time for "
-                 "%s", c->d->bench.cost_model, why, alpha_mode_name(c->runs[m].mode));
-        c->cm_warned = true;
-    }
+    w[CMP_PREDICTED] = cost_predictor_frame_ms(&c->cp, &rs, alpha_mode_name(c->runs[m].mode));
 }
 
 /* What the measurements need of frame f besides the images, on the worker: its ring mask, the
@@ -866,7 +855,7 @@ static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
                                    .first = c->first, .layout = &c->ml, .blocks = c->s.pl.rings ? &c->ml : NULL,
                                    .ref = c->rf, .ref_err = c->ref_err + c->first, .ref_cached = c->ref_cached,
                                    .out = c->out, .json_path = c->json_path, .seconds = seconds,
-                                   .jod = have_jod ? jod : NULL, .work = c->work, .have_cm = c->have_cm});
+                                   .jod = have_jod ? jod : NULL, .work = c->work, .have_cm = c->cp.on});
     if (st == FS_OK)
         st = run_folder_complete(&c->fo);
     if (st == FS_OK)
@@ -919,8 +908,7 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     if (d->overlay) /* allowed (it shows what a viewer would), but it is measured */
         log_warn("--overlay draws ring borders and the gaze marker into every mode's frame, so the metrics include "
                  "them; the grid's annotation (--grid-annotate, on by default) shows them without that");
-    c->have_cm = d->bench.cost_model != NULL; /* refused before any output is touched */
-    st = c->have_cm ? cost_model_load(d->bench.cost_model, gl_device_renderer(), &c->cm) : FS_OK;
+    st = cost_predictor_open(&c->cp, d->bench.cost_model, gl_device_renderer()); /* before any output */
     if (st == FS_OK)
         st = compare_build_modes(c);
     st = compare_open_outputs(c, st);

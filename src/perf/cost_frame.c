@@ -3,6 +3,8 @@
 
 #include <stdio.h>
 
+#include "core/log.h"
+
 double cost_frame_ms(const cost_model *m, const renderer_stats *rs, const char *mode, char *missing, size_t cap)
 {
     double sum = 0.0;
@@ -26,4 +28,24 @@ double cost_frame_ms(const cost_model *m, const renderer_stats *rs, const char *
         sum += ms;
     }
     return sum;
+}
+
+fs_status cost_predictor_open(cost_predictor *p, const char *path, const char *renderer)
+{
+    *p = (cost_predictor){.on = path != NULL, .path = path};
+    return p->on ? cost_model_load(path, renderer, &p->model) : FS_OK;
+}
+
+double cost_predictor_frame_ms(cost_predictor *p, const renderer_stats *rs, const char *mode)
+{
+    if (!p->on)
+        return -1.0;
+    char why[160];
+    double ms = cost_frame_ms(&p->model, rs, mode, why, sizeof why);
+    if (ms < 0 && !p->warned) {
+        log_warn("--cost-model %s: %s (bench --calibrate --modes ... fits the alpha modes); no predicted time "
+                 "where so, first for %s", p->path, why, mode);
+        p->warned = true;
+    }
+    return ms;
 }
