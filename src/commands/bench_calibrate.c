@@ -23,6 +23,8 @@
 /* The sizes: the largest times 1/4, 2/4, 3/4 and 4/4 (at the smallest the default rings are
  * usually off: more samples of the full-resolution stages). */
 static const int k_size_quarters[CALIB_SIZES] = {1, 2, 3, 4};
+enum { CALIB_FULL, CALIB_RINGS, CALIB_AGGRESSIVE }; /* the layouts, in k_layout_names' order */
+_Static_assert(CALIB_AGGRESSIVE + 1 == CALIB_LAYOUTS, "one name per layout");
 static const char *const k_layout_names[CALIB_LAYOUTS] = {"full", "default rings", "aggressive rings"};
 
 typedef struct calib_run {
@@ -51,11 +53,10 @@ static bool software_renderer(void)
 static fov_layout calib_rings(const bench_run *b, int layout, int w, int h)
 {
     display_desc dd = {w, h, b->s.pl.hfov_deg};
-    if (layout == 2)
-        return fov_layout_aggressive(&dd);
-    if (b->s.pl.layout.kind == FOV_LAYOUT_AGGRESSIVE)
-        return fov_layout_aggressive(&dd);
-    return b->s.pl.layout.kind == FOV_LAYOUT_AUTO ? fov_layout_auto(&dd, 0.0f, 0.0f) : b->s.pl.layout;
+    fov_layout_kind k = layout == CALIB_AGGRESSIVE ? FOV_LAYOUT_AGGRESSIVE : b->s.pl.layout.kind;
+    return k == FOV_LAYOUT_AGGRESSIVE ? fov_layout_aggressive(&dd)
+           : k == FOV_LAYOUT_AUTO     ? fov_layout_auto(&dd, 0.0f, 0.0f)
+                                      : b->s.pl.layout;
 }
 
 /* Size s of the matrix along a side of `full` pixels (at least 8). */
@@ -79,8 +80,8 @@ static void calib_list_configs(calib_run *c)
                     cf->height = calib_size(c->h, s);
                     cf->mode = c->modes[m];
                     cf->taa = t == 1;
-                    cf->layout = l == 0 ? BENCH_FULL : BENCH_RINGS;
-                    cf->foveated = l != 0;
+                    cf->layout = l == CALIB_FULL ? BENCH_FULL : BENCH_RINGS;
+                    cf->foveated = l != CALIB_FULL;
                     cf->rings = calib_rings(b, l, cf->width, cf->height);
                     cf->stages_only = true;
                     cf->held_out = (s + l + m + t) % 3 == 0;
