@@ -270,6 +270,9 @@ fs_status cli_finish(run_desc *d)
                d->cmd == CMD_REFERENCE ? "the reference tests alpha stochastically" : "give the modes with --modes");
     if ((d->gaze_format != GAZE_FORMAT_AUTO || d->eye != GAZE_EYE_AUTO) && !d->gaze_path)
         REFUSE("--gaze-format and --eye describe a --gaze trace; give --gaze FILE");
+    if (d->gaze_latency_count > 1 && d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO)
+        REFUSE("--gaze-latency: a list of latencies is a latency study, which fovsim compare and demo run; fovsim %s "
+               "takes one latency", c);
     if (d->view.split[0] && d->alpha)
         REFUSE("--split and --alpha: give one of them, not both (--split A,B sets the left-hand mode)");
     if (d->compare.first_frame && d->frames && d->compare.first_frame >= d->frames)

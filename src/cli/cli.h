@@ -69,6 +69,10 @@ typedef struct run_desc {
     gaze_eye eye;            /* --eye left|right|average, default auto */
     gaze_tracker_opts tracker; /* --gaze-latency, --gaze-rate, --gaze-noise, --gaze-seed, --gaze-loss
                                   (each given or not: the scene file's "gaze" object fills the rest) */
+    float gaze_latencies[MAX_GAZE_LATENCIES]; /* --gaze-latency MS,MS,...: compare and demo's latency
+                                                  study (gaze_latency_count > 1); the first is also
+                                                  tracker.desc.latency_ms */
+    int gaze_latency_count;
     bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
     bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
     float hash_scale;        /* --hash-scale, 0 = default 1 */

@@ -3,6 +3,7 @@
  * frames (a grid to look at, layers to analyse), a metrics CSV, a JSON summary and a table. */
 #include "commands/commands.h"
 #include "commands/compare_grid.h"
+#include "commands/compare_saccade.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -170,6 +171,8 @@ typedef struct report_desc {
     const double *jod;        /* per mode, FovVideoVDP's JOD (--fvvdp); NULL when it did not run */
     double *const *work;      /* per mode: CMP_WORK values per frame (frame-major, all frames) */
     bool have_cm;             /* --cost-model given: the table shows the predicted time */
+    const saccade_study *ss;  /* the gaze events and the post-saccade foveal error */
+    double *med_out;          /* per mode: the median frame time, set here (NULL: not wanted) */
 } report_desc;
 
 static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
@@ -230,6 +233,10 @@ static void report_table(const report_desc *r, const double *med, double (*wmed)
             printf("  %16.4f", r->jod[m]);
         printf("\n");
     }
+    alpha_mode modes[ALPHA_MODE_COUNT];
+    for (int m = 0; m < nm; m++)
+        modes[m] = r->runs[m].mode;
+    saccade_study_print(r->ss, modes, nm);
 }
 
 /* summary.json (written to a temporary name, then renamed into place). */
@@ -253,6 +260,7 @@ static fs_status report_json(const report_desc *r, const double *med, double (*w
         gaze_tracker_format(&s->tracker, tr, sizeof tr);
         fprintf(f, "  \"gaze_tracker\": \"%s\",\n", tr);
     }
+    saccade_study_json_events(r->ss, f);
     fprintf(f, "  \"renderer\": \"%s\",\n  \"reference\": {\"kind\": \"%s\", \"supersample\": %d, \"samples\": %d, "
             "\"error_median\": %.6f, \"error_max\": %.6f, \"frames_from_cache\": %d},\n  \"modes\": [\n",
             gl_device_renderer(), reference_kind_name(reference_get_kind(r->ref)), reference_supersample(r->ref),
@@ -266,6 +274,7 @@ static fs_status report_json(const report_desc *r, const double *med, double (*w
             fprintf(f, "\"fvvdp_jod\": %.6f, ", r->jod[m]);
         for (int q = 0; q < CMP_WORK; q++)
             fprintf(f, q == CMP_PREDICTED ? "\"%s\": %.4f, " : "\"%s\": %.0f, ", k_work_keys[q], wmed[m][q]);
+        saccade_study_json_mode(r->ss, f, m);
         fprintf(f, "\"rings\": [");
         for (int k = 0; k <= nr; k++) {
             double outer = k < nr && !isinf(r->layout->rings[k].outer_deg) ? r->layout->rings[k].outer_deg : -1.0;
@@ -314,6 +323,8 @@ static fs_status report(const report_desc *r)
         }
         free(v);
     }
+    for (int m = 0; m < nm && r->med_out; m++)
+        r->med_out[m] = med[m];
     qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
     char rings[256], mrings[256];
     fov_layout_format(&s->pl.layout, rings, sizeof rings);
@@ -331,6 +342,7 @@ static fs_status report(const report_desc *r)
 typedef struct compare_opts {
     const char *default_out;
     bool demo;
+    latency_run *study; /* a latency study's run: what it measured is set here */
 } compare_opts;
 
 /* One measured (or history-end) frame as every mode sees it. */
@@ -343,6 +355,8 @@ typedef struct cmp_frame {
     ring_mask mask;
     metrics_view vr, vpr, vb; /* the reference, the previous one, the band-limited one */
     bool still;               /* the camera did not move since the previous frame */
+    saccade_frame sf;         /* the true gaze's event; after a saccade: the fovea's mask */
+    ring_mask fovea;
 } cmp_frame;
 
 /* One compare run: what its phases share (compare_run runs them in order). */
@@ -381,6 +395,7 @@ typedef struct cmp_run {
     double t0; /* when the frames began */
     double *work[ALPHA_MODE_COUNT]; /* per mode: CMP_WORK values per frame */
     cost_predictor cp;              /* --cost-model */
+    saccade_study ss;               /* the gaze events, the post-saccade foveal error */
     phase_clock pc;    /* --verbose: where the time went */
     double writer_cpu; /* the EXR writer threads' CPU time, -1 until they end */
     /* The frame worker: while the main thread draws frame i + 1's reference (GL, this thread only),
@@ -508,7 +523,7 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
 /* One mode's metrics of the frame (FLIP map, per-ring metrics, temporal error) into rm. Reads the
  * frame and the temporal state, writes only the mode's own FLIP map and warp scratch: the modes
  * of a frame may be measured at once. */
-static fs_status measure_mode(const cmp_run *c, const cmp_frame *f, int m, ring_metrics *rm)
+static fs_status measure_mode(const cmp_run *c, const cmp_frame *f, int m, ring_metrics *rm, ring_metrics *fovea)
 {
     const mode_run *mr = &c->runs[m];
     metrics_view vi = measure_view(&mr->img), vp = measure_view(&mr->prev);
@@ -521,6 +536,8 @@ static fs_status measure_mode(const cmp_run *c, const cmp_frame *f, int m, ring_
                                  &f->vr, &f->mask,
                                  temporal_reference_noise2(c->rf, f->still, f->ri.error, f->i > 0 ? c->ref_err[f->i - 1] : 0.0),
                                  rm);
+    if (st == FS_OK && f->fovea.ring) /* after a saccade: within FOVEA_DEG of the true gaze */
+        st = metrics_compute(&vi, &f->vr, NULL, mr->flip, NULL, &f->fovea, fovea);
     return st;
 }
 
@@ -529,6 +546,7 @@ typedef struct measure_share {
     const cmp_run *c;
     const cmp_frame *f;
     ring_metrics (*rm)[MAX_FOV_RINGS + 1];
+    ring_metrics (*fovea)[3];
     fs_status *st;
     int first, step;
     double cpu; /* the thread's CPU time (--verbose) */
@@ -539,7 +557,7 @@ static void *measure_share_run(void *arg)
     measure_share *sh = arg;
     double t0 = measure_thread_cpu_s();
     for (int m = sh->first; m < sh->c->nm; m += sh->step)
-        sh->st[m] = measure_mode(sh->c, sh->f, m, sh->rm[m]);
+        sh->st[m] = measure_mode(sh->c, sh->f, m, sh->rm[m], sh->fovea[m]);
     sh->cpu = measure_thread_cpu_s() - t0;
     return NULL;
 }
@@ -548,7 +566,7 @@ static void *measure_share_run(void *arg)
  * thread that cannot start leaves its share to this one. The results do not depend on the threads:
  * each mode is measured by the same code on its own data. */
 static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics (*rm)[MAX_FOV_RINGS + 1],
-                                   double *helper_cpu)
+                                   ring_metrics (*fovea)[3], double *helper_cpu)
 {
     fs_status st[ALPHA_MODE_COUNT];
     measure_share sh[ALPHA_MODE_COUNT];
@@ -556,7 +574,7 @@ static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics 
     bool started[ALPHA_MODE_COUNT] = {false};
     int n = c->measure_threads;
     for (int t = 0; t < n; t++)
-        sh[t] = (measure_share){.c = c, .f = f, .rm = rm, .st = st, .first = t, .step = n};
+        sh[t] = (measure_share){.c = c, .f = f, .rm = rm, .fovea = fovea, .st = st, .first = t, .step = n};
     for (int t = 1; t < n; t++)
         started[t] = pthread_create(&th[t], NULL, measure_share_run, &sh[t]) == 0;
     measure_share_run(&sh[0]);
@@ -579,19 +597,25 @@ static fs_status measure_all_modes(cmp_run *c, const cmp_frame *f, ring_metrics 
 static fs_status compare_measure_modes(cmp_run *c, cmp_frame *f, double *helper_cpu)
 {
     int i = f->i;
-    ring_metrics rm[ALPHA_MODE_COUNT][MAX_FOV_RINGS + 1];
+    ring_metrics rm[ALPHA_MODE_COUNT][MAX_FOV_RINGS + 1], fovea[ALPHA_MODE_COUNT][3];
     memset(rm, 0, sizeof rm);
-    fs_status st = measure_all_modes(c, f, rm, helper_cpu);
+    memset(fovea, 0, sizeof fovea);
+    fs_status st = measure_all_modes(c, f, rm, fovea, helper_cpu);
+    if (st == FS_OK && f->measured)
+        saccade_study_count(&c->ss, &f->sf);
+    const char *event = gaze_event_name(f->sf.event);
     for (int m = 0; m < c->nm && st == FS_OK && f->measured; m++) {
         mode_run *mr = &c->runs[m];
         measure_accumulate(mr, rm[m], c->ml.count, f->still);
         measure_gate_ratios(rm[m], c->ml.count, c->s.pl.rings ? &c->ml : NULL); /* metrics.csv: -1 where too little reference */
         for (int k = 0; k <= c->ml.count && st == FS_OK; k++)
             if (!metrics_csv_row(c->csv, i, f->fr.time, alpha_mode_name(mr->mode), k < c->ml.count ? k : -1, &rm[m][k],
-                                 f->still, mr->frame_ms[i])) {
+                                 f->still, mr->frame_ms[i], event)) {
                 log_error("%s: cannot write: %s", c->csv_tmp, strerror(errno));
                 st = FS_ERR_IO;
             }
+        if (f->fovea.ring)
+            saccade_study_add(&c->ss, m, alpha_mode_name(mr->mode), i, f->fr.time, &f->sf, &fovea[m][0]);
     }
     return st;
 }
@@ -612,6 +636,7 @@ static fs_status compare_write_frame(cmp_run *c, cmp_frame *f, fs_status st)
     if (st == FS_OK)
         st = build_frame(c->runs, c->nm, &c->ref, &f->mask, f->fr.true_gaze_px, !c->d->compare.no_grid_annotate, &frame);
     ring_mask_free(&f->mask);
+    ring_mask_free(&f->fovea);
     if (st != FS_OK)
         return st;
     if (f->measured)
@@ -664,6 +689,8 @@ static fs_status worker_prepare(cmp_run *c, cmp_frame *f)
 {
     /* Per-ring figures around where the viewer looks (the true gaze), not where the rings were drawn. */
     fs_status st = ring_mask_build(&f->dd, &c->ml, f->fr.true_gaze_px[0], f->fr.true_gaze_px[1], &f->mask);
+    if (st == FS_OK && f->measured && f->sf.post >= 0)
+        st = saccade_fovea_mask(&f->dd, f->fr.true_gaze_px, &f->fovea);
     float *const band[4] = {c->band_buf, c->band_buf + c->band_n, c->band_buf + 2 * c->band_n,
                             c->band_buf + 3 * c->band_n};
     if (st == FS_OK)
@@ -768,6 +795,7 @@ static fs_status compare_frame(cmp_run *c, int i)
     c->rp.base = (i < c->first ? 0 : i - c->first) * c->passes;
     cmp_frame f = {.i = i, .measured = i >= c->first};
     f.fr = session_frame(&c->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+    f.sf = saccade_study_frame(&c->ss, &c->s.gaze, f.fr.time);
     if (i < c->first - 1) { /* history only */
         phase_clock_switch(&c->pc, PHASE_MODES);
         return compare_draw_modes(c, &f);
@@ -845,7 +873,7 @@ static fs_status compare_run_fvvdp(cmp_run *c, double *jod, bool *have)
 static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
 {
     const run_desc *d = c->d;
-    double jod[ALPHA_MODE_COUNT + 1];
+    double jod[ALPHA_MODE_COUNT + 1], med[ALPHA_MODE_COUNT];
     bool have_jod = false;
     fs_status fvvdp_st = FS_OK; /* a failed FovVideoVDP run: the run's own results are still written */
     if (st == FS_OK && d->compare.run_fvvdp)
@@ -855,7 +883,18 @@ static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
                                    .first = c->first, .layout = &c->ml, .blocks = c->s.pl.rings ? &c->ml : NULL,
                                    .ref = c->rf, .ref_err = c->ref_err + c->first, .ref_cached = c->ref_cached,
                                    .out = c->out, .json_path = c->json_path, .seconds = seconds,
-                                   .jod = have_jod ? jod : NULL, .work = c->work, .have_cm = c->cp.on});
+                                   .jod = have_jod ? jod : NULL, .work = c->work, .have_cm = c->cp.on,
+                                   .ss = &c->ss, .med_out = med});
+    if (st == FS_OK)
+        st = saccade_study_write(&c->ss, c->out);
+    latency_run *lr = c->co->study;
+    for (int m = 0; m < c->nm && st == FS_OK && lr; m++)
+        lr->rows[lr->count++] = (latency_row){.latency_ms = c->s.tracker.latency_ms, .mode = c->runs[m].mode,
+                                              .post = saccade_study_result(&c->ss, m, -1), .frame_ms_median = med[m]};
+    if (st == FS_OK && lr) {
+        snprintf(lr->scene, sizeof lr->scene, "%s", c->s.sc.path);
+        fov_layout_format(&c->s.pl.layout, lr->rings, sizeof lr->rings);
+    }
     if (st == FS_OK)
         st = run_folder_complete(&c->fo);
     if (st == FS_OK)
@@ -888,6 +927,7 @@ static void compare_free(cmp_run *c)
         renderer_destroy(mr->r);
     }
     temporal_end(&c->te);
+    saccade_study_end(&c->ss);
     free(c->ref_err);
     reference_destroy(c->rf);
     session_end(&c->s);
@@ -911,6 +951,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     st = cost_predictor_open(&c->cp, d->bench.cost_model, gl_device_renderer()); /* before any output */
     if (st == FS_OK)
         st = compare_build_modes(c);
+    if (st == FS_OK)
+        st = saccade_study_begin(&c->ss, &c->s, d->fps);
     st = compare_open_outputs(c, st);
     st = compare_begin_frames(c, st);
     for (int i = c->warm; i < c->frames && st == FS_OK; i++) {
@@ -952,9 +994,41 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
     return st;
 }
 
+/* compare --gaze-latency MS,MS,...: one compare run per latency into OUT/latency-MS/ (each a run
+ * folder of its own, resumable, its record naming its latency; the reference frames come from the
+ * cache after the first), then latency.csv and latency.png in OUT from their post-saccade foveal
+ * error (docs/latency.md "A latency study"). */
+static fs_status latency_study(const run_desc *d, const compare_opts *co)
+{
+    const char *out = d->out_dir ? d->out_dir : co->default_out;
+    latency_row rows[MAX_GAZE_LATENCIES * ALPHA_MODE_COUNT];
+    latency_run lr = {0};
+    int n = 0;
+    fs_status st = FS_OK;
+    for (int k = 0; k < d->gaze_latency_count && st == FS_OK; k++) {
+        char sub[1200];
+        snprintf(sub, sizeof sub, "%s/latency-%g", out, (double)d->gaze_latencies[k]);
+        run_desc dk = *d;
+        dk.out_dir = sub;
+        dk.tracker.desc.latency_ms = d->gaze_latencies[k];
+        dk.tracker.latency_set = true;
+        dk.gaze_latency_count = 1;
+        printf("\n== latency %g ms (%d of %d): %s/\n", (double)d->gaze_latencies[k], k + 1, d->gaze_latency_count, sub);
+        fflush(stdout);
+        compare_opts ck = *co;
+        lr.count = 0;
+        ck.study = &lr;
+        st = compare_run(&dk, &ck);
+        for (int m = 0; m < lr.count && st == FS_OK; m++)
+            rows[n++] = lr.rows[m];
+    }
+    return st == FS_OK ? latency_study_write(out, lr.scene, lr.rings, rows, n) : st;
+}
+
 fs_status cmd_compare(const run_desc *d)
 {
-    return compare_run(d, &(compare_opts){.default_out = "out/compare"});
+    compare_opts co = {.default_out = "out/compare"};
+    return d->gaze_latency_count > 1 ? latency_study(d, &co) : compare_run(d, &co);
 }
 
 /* The demo's size: small enough to finish in a few minutes on 2 cores with llvmpipe. */
@@ -978,5 +1052,6 @@ fs_status cmd_demo(const run_desc *d)
      * for files about 10 % larger (docs/compare.md "Where the time goes"). */
     if (!dd.compression_set)
         dd.compression = EXR_COMPRESS_PIZ;
-    return compare_run(&dd, &(compare_opts){.default_out = "out/demo", .demo = true});
+    compare_opts co = {.default_out = "out/demo", .demo = true};
+    return dd.gaze_latency_count > 1 ? latency_study(&dd, &co) : compare_run(&dd, &co);
 }

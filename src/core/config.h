@@ -84,6 +84,10 @@
 #ifndef MAX_FRAMES
 #define MAX_FRAMES 100000
 #endif
+/* Latencies in one latency study (compare --gaze-latency MS,MS,...). */
+#ifndef MAX_GAZE_LATENCIES
+#define MAX_GAZE_LATENCIES 16
+#endif
 
 /* --fps range (README "Limits", numbers): one frame per 1000 s at the slowest, so that every frame's time
  * (MAX_FRAMES / FPS_MIN at most) is a finite 32-bit float with room to spare. */

@@ -367,15 +367,15 @@ static void csv_field(FILE *f, const char *s)
 }
 
 bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
-                     const ring_metrics *m, bool still, double frame_ms)
+                     const ring_metrics *m, bool still, double frame_ms, const char *gaze_event)
 {
-    FS_ASSERT(f && mode && m);
+    FS_ASSERT(f && mode && m && gaze_event);
     if (!isfinite(time))
         time = 0.0f;
     if (!isfinite(frame_ms) || frame_ms < 0.0)
         frame_ms = -1.0;
-    /* Every value as a double (whole numbers below 2^53 print exactly with %.0f); the mode is the
-     * one string. %.9g keeps 9 significant digits: more than the half-float inputs carry. */
+    /* Every value as a double (whole numbers below 2^53 print exactly with %.0f); the mode and the
+     * gaze event are the strings. %.9g keeps 9 significant digits: more than the half-float inputs carry. */
     const double v[METRICS_COL_COUNT] = {
         [METRICS_COL_FRAME] = frame,
         [METRICS_COL_TIME] = (double)time,
@@ -399,7 +399,7 @@ bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
         if (k_columns[c].format)
             fprintf(f, k_columns[c].format, v[c]);
         else
-            csv_field(f, mode);
+            csv_field(f, c == METRICS_COL_MODE ? mode : gaze_event);
     }
     fputc('\n', f);
     return !ferror(f);

@@ -158,7 +158,7 @@ double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
  *   ID      METRICS_COL_<ID>, its index in a row
  *   name    its name in the header, by which merge and check find it; fovsim check's metric of
  *           the same name (check_metric_name), if any, judges it as its flags say
- *   FORMAT  how metrics_csv_row writes its value (NULL: a string, the mode)
+ *   FORMAT  how metrics_csv_row writes its value (NULL: a string, the mode or the gaze event)
  *   FLAGS   METRICS_COLF_* or'ed
  * docs/metrics.md defines each; docs/design-notes.md "Adding a metrics.csv column" lists what else a
  * new measurement touches. */
@@ -187,7 +187,8 @@ double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
     X(TEMPORAL_ERROR, temporal_error, "%.9g", METRICS_COLF_GROWTH | METRICS_COLF_UNMEASURED)     \
     X(DISOCCLUDED, disoccluded, "%.9g", METRICS_COLF_UNMEASURED)                                 \
     X(STATIC_FLICKER, static_flicker, "%.9g", METRICS_COLF_UNMEASURED)                           \
-    X(FRAME_MS, frame_ms, "%.3f", METRICS_COLF_UNMEASURED)
+    X(FRAME_MS, frame_ms, "%.3f", METRICS_COLF_UNMEASURED)                                       \
+    X(GAZE_EVENT, gaze_event, NULL, 0)
 
 #define METRICS_COL_ENUM(ID, name, format, flags) METRICS_COL_##ID,
 typedef enum metrics_column { METRICS_CSV_COLUMNS(METRICS_COL_ENUM) METRICS_COL_COUNT } metrics_column;
@@ -200,6 +201,8 @@ unsigned metrics_column_flags(metrics_column c);
 metrics_column metrics_column_of(const char *name);
 
 /* CSV: one row per frame x mode x ring (ring -1 = the whole display), the columns above;
+ * gaze_event is the true gaze's eye-movement event at the frame (gaze_events.h: "fixation",
+ * "saccade", "pursuit", "lost");
  * static_flicker is `change` on frames with a
  * still camera (the caller says: still) and -1 otherwise. coverage_ratio is written as given: compare
  * sets it to -1 first where the reference holds too little (measure_gate_ratios,
@@ -208,7 +211,7 @@ metrics_column metrics_column_of(const char *name);
  * false when the stream reports an error. */
 bool metrics_csv_header(FILE *f);
 bool metrics_csv_row(FILE *f, int frame, float time, const char *mode, int ring,
-                     const ring_metrics *m, bool still, double frame_ms);
+                     const ring_metrics *m, bool still, double frame_ms, const char *gaze_event);
 
 #ifdef __cplusplus
 }

@@ -558,14 +558,14 @@ TEST(csv_rows)
                       .temporal_error = 0.03125, .disoccluded = 0.125,
                       .change = 0.01, .has_prev = 1};
     CHECK(metrics_csv_header(f));
-    CHECK(metrics_csv_row(f, 3, 0.125f, "hashed", 0, &m, true, 12.5));   /* still camera: change */
-    CHECK(metrics_csv_row(f, 4, NAN, "a,\"b\"", -1, &m, false, NAN)); /* moving: -1 */
+    CHECK(metrics_csv_row(f, 3, 0.125f, "hashed", 0, &m, true, 12.5, "fixation"));   /* still camera: change */
+    CHECK(metrics_csv_row(f, 4, NAN, "a,\"b\"", -1, &m, false, NAN, "saccade")); /* moving: -1 */
     fclose(f);
     const char *want =
         "frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,"
-        "temporal_error,disoccluded,static_flicker,frame_ms\n"
-        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.03125,0.125,0.01,12.500\n"
-        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.03125,0.125,-1,-1.000\n";
+        "temporal_error,disoccluded,static_flicker,frame_ms,gaze_event\n"
+        "3,0.125,hashed,0,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.03125,0.125,0.01,12.500,fixation\n"
+        "4,0,\"a,\"\"b\"\"\",-1,9849,0.25,0.5,0.5,0.125,0.0625,0.25,18.0617997,0.03125,0.125,-1,-1.000,saccade\n";
     CHECK(buf && strcmp(buf, want) == 0);
     if (buf && strcmp(buf, want) != 0)
         fprintf(stderr, "  got:\n%s", buf);
