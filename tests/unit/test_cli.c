@@ -178,7 +178,7 @@ static const char *other_value(const cli_option *o, const run_desc *def, char *b
         const char *name, *value;
     } k_custom[] = {{"--builtin", "fence"}, {"--name", "n"}, {"--asset-root", "dir"}, {"--alpha", "hashed"},
                     {"--alpha-lod-max", "2"}, {"--taa-sparse", "0.5"}, {"--rings", "off"}, {"--samples", "8"},
-                    {"--gaze-format", "csv"}, {"--split", "traditional,hashed"}, {"--modes", "hashed"}};
+                    {"--gaze-format", "csv"}, {"--gaze-latency", "50"}, {"--split", "traditional,hashed"}, {"--modes", "hashed"}};
     const char *field = (const char *)def + o->field;
     switch (o->arg) {
     case ARG_FLAG: return NULL;
@@ -239,6 +239,28 @@ TEST(recorded_options_are_the_run_records)
 }
 
 /* A run built from parts, as fovsim check and sweep build compare's: the same table and checks. */
+/* --gaze-latency: one latency anywhere, a list (a latency study) for compare and demo only. */
+TEST(gaze_latency_lists)
+{
+    run_desc d;
+    CHECK(parse(&d, "fovsim compare --gaze-latency 0,20,50.5 --out /tmp/fovsim-lat") == FS_OK);
+    CHECK(d.gaze_latency_count == 3 && d.gaze_latencies[2] == 50.5f && d.tracker.latency_set &&
+          d.tracker.desc.latency_ms == 0.0f);
+    CHECK(parse(&d, "fovsim render --gaze-latency 80 --out /tmp/fovsim-lat") == FS_OK);
+    CHECK(d.gaze_latency_count == 1 && d.tracker.desc.latency_ms == 80.0f);
+    log_set_quiet_errors(true);
+    CHECK(parse(&d, "fovsim render --gaze-latency 0,80 --out /tmp/fovsim-lat") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim bench --gaze-latency 0,80") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim compare --gaze-latency 20,20") == FS_ERR_USAGE);   /* twice */
+    CHECK(parse(&d, "fovsim compare --gaze-latency 20,,50") == FS_ERR_USAGE);  /* empty item */
+    CHECK(parse(&d, "fovsim compare --gaze-latency 20,") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim compare --gaze-latency 0,-5") == FS_ERR_USAGE);    /* out of range */
+    CHECK(parse(&d, "fovsim compare --gaze-latency 0,20001") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim compare --gaze-latency 0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16") == FS_ERR_USAGE);
+    CHECK(parse(&d, "fovsim compare --gaze-latency 0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15") == FS_OK);
+    log_set_quiet_errors(false);
+}
+
 TEST(run_from_parts)
 {
     run_desc d;
@@ -267,6 +289,7 @@ TEST(run_from_parts)
 
 int main(void)
 {
+    RUN(gaze_latency_lists);
     RUN(run_from_parts);
     RUN(recorded_options_are_the_run_records);
     RUN(view_cli);
