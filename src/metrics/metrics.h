@@ -187,8 +187,8 @@ double metrics_coverage_ratio_of_sums(double cov_px, double ref_px, int block);
     X(TEMPORAL_ERROR, temporal_error, "%.9g", METRICS_COLF_GROWTH | METRICS_COLF_UNMEASURED)     \
     X(DISOCCLUDED, disoccluded, "%.9g", METRICS_COLF_UNMEASURED)                                 \
     X(STATIC_FLICKER, static_flicker, "%.9g", METRICS_COLF_UNMEASURED)                           \
-    X(FRAME_MS, frame_ms, "%.3f", METRICS_COLF_UNMEASURED)                                       \
-    X(GAZE_EVENT, gaze_event, NULL, 0)
+    X(GAZE_EVENT, gaze_event, NULL, 0)                                                           \
+    X(FRAME_MS, frame_ms, "%.3f", METRICS_COLF_UNMEASURED)
 
 #define METRICS_COL_ENUM(ID, name, format, flags) METRICS_COL_##ID,
 typedef enum metrics_column { METRICS_CSV_COLUMNS(METRICS_COL_ENUM) METRICS_COL_COUNT } metrics_column;

@@ -94,7 +94,7 @@ check "no NaN or Inf (oiiotool --stats)" bash -c "! oiiotool --stats '$F' 2>&1 |
 check "ffmpeg decodes the grid" bash -c "ffmpeg -v error -i '$F' -f null - "
 rows=$(($(wc -l <"$T/forest/metrics.csv") - 1))
 check "metrics.csv: 12 frames x 2 modes x (4 rings + all) rows ($rows)" test "$rows" -eq 120
-check "metrics.csv columns" bash -c "head -1 '$T/forest/metrics.csv' | grep -q '^frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,temporal_error,disoccluded,static_flicker,frame_ms'"
+check "metrics.csv columns" bash -c "head -1 '$T/forest/metrics.csv' | grep -q '^frame,time,mode,ring,pixels,coverage,ref_coverage,coverage_ratio,rmse,alpha_rmse,flip,psnr,temporal_error,disoccluded,static_flicker,gaze_event,frame_ms'"
 # alpha_rmse measures against the reference band-limited to each ring: the blur a coarse ring was
 # designed to have no longer counts, so it is below the full RMSE there (docs/metrics.md).
 check "summary.json: alpha_rmse below rmse in the coarse rings" python3 -c "

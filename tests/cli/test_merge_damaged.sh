@@ -49,7 +49,7 @@ lines = open(csv).read().splitlines()
 lines[2] = lines[2].rsplit(',', 1)[0]
 open(csv, 'w').write('\n'.join(lines) + '\n')"
 expect_exit "a row one field short -> 6" 6 timeout 60 "$BIN" merge short
-check "  names the file and line 3" grep -q "metrics.csv:3: 15 fields, the header has 16" "$T/err.txt"
+check "  names the file and line 3" grep -q "metrics.csv:3: 16 fields, the header has 17" "$T/err.txt"
 
 damaged empty "
 lines = open(csv).read().splitlines()
