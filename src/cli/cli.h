@@ -69,6 +69,8 @@ typedef struct run_desc {
     gaze_eye eye;            /* --eye left|right|average, default auto */
     gaze_tracker_opts tracker; /* --gaze-latency, --gaze-rate, --gaze-noise, --gaze-seed, --gaze-loss
                                   (each given or not: the scene file's "gaze" object fills the rest) */
+    gaze_place_opts place;   /* --gaze-map angle|normalized, --gaze-screen W_MMxH_MM@DIST_MM|HxVdeg (each given or
+                                not: the scene file's "gaze" "map" and "screen" fill the rest) */
     bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
     bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
     float hash_scale;        /* --hash-scale, 0 = default 1 */
