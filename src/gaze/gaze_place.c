@@ -168,8 +168,12 @@ static bool choose_geom(const gaze_trace *t, const gaze_place_desc *d, frame_geo
     } else if (t->tan_per_x > 0 && t->tan_per_y > 0) {
         g->kx = t->tan_per_x;
         g->ky = t->tan_per_y;
+    } else if (t->format == GAZE_FORMAT_CSV) { /* display coordinates by definition: nothing to warn about */
+        log_info("GAZE: [%s] no screen geometry: placed by normalised position (fovsim CSV)", t->path);
+        return false;
     } else {
-        log_info("GAZE: [%s] no screen geometry: placed by normalised position (--gaze-screen gives one)", t->path);
+        log_warn("GAZE: [%s] no screen geometry: placed by normalised position (--gaze-screen W_MMxH_MM@DIST_MM or "
+                 "HxVdeg gives one)", t->path);
         return false;
     }
     log_info("GAZE: [%s] placed by angle: %s", t->path, t->geometry);
