@@ -73,6 +73,8 @@ typedef struct run_desc {
                                                   study (gaze_latency_count > 1); the first is also
                                                   tracker.desc.latency_ms */
     int gaze_latency_count;
+    gaze_place_opts place;   /* --gaze-map angle|normalized, --gaze-screen W_MMxH_MM@DIST_MM|HxVdeg (each given or
+                                not: the scene file's "gaze" "map" and "screen" fill the rest) */
     bool overlay;            /* --overlay: ring borders and gaze marker drawn into the frames */
     bool debug_channels;     /* --debug-channels: ring.id and eccentricity channels in the EXR */
     float hash_scale;        /* --hash-scale, 0 = default 1 */

@@ -148,6 +148,15 @@ static bool set_gaze_latency(const cli_option *o, run_desc *d, const char *v)
     return true;
 }
 
+static bool set_gaze_screen(const cli_option *o, run_desc *d, const char *v)
+{
+    char err[256];
+    if (gaze_screen_parse(v, &d->place.desc.screen, err, sizeof err))
+        return true;
+    log_error("%s: %s", o->name, err);
+    return false;
+}
+
 static bool set_split(const cli_option *o, run_desc *d, const char *v)
 {
     (void)o;
@@ -217,6 +226,7 @@ static const cli_choice k_eye[] = {{"left", GAZE_EYE_LEFT}, {"right", GAZE_EYE_R
                                    {NULL, 0}};
 static const cli_choice k_gaze_loss[] = {{"hold", GAZE_LOSS_HOLD}, {"centre", GAZE_LOSS_CENTRE},
                                          {"full", GAZE_LOSS_FULL}, {NULL, 0}};
+static const cli_choice k_gaze_map[] = {{"angle", GAZE_MAP_ANGLE}, {"normalized", GAZE_MAP_NORMALIZED}, {NULL, 0}};
 static const cli_choice k_compression[] = {{"zip", EXR_COMPRESS_ZIP}, {"none", EXR_COMPRESS_NONE},
                                            {"piz", EXR_COMPRESS_PIZ}, {NULL, 0}};
 static const cli_choice k_reference[] = {{"exact", REFERENCE_EXACT}, {"stochastic", REFERENCE_STOCHASTIC}, {NULL, 0}};
@@ -342,6 +352,14 @@ const cli_option k_cli_options[] = {
     {"--eye", ARG_CHOICE, CMDS_DRAWING, "E",
      "binocular traces: left, right or average (default: average of valid eyes)", FIELD(eye), .choices = k_eye,
      .flags = OPT_RECORDED},
+    {"--gaze-map", ARG_CHOICE, CMDS_DRAWING, "M",
+     "place the trace by angle (the recording's straight-ahead point at the\ndisplay centre, each sample at its visual "
+     "angle; default) or by\nnormalized position (the recording's frame stretched onto the display)",
+     FIELD(place.desc.map), .choices = k_gaze_map, GIVEN(place.map_set), .flags = OPT_RECORDED},
+    {"--gaze-screen", ARG_CUSTOM, CMDS_DRAWING, "S",
+     "the recording's geometry, instead of the file's: W_MMxH_MM@DIST_MM (a\nscreen seen from DIST_MM, e.g. "
+     "520x290@600) or HxVdeg (a camera's\nfield of view, e.g. 82x52deg) (docs/gaze-formats.md)",
+     FIELD(place.desc.screen), .set = set_gaze_screen, GIVEN(place.screen_set), .flags = OPT_RECORDED},
     {"--gaze-latency", ARG_CUSTOM, CMDS_DRAWING, "MS",
      "eye tracker: frame t is rendered around the gaze the system had at\nt - MS (0 to 10000; default 0); metrics "
      "use the true gaze at t.\ncompare, demo: a list MS,MS,... is a latency study: each latency in\nOUT/latency-MS/, "

@@ -23,6 +23,12 @@ fs_status cmd_plan(const run_desc *d)
         gaze_tracker_format(&td, tr, sizeof tr);
         printf("tracker    %s: the rings follow the delivered gaze, metrics the true gaze\n", tr);
     }
+    gaze_place_desc gp = gaze_place_merge(&d->place, &sc.gaze_place);
+    if (st == FS_OK && (gp.map != GAZE_MAP_ANGLE || gp.screen.kind != GAZE_SCREEN_NONE)) { /* absent by default */
+        char scr[64];
+        gaze_screen_format(&gp.screen, scr, sizeof scr);
+        printf("gaze map   %s%s%s\n", gaze_map_name(gp.map), scr[0] ? ", recording geometry " : "", scr);
+    }
     scene_free(&sc);
     return st;
 }

@@ -174,7 +174,9 @@ fs_status gaze_parse(const char *text, long size, const char *name, const gaze_l
     free(c.raw);
     if (s != FS_OK) {
         free(out->samples);
+        free(out->dir);
         out->samples = NULL;
+        out->dir = NULL;
         out->count = out->valid_count = 0;
         return s;
     }
@@ -218,6 +220,7 @@ void gaze_free(gaze_trace *t)
     if (!t)
         return;
     free(t->samples);
+    free(t->dir);
     memset(t, 0, sizeof *t);
 }
 

@@ -29,7 +29,10 @@
 
 #include <stdbool.h>
 
+#include "core/display.h"
 #include "core/status.h"
+
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -69,6 +72,15 @@ typedef struct gaze_trace {
     double duration;      /* t of the last sample */
     double time_offset;   /* seconds subtracted to re-base (the first raw timestamp, in seconds) */
     int screen_w, screen_h; /* recording screen in pixels when the file says (EyeLink), else 0 */
+    /* The recording's geometry where the file says it (docs/gaze-formats.md, "degrees"), read by
+     * gaze_place. A pinhole frame: normalised (x, y) looks along tan(theta_x) = (x - 0.5) * tan_per_x,
+     * tan(theta_y) = (0.5 - y) * tan_per_y (theta_y up, straight ahead at the frame centre);
+     * 0 = unknown. */
+    double tan_per_x, tan_per_y;
+    /* Per-sample directions where the format gives them (Pupil gaze_point_3d, Tobii gp3): tan(theta_x),
+     * tan(theta_y) for sample i at dir[2i], dir[2i+1]; NaN for a sample without one; NULL if none has. */
+    float *dir;
+    char geometry[160]; /* how the geometry was derived, for the log; "" without */
 } gaze_trace;
 
 typedef struct gaze_load_desc {
@@ -77,6 +89,56 @@ typedef struct gaze_load_desc {
     float min_confidence;   /* samples below are invalid; default 0.6 (Pupil Labs' recommendation);
                                negative = keep all */
 } gaze_load_desc;
+
+/* Placement of a trace on the simulated display (gaze_place). */
+typedef enum gaze_map {
+    GAZE_MAP_ANGLE = 0,  /* by visual angle: the recording's straight-ahead point at the display's centre */
+    GAZE_MAP_NORMALIZED, /* by normalised position, as loaded */
+} gaze_map;
+
+/* --gaze-screen: the recording's geometry where the file lacks it; it wins over the file's. */
+typedef enum gaze_screen_kind {
+    GAZE_SCREEN_NONE = 0,
+    GAZE_SCREEN_MM,  /* W_MMxH_MM@DIST_MM: a flat screen seen from DIST_MM in front of its centre */
+    GAZE_SCREEN_FOV, /* HxVdeg: a pinhole camera frame of that field of view (scene cameras) */
+} gaze_screen_kind;
+
+typedef struct gaze_screen {
+    gaze_screen_kind kind;
+    double w, h;  /* MM: screen width, height (mm); FOV: horizontal, vertical field of view (deg) */
+    double dist;  /* MM: viewing distance (mm) */
+} gaze_screen;
+
+typedef struct gaze_place_desc {
+    gaze_map map;
+    gaze_screen screen;
+} gaze_place_desc;
+
+/* As a command line or scene file gives them: each with whether it was given, so the command line
+ * wins field by field over the scene file. */
+typedef struct gaze_place_opts {
+    gaze_place_desc desc;
+    bool map_set, screen_set;
+} gaze_place_opts;
+
+#define GAZE_SCREEN_MAX_MM 1e6
+#define GAZE_SCREEN_MAX_FOV_DEG 179.0
+
+/* Parses --gaze-screen: "520x290@600" (mm) or "82x52deg". False with a message in err
+ * ("expected ..., got ...") on anything else. */
+bool gaze_screen_parse(const char *text, gaze_screen *out, char *err, size_t cap);
+/* The text gaze_screen_parse reads back ("" for NONE). */
+void gaze_screen_format(const gaze_screen *s, char *buf, size_t cap);
+const char *gaze_map_name(gaze_map m); /* "angle", "normalized" */
+gaze_place_desc gaze_place_merge(const gaze_place_opts *first, const gaze_place_opts *second);
+
+/* Rewrites the samples' x, y from the recording's frame to the display's (GAZE_MAP_ANGLE): each
+ * valid sample where its direction falls on a pinhole display of `disp` (width, height, hfov),
+ * straight ahead at the centre; directions past the display's edge clamped to it with one warning.
+ * The geometry: desc->screen if given, else the file's (per-sample directions, else tan_per_x/y);
+ * without any the trace stays as loaded, said once with log_info. GAZE_MAP_NORMALIZED leaves it
+ * untouched. Invalid samples hold the placed gaze again. */
+void gaze_place(gaze_trace *t, const gaze_place_desc *desc, const display_desc *disp);
 
 const char *gaze_format_name(gaze_format f); /* "csv", "pupil", "eyelink", "tobii", "auto" */
 gaze_format gaze_format_parse(const char *name); /* AUTO for unknown names */

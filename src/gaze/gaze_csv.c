@@ -6,6 +6,7 @@
 #include "gaze/gaze_read.h"
 
 #include <math.h>
+#include <stdio.h>
 
 /* >>fields */
 
@@ -102,9 +103,12 @@ static int header_count(span header)
 
 /* >>rows */
 
+enum { NCOLS = 7 };
+
 typedef struct csv_cols {
-    const char *names[4]; /* t, x, y, confidence (NULL: no confidence column) */
-    int idx[4];           /* -1: absent */
+    const char *names[NCOLS]; /* t, x, y, confidence (NULL: no confidence column), then Pupil Labs'
+                                 gaze_point_3d_x, _y, _z (optional, may be empty) */
+    int idx[NCOLS];           /* -1: absent */
     bool flip_y;          /* Pupil Labs: origin bottom-left */
 } csv_cols;
 
@@ -114,7 +118,7 @@ static fs_status csv_rows(pctx *c, line_it *it, long header_line, int ncols, con
         span tl = gaze_trim(line);
         if (tl.n == 0 || tl.p[0] == '#')
             continue;
-        span f[4] = {{0}};
+        span f[NCOLS] = {{0}};
         const char *p = line.p, *end = line.p + line.n;
         int k = 0;
         for (;;) {
@@ -122,7 +126,7 @@ static fs_status csv_rows(pctx *c, line_it *it, long header_line, int ncols, con
             if (!csv_field(&p, end, &fld))
                 return gaze_fail(c, it->no, k + 1, "expected a closing '\"' in column %d, got the end of the line",
                                  k + 1);
-            for (int j = 0; j < 4; j++)
+            for (int j = 0; j < NCOLS; j++)
                 if (cols->idx[j] == k)
                     f[j] = fld;
             if (k < (1 << 20))
@@ -133,10 +137,10 @@ static fs_status csv_rows(pctx *c, line_it *it, long header_line, int ncols, con
         }
         if (k != ncols)
             return gaze_fail(c, it->no, (k < ncols ? k : ncols) + 1, "expected %d columns, got %d", ncols, k);
-        double v[4] = {0, 0, 0, 1};
-        for (int j = 0; j < 4; j++) {
-            if (cols->idx[j] < 0)
-                continue;
+        double v[NCOLS] = {0, 0, 0, 1, NAN, NAN, NAN};
+        for (int j = 0; j < NCOLS; j++) {
+            if (cols->idx[j] < 0 || (j >= 4 && gaze_is_blank(f[j])))
+                continue; /* gaze_point_3d is empty for 2D mapping */
             char g[64];
             num_result r = gaze_parse_num(f[j], &v[j]);
             if (r != NUM_OK)
@@ -160,6 +164,9 @@ static fs_status csv_rows(pctx *c, line_it *it, long header_line, int ncols, con
         fs_status s = gaze_push(c, it->no, cols->idx[0] + 1, v[0], v[1], y, v[3], valid);
         if (s != FS_OK)
             return s;
+        /* world camera coordinates, OpenCV's: x right, y down, z forward */
+        if (v[6] > 0 && isfinite(v[4] / v[6]) && isfinite(v[5] / v[6]))
+            gaze_set_dir(c, v[4] / v[6], -v[5] / v[6]);
     }
     if (c->n == 0)
         return gaze_fail(c, header_line + 1, 1, "expected a sample row after the header, got none");
@@ -173,7 +180,7 @@ static fs_status csv_rows(pctx *c, line_it *it, long header_line, int ncols, con
 static fs_status csv_find_cols(pctx *c, long line, span header, csv_cols *cols, const char *want)
 {
     char g[64];
-    for (int j = 0; j < 4; j++) {
+    for (int j = 0; j < NCOLS; j++) {
         cols->idx[j] = -1;
         if (!cols->names[j])
             continue;
@@ -199,6 +206,8 @@ static fs_status csv_body(pctx *c, line_it *it, span header, const csv_cols *col
     c->unit = 1.0;
     c->unit_name = "s";
     fs_status s = csv_rows(c, it, it->no, ncols, cols);
+    if (c->has_dir)
+        snprintf(c->geometry, sizeof c->geometry, "directions from gaze_point_3d (world camera, pinhole)");
     return s != FS_OK ? s : gaze_finish(c, format, out);
 }
 
@@ -224,7 +233,9 @@ fs_status gaze_parse_pupil(pctx *c, gaze_trace *out)
     int dummy;
     /* Player before v1.8 called the column `timestamp`. */
     const char *tname = gaze_csv_header_col(header, "gaze_timestamp", &dummy) != -1 ? "gaze_timestamp" : "timestamp";
-    csv_cols cols = {.names = {tname, "norm_pos_x", "norm_pos_y", "confidence"}, .flip_y = true};
+    csv_cols cols = {.names = {tname, "norm_pos_x", "norm_pos_y", "confidence", "gaze_point_3d_x", "gaze_point_3d_y",
+                               "gaze_point_3d_z"},
+                     .flip_y = true};
     fs_status s = csv_find_cols(c, it.no, header, &cols, "gaze_timestamp, norm_pos_x and norm_pos_y");
     if (s != FS_OK)
         return s;

@@ -34,6 +34,7 @@ typedef struct span {
 typedef struct raw_sample {
     double t;         /* in the file's unit (s, ms or us), not re-based */
     float x, y, conf; /* x, y normalised; EyeLink stores pixels until the screen size is known */
+    float tx, ty;     /* direction, tan(theta_x), tan(theta_y) (gaze.h's dir); NaN: none */
     bool valid;
     long line;        /* source line: messages, and the tie-break that keeps the Tobii sort stable */
 } raw_sample;
@@ -49,6 +50,9 @@ typedef struct pctx {
     const char *unit_name;
     bool sorted_input; /* false: the format interleaves streams, sort by time instead of checking */
     int screen_w, screen_h;
+    double tan_per_x, tan_per_y; /* the recording's pinhole frame (gaze.h), 0 = unknown */
+    bool has_dir;                /* some sample has a direction */
+    char geometry[160];
 } pctx;
 
 /* `got` text for messages: log_quote's, at most 40 bytes; "nothing" when n == 0. Returns buf (or
@@ -91,6 +95,8 @@ bool gaze_next_tok(const char **pp, const char *end, span *tok);
 
 /* Appends a raw sample; with c->sorted_input, time going backwards is an error at (line, col). */
 fs_status gaze_push(pctx *c, long line, long col, double t, double x, double y, double conf, bool valid);
+/* Gives the last sample pushed a direction (tan(theta_x), tan(theta_y), theta_y up). */
+void gaze_set_dir(pctx *c, double tx, double ty);
 /* Sort (if the format needs it), re-base, average repeated timestamps, fill the held gaze of
  * invalid samples. Takes c->n >= 1. */
 fs_status gaze_finish(pctx *c, gaze_format fmt, gaze_trace *out);

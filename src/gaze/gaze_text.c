@@ -214,8 +214,28 @@ fs_status gaze_push(pctx *c, long line, long col, double t, double x, double y, 
             return gaze_no_memory(c);
     }
     c->raw[c->n++] = (raw_sample){.t = t, .x = (float)x, .y = (float)y, .conf = (float)conf,
-                                  .valid = valid, .line = line};
+                                  .tx = NAN, .ty = NAN, .valid = valid, .line = line};
     return FS_OK;
+}
+
+void gaze_set_dir(pctx *c, double tx, double ty)
+{
+    FS_ASSERT(c->n > 0);
+    c->raw[c->n - 1].tx = (float)tx;
+    c->raw[c->n - 1].ty = (float)ty;
+    c->has_dir = true;
+}
+
+/* The mean direction of the valid rows raw[i..j) that have one (NaN if none has). */
+static void mean_dir(const raw_sample *raw, int i, int j, float *tx, float *ty)
+{
+    double sx = 0, sy = 0;
+    int n = 0;
+    for (int k = i; k < j; k++)
+        if (raw[k].valid && !isnan(raw[k].tx) && !isnan(raw[k].ty))
+            sx += raw[k].tx, sy += raw[k].ty, n++;
+    *tx = n ? (float)(sx / n) : NAN;
+    *ty = n ? (float)(sy / n) : NAN;
 }
 
 static int cmp_raw(const void *a, const void *b)
@@ -232,13 +252,18 @@ fs_status gaze_finish(pctx *c, gaze_format fmt, gaze_trace *out)
         qsort(c->raw, (size_t)c->n, sizeof *c->raw, cmp_raw);
     const double t0 = c->raw[0].t;
     gaze_sample *s = malloc((size_t)c->n * sizeof *s);
-    if (!s)
+    float *dir = c->has_dir ? malloc((size_t)c->n * 2 * sizeof *dir) : NULL;
+    if (!s || (c->has_dir && !dir)) {
+        free(s);
+        free(dir);
         return gaze_no_memory(c);
+    }
     int m = 0, valid = 0;
     for (int i = 0; i < c->n;) {
         double t = (c->raw[i].t - t0) * c->unit;
         if (!isfinite(t)) {
             free(s);
+            free(dir);
             return gaze_fail(c, c->raw[i].line, 1, "expected a time closer to the first sample's, got %.15g %s",
                              c->raw[i].t, c->unit_name);
         }
@@ -252,6 +277,8 @@ fs_status gaze_finish(pctx *c, gaze_format fmt, gaze_trace *out)
             if (r->valid)
                 sx += r->x, sy += r->y, sc += r->conf, nv++;
         }
+        if (dir)
+            mean_dir(c->raw, i, j, &dir[2 * m], &dir[2 * m + 1]);
         gaze_sample *o = &s[m++];
         o->t = t;
         o->valid = nv > 0;
@@ -290,6 +317,10 @@ fs_status gaze_finish(pctx *c, gaze_format fmt, gaze_trace *out)
     out->format = fmt;
     out->screen_w = c->screen_w;
     out->screen_h = c->screen_h;
+    out->dir = dir;
+    out->tan_per_x = c->tan_per_x;
+    out->tan_per_y = c->tan_per_y;
+    snprintf(out->geometry, sizeof out->geometry, "%s", c->geometry);
     if (valid == 0)
         log_warn("GAZE: [%s] no valid sample in %d; the gaze stays at the display centre", c->name, m);
     return FS_OK;

@@ -11,6 +11,7 @@
 #include "gaze/gaze_read.h"
 
 #include "core/config.h"
+#include "core/grow.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -196,17 +197,86 @@ static fs_status record_number(pctx *c, long no, span line, const cJSON *rec, co
     return FS_OK;
 }
 
-/* One gaze record (an object with "gp" and no "eye") to a sample; other streams are skipped. */
-static fs_status tobii_record(pctx *c, long no, span line, const cJSON *rec, long *records)
+/* The gaze directions: gp3 records ({"gidx", "s", "gp3": [x, y, z]}, mm, scene camera coordinates)
+ * joined to the gp samples of the same gidx once every line is read. */
+typedef struct gidx_dir {
+    double gidx;
+    float tx, ty;
+} gidx_dir;
+
+typedef struct tobii_state {
+    double *gidx;    /* per raw sample: its record's gidx, NaN without */
+    gidx_dir *dirs;  /* from the valid gp3 records */
+    int n_gidx, cap_gidx, n_dirs, cap_dirs;
+    long records;
+} tobii_state;
+
+static double opt_number(const cJSON *rec, const char *key)
+{
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(rec, key);
+    return finite_number(m) ? m->valuedouble : NAN;
+}
+
+/* A valid gp3 record with a point in front of the camera to a direction. Glasses 2 scene camera
+ * coordinates: x to the wearer's LEFT, y up, z forward (checked against gp: docs/gaze-formats.md),
+ * so theta_x (right positive) is atan(-x / z). Anything else about the record is not checked:
+ * the stream is optional. */
+static fs_status tobii_gp3(pctx *c, tobii_state *st, const cJSON *rec)
+{
+    const cJSON *g = cJSON_GetObjectItemCaseSensitive(rec, "gp3");
+    const cJSON *x = cJSON_IsArray(g) ? g->child : NULL, *y = x ? x->next : NULL, *z = y ? y->next : NULL;
+    double gidx = opt_number(rec, "gidx");
+    if (!finite_number(x) || !finite_number(y) || !finite_number(z) || !(z->valuedouble > 0) || isnan(gidx) ||
+        opt_number(rec, "s") != 0)
+        return FS_OK;
+    double tx = -x->valuedouble / z->valuedouble, ty = y->valuedouble / z->valuedouble;
+    if (!isfinite((float)tx) || !isfinite((float)ty))
+        return FS_OK;
+    if (st->n_dirs == st->cap_dirs && !FS_GROW_INT(st->dirs, st->cap_dirs, st->n_dirs + 1))
+        return gaze_no_memory(c);
+    st->dirs[st->n_dirs++] = (gidx_dir){gidx, (float)tx, (float)ty};
+    return FS_OK;
+}
+
+static int cmp_gidx(const void *a, const void *b)
+{
+    const gidx_dir *p = a, *q = b;
+    return (p->gidx > q->gidx) - (p->gidx < q->gidx);
+}
+
+/* Each gp sample gets the direction of the gp3 record with its gidx, if there is one. */
+static void join_dirs(pctx *c, tobii_state *st)
+{
+    if (!st->n_dirs)
+        return;
+    qsort(st->dirs, (size_t)st->n_dirs, sizeof *st->dirs, cmp_gidx);
+    for (int i = 0; i < c->n && i < st->n_gidx; i++) {
+        const gidx_dir key = {st->gidx[i], 0, 0};
+        const gidx_dir *d = isnan(key.gidx) ? NULL : bsearch(&key, st->dirs, (size_t)st->n_dirs, sizeof key, cmp_gidx);
+        if (d) {
+            c->raw[i].tx = d->tx;
+            c->raw[i].ty = d->ty;
+            c->has_dir = true;
+        }
+    }
+    if (c->has_dir)
+        snprintf(c->geometry, sizeof c->geometry, "directions from gp3 (scene camera, joined to gp by gidx)");
+}
+
+/* One gaze record (an object with "gp" and no "eye") to a sample; gp3 records are kept for their
+ * directions; other streams are skipped. */
+static fs_status tobii_record(pctx *c, tobii_state *st, long no, span line, const cJSON *rec)
 {
     const cJSON *gp = cJSON_GetObjectItemCaseSensitive(rec, "gp");
-    if (!gp || cJSON_GetObjectItemCaseSensitive(rec, "eye"))
-        return FS_OK; /* another stream (ac, gy, pts, vts, per-eye gd/pc/pd, gp3...) */
-    ++*records;
-    double ts, st;
+    if (cJSON_GetObjectItemCaseSensitive(rec, "eye"))
+        return FS_OK; /* per-eye gd/pc/pd */
+    if (!gp)
+        return cJSON_GetObjectItemCaseSensitive(rec, "gp3") ? tobii_gp3(c, st, rec) : FS_OK; /* ac, gy, pts, vts... */
+    st->records++;
+    double ts, status;
     fs_status s = record_number(c, no, line, rec, "ts", "\"ts\" (microseconds)", &ts);
     if (s == FS_OK)
-        s = record_number(c, no, line, rec, "s", "the status \"s\"", &st);
+        s = record_number(c, no, line, rec, "s", "the status \"s\"", &status);
     if (s != FS_OK)
         return s;
     char g[64];
@@ -222,9 +292,14 @@ static fs_status tobii_record(pctx *c, long no, span line, const cJSON *rec, lon
     if (!isfinite((float)gx) || !isfinite((float)gy) || fabs(gx) > 1e6 || fabs(gy) > 1e6)
         return gaze_fail(c, no, key_col(line, "gp"), "expected \"gp\" in normalised coordinates, got %g, %g",
                          gx, gy);
-    const bool valid = st == 0;
+    const bool valid = status == 0;
     /* column 1: it only serves the time-goes-backwards message, which Tobii files never get (sorted) */
-    return gaze_push(c, no, 1, ts, valid ? gx : 0, valid ? gy : 0, 1.0, valid);
+    s = gaze_push(c, no, 1, ts, valid ? gx : 0, valid ? gy : 0, 1.0, valid);
+    if (s == FS_OK && st->n_gidx == st->cap_gidx && !FS_GROW_INT(st->gidx, st->cap_gidx, st->n_gidx + 1))
+        return gaze_no_memory(c);
+    if (s == FS_OK)
+        st->gidx[st->n_gidx++] = opt_number(rec, "gidx");
+    return s;
 }
 
 /* >>reader */
@@ -278,7 +353,7 @@ fs_status gaze_parse_tobii(pctx *c, gaze_trace *out)
     c->unit_name = "us";
     c->sorted_input = false; /* streams interleave: sort by ts, never report backwards time */
     line_it it = {c->text, c->text + c->size, 0};
-    long records = 0;
+    tobii_state st = {0};
     fs_status s = FS_OK;
     for (span line = {0}; s == FS_OK && gaze_next_line(&it, &line);) {
         if (gaze_is_blank(line))
@@ -286,12 +361,14 @@ fs_status gaze_parse_tobii(pctx *c, gaze_trace *out)
         cJSON *rec = NULL;
         s = read_line(c, it.no, line, &rec);
         if (s == FS_OK)
-            s = tobii_record(c, it.no, line, rec, &records);
+            s = tobii_record(c, &st, it.no, line, rec);
         cJSON_Delete(rec);
     }
-    if (s != FS_OK)
-        return s;
-    if (records == 0)
-        return gaze_fail(c, 1, 1, "expected Tobii gaze records (objects with \"gp\"), got none");
-    return gaze_finish(c, GAZE_FORMAT_TOBII, out);
+    if (s == FS_OK && st.records == 0)
+        s = gaze_fail(c, 1, 1, "expected Tobii gaze records (objects with \"gp\"), got none");
+    if (s == FS_OK)
+        join_dirs(c, &st);
+    free(st.gidx);
+    free(st.dirs);
+    return s == FS_OK ? gaze_finish(c, GAZE_FORMAT_TOBII, out) : s;
 }

@@ -26,6 +26,7 @@
 #include "core/fmath.h"
 #include "core/status.h"
 #include "fov/fov_ring.h"
+#include "gaze/gaze.h"
 #include "gaze/gaze_tracker.h"
 #include "common/shared_defs.h" /* FS_ALPHA_MODES, the table of alpha modes */
 
@@ -219,6 +220,7 @@ typedef struct scene {
                               empty = not given (the CLI's --ring-lod, else off) */
     gaze_tracker_opts tracker; /* the eye tracker from the scene file's "gaze" object (latency, rate,
                                   noise, seed, loss); the CLI's --gaze-* win option by option */
+    gaze_place_opts gaze_place; /* "gaze": "map" and "screen" (--gaze-map, --gaze-screen win) */
     float duration;        /* seconds: the last camera key's time (0 for a still camera) */
 } scene;
 

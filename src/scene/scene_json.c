@@ -214,11 +214,37 @@ static fs_status apply_materials(const jctx *c, const cJSON *obj, bool apply)
     return FS_OK;
 }
 
+/* "gaze": "map" and "screen", the CLI's --gaze-map and --gaze-screen (gaze.h, gaze_place). */
+static fs_status parse_gaze_place(const jctx *c, const cJSON *j)
+{
+    gaze_place_opts *o = &c->sc->gaze_place;
+    const cJSON *it;
+    const char *str;
+    fs_status s;
+    if ((it = cJSON_GetObjectItemCaseSensitive(j, "map"))) {
+        if ((s = jstring(c, it, "gaze.map", &str)) != FS_OK)
+            return s;
+        o->map_set = true;
+        if (strcmp(str, "angle") != 0 && strcmp(str, "normalized") != 0)
+            return jfail(c, "gaze.map", "expected \"angle\" or \"normalized\", got \"%s\"", str);
+        o->desc.map = strcmp(str, "angle") == 0 ? GAZE_MAP_ANGLE : GAZE_MAP_NORMALIZED;
+    }
+    if ((it = cJSON_GetObjectItemCaseSensitive(j, "screen"))) {
+        char err[256];
+        if ((s = jstring(c, it, "gaze.screen", &str)) != FS_OK)
+            return s;
+        o->screen_set = true;
+        if (!gaze_screen_parse(str, &o->desc.screen, err, sizeof err))
+            return jfail(c, "gaze.screen", "%s", err);
+    }
+    return FS_OK;
+}
+
 /* "gaze": the eye tracker between the true gaze and the renderer (gaze_tracker.h), the keys of the
  * CLI's --gaze-latency, --gaze-rate, --gaze-noise, --gaze-seed and --gaze-loss. */
 static fs_status parse_gaze_tracker(const jctx *c, const cJSON *j)
 {
-    static const char *const keys[] = {"latency", "rate", "noise", "seed", "loss", "comment", NULL};
+    static const char *const keys[] = {"latency", "rate", "noise", "seed", "loss", "map", "screen", "comment", NULL};
     gaze_tracker_opts *o = &c->sc->tracker;
     fs_status s = jkeys(c, j, "gaze", keys);
     const cJSON *it;
@@ -245,7 +271,7 @@ static fs_status parse_gaze_tracker(const jctx *c, const cJSON *j)
         if (o->desc.loss == GAZE_LOSS_COUNT)
             return jfail(c, "gaze.loss", "expected \"hold\", \"centre\" or \"full\", got \"%s\"", str);
     }
-    return s;
+    return s == FS_OK ? parse_gaze_place(c, j) : s;
 }
 
 static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
@@ -295,7 +321,8 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
     }
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "gaze"))) {
         if (!cJSON_IsObject(j))
-            return jfail(c, "gaze", "expected an object {\"latency\", \"rate\", \"noise\", \"seed\", \"loss\"}, got %s",
+            return jfail(c, "gaze", "expected an object {\"latency\", \"rate\", \"noise\", \"seed\", \"loss\", \"map\", "
+                         "\"screen\"}, got %s",
                          jgot(j, got, sizeof got));
         if ((s = parse_gaze_tracker(c, j)) != FS_OK)
             return s;

@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 632, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 680, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 
@@ -175,6 +175,12 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         char tr[160];
         gaze_tracker_format(&td, tr, sizeof tr);
         sb_printf(&t, "gaze tracker: %s\n", tr);
+    }
+    gaze_place_desc gp = gaze_place_merge(&d->place, &s->sc.gaze_place);
+    if (gp.map != GAZE_MAP_ANGLE || gp.screen.kind != GAZE_SCREEN_NONE) { /* absent by default, as above */
+        char scr[64];
+        gaze_screen_format(&gp.screen, scr, sizeof scr);
+        sb_printf(&t, "gaze map: %s, screen %s\n", gaze_map_name(gp.map), scr[0] ? scr : "from the file");
     }
     if (d->compare.first_frame)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);

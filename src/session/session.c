@@ -149,6 +149,10 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
     s->tracker = gaze_tracker_merge(&d->tracker, &s->sc.tracker);
     if (st == FS_OK && d->gaze_path)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &s->gaze);
+    if (st == FS_OK && d->gaze_path) { /* by angle on the display frames are drawn for (gaze.h) */
+        gaze_place_desc pd = gaze_place_merge(&d->place, &s->sc.gaze_place);
+        gaze_place(&s->gaze, &pd, &(display_desc){s->pl.width, s->pl.height, s->sc.display.hfov_deg});
+    }
     if (st == FS_OK)
         st = gl_device_create(&(gl_device_desc){.gpu_index = d->gpu, .gl_debug = d->gl_debug});
     if (st == FS_OK) {

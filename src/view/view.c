@@ -591,6 +591,10 @@ static fs_status setup(viewer *v, const run_desc *d)
     v->set.last_on = v->layouts[LAYOUT_RUN].kind == FOV_LAYOUT_OFF ? LAYOUT_AUTO : LAYOUT_RUN;
     if (st == FS_OK && d->gaze_path)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &v->gaze);
+    if (st == FS_OK && d->gaze_path) { /* by angle, as session_begin places it */
+        gaze_place_desc pd = gaze_place_merge(&d->place, &v->sc.gaze_place);
+        gaze_place(&v->gaze, &pd, &(display_desc){probe.width, probe.height, v->sc.display.hfov_deg});
+    }
     v->tracker = gaze_tracker_merge(&d->tracker, &v->sc.tracker);
     if (st == FS_OK && d->view.script)
         st = view_script_load(d->view.script, &v->script);
