@@ -133,42 +133,39 @@ static void find_runs(const gaze_trace *t, work *w)
     }
 }
 
-/* The window of sample i: the samples of its run within half a window of it, at least one
- * neighbour on each side where the run has one (a 30 Hz trace has none within 10 ms), shrinking at
- * the run's ends. Two moving pointers would do, but the per-sample scan is bounded by the window's
- * sample count and keeps this obvious. */
-static void find_window(const gaze_trace *t, const work *w, int i, double half_s, int *lo, int *hi)
+/* The windows of the samples of the run [a, b]: the samples within half a window of each, at least
+ * one neighbour on each side where the run has one (a 30 Hz trace has none within 10 ms), shrinking
+ * at the run's ends. Both edges only move forward: linear in the run's length for any window. */
+static void run_windows(const gaze_trace *t, work *w, int a, int b, double half_s)
 {
     const gaze_sample *s = t->samples;
-    int a = i, b = i;
-    while (a > w->run_lo[i] && s[i].t - s[a - 1].t <= half_s)
-        a--;
-    while (b < w->run_hi[i] && s[b + 1].t - s[i].t <= half_s)
-        b++;
-    if (a == i && i > w->run_lo[i])
-        a = i - 1;
-    if (b == i && i < w->run_hi[i])
-        b = i + 1;
-    *lo = a;
-    *hi = b;
+    int lo = a, hi = a;
+    for (int i = a; i <= b; i++) {
+        while (s[i].t - s[lo].t > half_s)
+            lo++;
+        hi = hi < i ? i : hi;
+        while (hi < b && s[hi + 1].t - s[i].t <= half_s)
+            hi++;
+        w->lo[i] = lo == i && i > a ? i - 1 : lo;
+        w->hi[i] = hi == i && i < b ? i + 1 : hi;
+    }
 }
 
 static void velocities(const gaze_trace *t, const display_desc *d, const gaze_events_desc *ed, work *w)
 {
-    double half_s = 0.5e-3 * ed->window_ms;
     for (int i = 0; i < t->count; i++) {
         const gaze_sample *s = &t->samples[i];
         bool ok = sample_usable(s);
         w->r[i] = ok ? gaze_ray(d, s->x, s->y) : (ray){0, 0, 1};
         w->vel[i] = ok ? 0.0 : -1.0;
-    }
-    for (int i = 0; i < t->count; i++) {
         w->lo[i] = w->hi[i] = i;
-        if (w->vel[i] < 0.0)
-            continue;
-        find_window(t, w, i, half_s, &w->lo[i], &w->hi[i]);
+    }
+    for (int i = 0; i < t->count; i = w->run_hi[i] + 1)
+        if (w->vel[i] >= 0.0)
+            run_windows(t, w, i, w->run_hi[i], 0.5e-3 * ed->window_ms);
+    for (int i = 0; i < t->count; i++) {
         double dt = t->samples[w->hi[i]].t - t->samples[w->lo[i]].t;
-        if (dt > 0.0) /* repeated times: no movement measurable, fixation */
+        if (w->vel[i] >= 0.0 && dt > 0.0) /* repeated times: no movement measurable, fixation */
             w->vel[i] = ray_angle_deg(w->r[w->lo[i]], w->r[w->hi[i]]) / dt;
     }
 }

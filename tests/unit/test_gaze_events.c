@@ -137,7 +137,7 @@ TEST(fixation_with_noise)
     for (size_t r = 0; r < sizeof rates / sizeof rates[0]; r++) {
         builder b = {.rng = 7};
         for (int k = 0; k < (int)(2.0 * rates[r]); k++)
-            add_deg(&b, k / rates[r], 3.0 + 0.3 * k / rates[r], -2.0, 0.03 * (rates[r] >= 250 ? 1.0 : 0.3));
+            add_deg(&b, k / rates[r], 3.0 + 0.3 * k / rates[r], -2.0, 0.03);
         gaze_events e = classify(&b.t, NULL);
         CHECK(e.count == b.t.count);
         CHECK(e.saccade_count == 0);
@@ -157,7 +157,7 @@ TEST(saccade_of_known_amplitude)
     const double t0 = 0.5, dur = main_seq_s(10.0);
     for (size_t r = 0; r < sizeof rates / sizeof rates[0]; r++) {
         builder b = {.rng = 3};
-        saccade_trace(&b, rates[r], t0, -5.0, 5.0, 1.0, rates[r] >= 250 ? 0.02 : 0.0);
+        saccade_trace(&b, rates[r], t0, -5.0, 5.0, 1.0, 0.02);
         gaze_events e = classify(&b.t, NULL);
         double tol = 0.010 + 1.0 / rates[r];
         CHECK(e.saccade_count == 1);
@@ -199,7 +199,7 @@ TEST(pursuit_at_15_deg_s)
             builder b = {.rng = 5};
             for (int k = 0; k <= (int)(2.0 * rates[r]); k++) {
                 double t = k / rates[r], tp = t < 0.5 ? 0 : t > 1.5 ? 1.0 : t - 0.5;
-                add_deg(&b, t, -7.5 + speed * tp, 1.0, rates[r] >= 250 ? 0.02 : 0.0);
+                add_deg(&b, t, -7.5 + speed * tp, 1.0, 0.02);
             }
             gaze_events e = classify(&b.t, NULL);
             CHECK(e.saccade_count == 0);
