@@ -40,7 +40,8 @@ typedef struct gaze_events_desc {
 /* One saccade: from its first to its last sample classified saccade; it LANDS at `end`. */
 typedef struct gaze_saccade {
     double start, end;   /* seconds since the trace start (the trace's sample times) */
-    float amplitude_deg; /* the angle between the gaze at start and at end */
+    float amplitude_deg; /* the angle between the gaze at start and at end (measured at the edges of
+                            their velocity windows: docs/latency.md "Eye-movement events") */
     float peak_deg_s;    /* its peak velocity */
 } gaze_saccade;
 

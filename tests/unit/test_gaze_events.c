@@ -1,7 +1,8 @@
 /* test_gaze_events.c: the eye-movement classifier (src/gaze/gaze_events.c): synthetic traces with
  * events of known times, amplitudes and speeds at several sample rates; blinks, gaps, one-sample and
  * repeated-time traces; the committed labelled trace (tests/data/gaze_events_labelled.csv); the
- * agreement with EyeLink's own saccade events in ../shared; random traces. */
+ * agreement with EyeLink's own saccade events in the shared recordings (FOVSIM_SHARED); random
+ * traces. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -490,6 +491,7 @@ static bool read_eyelink_events(const char *path, char eye, el_events *ev)
 
 typedef struct agreement {
     int samples, agree, el_sac, both_sac, el_big, el_big_found;
+    double amp_err; /* mean |our amplitude - EyeLink's| over the saccades >= 2 deg found, degrees */
 } agreement;
 
 /* Saccade vs not, over the valid samples; EyeLink's saccades of >= 2 deg found (overlapping one of ours). */
@@ -530,14 +532,17 @@ static agreement eyelink_agreement(const char *file, gaze_eye eye_sel, char eye)
             double s0 = (e.saccades[s].start + t.time_offset) * 1000.0, s1 = (e.saccades[s].end + t.time_offset) * 1000.0;
             if (s0 <= ev.end[j] + 0.5 && s1 >= ev.start[j] - 0.5) {
                 a.el_big_found++;
+                a.amp_err += fabs(e.saccades[s].amplitude_deg - ev.amp[j]);
                 break;
             }
         }
     }
+    a.amp_err /= a.el_big_found ? a.el_big_found : 1;
     printf("%s eye %c (%.2f px/deg, hfov %.2f deg): saccade-vs-not agreement %d/%d = %.2f %%; EyeLink saccade "
-           "samples also ours %d/%d; EyeLink saccades >= 2 deg found %d/%d; %d saccades of ours, %d of EyeLink\n",
+           "samples also ours %d/%d; EyeLink saccades >= 2 deg found %d/%d, amplitude off by %.2f deg on average; "
+           "%d saccades of ours, %d of EyeLink\n",
            file, eye, ev.res, hfov, a.agree, a.samples, 100.0 * a.agree / (a.samples ? a.samples : 1), a.both_sac,
-           a.el_sac, a.el_big_found, a.el_big, e.saccade_count, ev.n);
+           a.el_sac, a.el_big_found, a.el_big, a.amp_err, e.saccade_count, ev.n);
     gaze_events_free(&e);
     gaze_free(&t);
     return a;
@@ -571,6 +576,7 @@ TEST(eyelink_saccades_agree)
         CHECK(a.agree >= k[i].min_agree * a.samples);
         CHECK(a.both_sac >= 0.5 * a.el_sac); /* not just "never saccade" */
         CHECK(a.el_big_found == a.el_big && a.el_big > 0);
+        CHECK(a.amp_err < 0.5); /* EyeLink sums per-sample pixels over its own RES; we take the rays' angle */
     }
 }
 
