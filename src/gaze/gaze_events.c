@@ -9,9 +9,9 @@
  * the last sample of a 20 ms window centred on the sample, over the time between them. The window
  * never reaches across an invalid sample or a gap longer than Olsen's 75 ms "max gap length", so a
  * blink edge or a pause between recording blocks is never read as a movement.
- * One rule of our own against the windowed velocity's blur: a pursuit run shorter than the window is
- * not pursuit; it joins a saccade it touches (the saccade's flanks, where the window holds only part
- * of the movement) or else becomes fixation (noise).
+ * One rule of our own against the windowed velocity's blur and noise: a run shorter than the window
+ * is not an event of its own (settle_short_run). The defaults are ours, not the papers' (why: the
+ * docs).
  */
 #include "gaze/gaze_events.h"
 
