@@ -39,6 +39,14 @@ const char *gaze_event_name(gaze_event e)
     return e >= 0 && e < GAZE_EVENT_COUNT ? k_event_names[e] : NULL;
 }
 
+gaze_event gaze_event_parse(const char *name)
+{
+    for (int e = 0; name && e < GAZE_EVENT_COUNT; e++)
+        if (!strcmp(name, k_event_names[e]))
+            return (gaze_event)e;
+    return GAZE_EVENT_COUNT;
+}
+
 /* >>geometry */
 
 typedef struct ray {
