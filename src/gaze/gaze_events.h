@@ -40,7 +40,8 @@ typedef struct gaze_events_desc {
 /* One saccade: from its first to its last sample classified saccade; it LANDS at `end`. */
 typedef struct gaze_saccade {
     double start, end;   /* seconds since the trace start (the trace's sample times) */
-    float amplitude_deg; /* the angle between the gaze at start and at end */
+    float amplitude_deg; /* the angle between the gaze at start and at end (measured at the edges of
+                            their velocity windows: docs/latency.md "Eye-movement events") */
     float peak_deg_s;    /* its peak velocity */
 } gaze_saccade;
 
@@ -54,6 +55,8 @@ typedef struct gaze_events {
 
 /* "fixation", "saccade", "pursuit", "lost"; NULL out of range. */
 const char *gaze_event_name(gaze_event e);
+/* The event named `name` (gaze_event_name's names); GAZE_EVENT_COUNT for anything else. */
+gaze_event gaze_event_parse(const char *name);
 /* Classifies every sample of trace t on display d. An empty trace gives count 0. */
 fs_status gaze_events_classify(const gaze_trace *t, const display_desc *d, const gaze_events_desc *ed,
                                gaze_events *out);
