@@ -102,18 +102,8 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
 {
     /* circle, square, diamond, triangle */
     static const int shape_filled[ACC_LAYOUTS] = {7, 5, 13, 9}, shape_hollow[ACC_LAYOUTS] = {6, 4, 12, 8};
-    char gp[1200], png[1200], pngtmp[1300];
-    snprintf(gp, sizeof gp, "%s.gp", stem);
-    snprintf(png, sizeof png, "%s/%s.png", out, stem);
-    if (!out_path_temp_name(png, pngtmp, sizeof pngtmp)) {
-        log_error("%s: cannot write: the path is too long", png);
-        return FS_ERR_IO;
-    }
-    const char *tmp_name = strrchr(pngtmp, '/') ? strrchr(pngtmp, '/') + 1 : pngtmp;
     sbuf b = {0};
-    sb_puts(&b, "set terminal pngcairo size 1100,750 noenhanced\nset output ");
-    gnuplot_str(&b, tmp_name);
-    sb_puts(&b, "\nset datafile separator ','\nset title ");
+    sb_puts(&b, "set datafile separator ','\nset title ");
     gnuplot_str(&b, title);
     sb_puts(&b, "\nset xlabel ");
     gnuplot_str(&b, xlabel);
@@ -170,14 +160,8 @@ static fs_status plot_accuracy(const char *out, const char *stem, const char *ti
     sb_printf(&b, "NaN w p pt 7 ps 1.4 lc rgb 'gray40' t 'TAA on (filled)', NaN w p pt 6 ps 1.4 lc rgb 'gray40' "
                   "t 'TAA off (hollow)', \\\n     $front u %s:%d w l lw 2 lc rgb 'black' t 'Pareto front'\n",
               x_expr, y_col);
-    fs_status st = gnuplot_run(out, gp, &b);
+    fs_status st = gnuplot_png(out, stem, 1100, 750, &b);
     free(b.p);
-    if (st == FS_OK && rename(pngtmp, png) != 0) {
-        log_error("%s: cannot rename to %s: %s", pngtmp, png, strerror(errno));
-        st = FS_ERR_IO;
-    }
-    if (st != FS_OK)
-        unlink(pngtmp);
     return st;
 }
 

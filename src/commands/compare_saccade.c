@@ -2,11 +2,9 @@
  * study's outputs (compare_saccade.h, docs/latency.md). */
 #include "commands/compare_saccade.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "core/log.h"
 #include "output/gnuplot.h"
@@ -204,29 +202,20 @@ void saccade_study_print(const saccade_study *ss, const alpha_mode *modes, int n
 /* latency.png: the post-saccade foveal FLIP against the latency, a line per mode. */
 static fs_status latency_plot(const char *out, const char *scene, const char *rings, const latency_row *rows, int n)
 {
-    char png[1200], pngtmp[1300];
-    snprintf(png, sizeof png, "%s/latency.png", out);
-    if (!out_path_temp_name(png, pngtmp, sizeof pngtmp)) {
-        log_error("%s: cannot write: the path is too long", png);
-        return FS_ERR_IO;
-    }
-    const char *tmp_name = strrchr(pngtmp, '/') ? strrchr(pngtmp, '/') + 1 : pngtmp;
     char title[600];
     snprintf(title, sizeof title, "foveal error after saccades vs eye-tracker latency: %s, rings %s", scene, rings);
     sbuf b = {0};
-    sb_puts(&b, "set terminal pngcairo size 1000,650 noenhanced\nset output ");
-    gnuplot_str(&b, tmp_name);
-    sb_puts(&b, "\nset datafile separator ','\nset title ");
+    sb_puts(&b, "set datafile separator ','\nset title ");
     gnuplot_str(&b, title);
     sb_puts(&b, "\nset xlabel 'eye-tracker latency (ms)'\nset ylabel ");
     char yl[200];
     snprintf(yl, sizeof yl, "FLIP within %.0f deg of the true gaze, first %.0f ms after landing (lower is better)",
              (double)FOVEA_DEG, POST_SACCADE_MS);
     gnuplot_str(&b, yl);
-    sb_puts(&b, "\nset grid\nset key outside right top\nplot ");
+    sb_puts(&b, "\nset grid\nset offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05\nset key outside right top\nplot ");
     bool first = true;
     for (int i = 0; i < n; i++) {
-        bool seen = false;
+        bool seen = false; /* one line per mode, in the order they first appear */
         for (int j = 0; j < i; j++)
             seen |= rows[j].mode == rows[i].mode;
         if (seen)
@@ -243,14 +232,8 @@ static fs_status latency_plot(const char *out, const char *scene, const char *ri
         first = false;
     }
     sb_puts(&b, "\n");
-    fs_status st = gnuplot_run(out, "latency.gp", &b);
+    fs_status st = gnuplot_png(out, "latency", 1000, 650, &b);
     free(b.p);
-    if (st == FS_OK && rename(pngtmp, png) != 0) {
-        log_error("%s: cannot rename to %s: %s", pngtmp, png, strerror(errno));
-        st = FS_ERR_IO;
-    }
-    if (st != FS_OK)
-        unlink(pngtmp);
     return st;
 }
 
@@ -262,13 +245,24 @@ fs_status latency_study_write(const char *out, const char *scene, const char *ri
     printf("\nlatency study: foveal error after saccades (within %.0f deg of the true gaze, the first %.0f ms after "
            "landing), rings %s\n%-12s %-12s %8s %10s %10s %10s\n", (double)FOVEA_DEG, POST_SACCADE_MS, rings,
            "latency ms", "mode", "frames", "RMSE", "FLIP", "coverage");
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < n; i++) { /* the table by latency */
         const latency_row *r = &rows[i];
-        sb_printf(&b, "%.6g,%s,%d,%.9g,%.9g,%.9g,%.4f,\"%s\"\n", (double)r->latency_ms, alpha_mode_name(r->mode),
-                  r->post.frames, r->post.rmse, r->post.flip, r->post.coverage_ratio, r->frame_ms_median, rings);
         printf("%-12.6g %-12s %8d", (double)r->latency_ms, alpha_mode_name(r->mode), r->post.frames);
         print_result(r->post);
         printf("\n");
+    }
+    /* the CSV by mode, each mode's rows together: the plot's line through them is unbroken */
+    for (int i = 0; i < n; i++) {
+        bool seen = false;
+        for (int j = 0; j < i; j++)
+            seen |= rows[j].mode == rows[i].mode;
+        for (int k = i; k < n && !seen; k++) {
+            const latency_row *r = &rows[k];
+            if (r->mode == rows[i].mode)
+                sb_printf(&b, "%.6g,%s,%d,%.9g,%.9g,%.9g,%.4f,\"%s\"\n", (double)r->latency_ms,
+                          alpha_mode_name(r->mode), r->post.frames, r->post.rmse, r->post.flip, r->post.coverage_ratio,
+                          r->frame_ms_median, rings);
+        }
     }
     char path[1200];
     snprintf(path, sizeof path, "%s/latency.csv", out);

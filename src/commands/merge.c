@@ -328,8 +328,7 @@ static fs_status plot(const char *dir, const points *ps, int skip)
     /* gnuplot runs in DIR: the script names its files relative to it, and each mode (checked
      * against fovsim's mode names when read) is a quoted gnuplot string. */
     sbuf gp = {0};
-    sb_puts(&gp, "set terminal pngcairo size 1100,750 noenhanced\nset output '.accuracy.png.tmp'\n"
-                 "set datafile separator ','\nset title 'fovsim sweep: error vs frame time, one point per "
+    sb_puts(&gp, "set datafile separator ','\nset title 'fovsim sweep: error vs frame time, one point per "
                  "configuration and mode'\nset xlabel 'frame time, median (ms; lower is better)'\n"
                  "set ylabel 'FLIP vs reference (mean over frames; lower is better)'\nset grid\nset key outside right top\nplot ");
     /* One series per mode, in the order they first appear. */
@@ -353,17 +352,8 @@ static fs_status plot(const char *dir, const points *ps, int skip)
         first = 0;
     }
     sb_puts(&gp, "\n");
-    fs_status st = gnuplot_run(dir, "accuracy.gp", &gp);
+    fs_status st = gnuplot_png(dir, "accuracy", 1100, 750, &gp);
     free(gp.p);
-    char tmp[PATH_MAX + 32], png[PATH_MAX + 32];
-    snprintf(tmp, sizeof tmp, "%s/.accuracy.png.tmp", dir);
-    snprintf(png, sizeof png, "%s/accuracy.png", dir);
-    if (st == FS_OK && rename(tmp, png) != 0) {
-        log_error("%s: cannot rename to %s: %s", tmp, png, strerror(errno));
-        st = FS_ERR_IO;
-    }
-    if (st != FS_OK)
-        unlink(tmp);
     return st;
 }
 

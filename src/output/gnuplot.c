@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -57,4 +58,30 @@ fs_status gnuplot_run(const char *dir, const char *name, const sbuf *script)
     snprintf(log, sizeof log, "%s/gnuplot.log", dir);
     unlink(log); /* kept only when gnuplot failed */
     return FS_OK;
+}
+
+fs_status gnuplot_png(const char *dir, const char *stem, int width, int height, const sbuf *plot)
+{
+    char png[PATH_MAX + 64], tmp[PATH_MAX + 96], gp[300];
+    snprintf(png, sizeof png, "%s/%s.png", dir, stem);
+    if (!out_path_temp_name(png, tmp, sizeof tmp)) {
+        log_error("%s: cannot write: the path is too long", png);
+        return FS_ERR_IO;
+    }
+    sbuf b = {0};
+    sb_printf(&b, "set terminal pngcairo size %d,%d noenhanced\nset output ", width, height);
+    gnuplot_str(&b, strrchr(tmp, '/') ? strrchr(tmp, '/') + 1 : tmp); /* gnuplot runs in dir */
+    sb_puts(&b, "\n");
+    sb_append(&b, plot->p ? plot->p : "", plot->len);
+    b.oom |= plot->oom;
+    snprintf(gp, sizeof gp, "%s.gp", stem);
+    fs_status st = gnuplot_run(dir, gp, &b);
+    free(b.p);
+    if (st == FS_OK && rename(tmp, png) != 0) {
+        log_error("%s: cannot rename to %s: %s", tmp, png, strerror(errno));
+        st = FS_ERR_IO;
+    }
+    if (st != FS_OK)
+        unlink(tmp);
+    return st;
 }

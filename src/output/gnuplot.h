@@ -18,4 +18,9 @@ bool gnuplot_available(void);
  * removed when it succeeds. FS_ERR_IO (one line naming the log) when it fails. */
 fs_status gnuplot_run(const char *dir, const char *name, const sbuf *script);
 
+/* Draws DIR/STEM.png (width x height, pngcairo) from `plot`, the script after its terminal and
+ * output lines, through DIR/STEM.gp: gnuplot writes a temporary name, renamed into place when it
+ * succeeded and removed when not. */
+fs_status gnuplot_png(const char *dir, const char *stem, int width, int height, const sbuf *plot);
+
 #endif

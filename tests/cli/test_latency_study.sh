@@ -38,8 +38,8 @@ check "post_saccade.csv, summary.json, metrics.csv and latency.csv agree" /usr/b
 import csv, json, math, sys
 S = sys.argv[1]
 rows = list(csv.DictReader(open(S + "/latency.csv")))
-assert [(r["latency_ms"], r["mode"]) for r in rows] == [("0", "traditional"), ("0", "hashed"),
-                                                       ("150", "traditional"), ("150", "hashed")], rows
+assert [(r["latency_ms"], r["mode"]) for r in rows] == [("0", "traditional"), ("150", "traditional"),
+                                                       ("0", "hashed"), ("150", "hashed")], rows
 for lat in ("0", "150"):
     d = "%s/latency-%s" % (S, lat)
     summ = json.load(open(d + "/summary.json"))
