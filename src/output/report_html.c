@@ -233,6 +233,47 @@ static void field_cell(sbuf *b, const cJSON *o, const char *f, const char *key, 
     }
 }
 
+/* compare's post-saccade foveal error (summary.json modes[].post_saccade, docs/latency.md "After a
+ * saccade"): a row per mode, over all post-saccade frames and per frame after the landing. */
+static void post_saccade_table(sbuf *b, const cJSON *sum)
+{
+    const cJSON *modes = cJSON_GetObjectItemCaseSensitive(sum, "modes"), *m0 = modes ? modes->child : NULL;
+    const cJSON *p0 = m0 ? cJSON_GetObjectItemCaseSensitive(m0, "post_saccade") : NULL;
+    if (!p0)
+        return;
+    static const char *const k_f[] = {"frames", "rmse", "flip", "coverage_ratio"};
+    int nk = cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(p0, "by_frame_after_landing"));
+    sb_puts(b, "<h2>After saccades</h2>\n<p>Within 5&deg; of the true gaze, the frames of the first 150 ms after "
+               "each saccade lands (all of them, then the k-th frame after the landing): frames, RMSE, FLIP, "
+               "coverage / reference.</p>\n<table class=\"summary\"><thead><tr><th>mode</th><th colspan=\"4\">all"
+               "</th>");
+    for (int k = 0; k < nk; k++)
+        sb_printf(b, "<th colspan=\"4\">k = %d</th>", k);
+    sb_puts(b, "</tr></thead>\n<tbody>\n");
+    int mi = 0;
+    for (const cJSON *m = m0; m; m = m->next, mi++) {
+        const cJSON *p = cJSON_GetObjectItemCaseSensitive(m, "post_saccade");
+        const cJSON *by = cJSON_GetObjectItemCaseSensitive(p, "by_frame_after_landing");
+        const char *mode = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(m, "mode"));
+        sb_puts(b, "<tr><th>");
+        html_escape(b, mode ? mode : "?");
+        sb_puts(b, "</th>");
+        for (int k = -1; k < nk; k++) {
+            const cJSON *o = k < 0 ? p : cJSON_GetArrayItem(by, k);
+            for (size_t f = 0; f < sizeof k_f / sizeof *k_f; f++) {
+                char key[128];
+                if (k < 0)
+                    snprintf(key, sizeof key, "modes.%d.post_saccade.%s", mi, k_f[f]);
+                else
+                    snprintf(key, sizeof key, "modes.%d.post_saccade.by_frame_after_landing.%d.%s", mi, k, k_f[f]);
+                field_cell(b, o, k_f[f], key, 1);
+            }
+        }
+        sb_puts(b, "</tr>\n");
+    }
+    sb_puts(b, "</tbody></table>\n");
+}
+
 /* compare's summary.json as a table: per mode its fields, then a row per ring with every field;
  * cells keyed "PREFIXmodes.M.F" and "PREFIXmodes.M.rings.K.F" (ring -1: the whole display). */
 static void summary_table(sbuf *b, const cJSON *sum, const char *prefix)
@@ -543,6 +584,7 @@ fs_status report_html_write(const report_html_desc *d)
         sb_puts(&b, "<h2>Summary</h2>\n<p>From summary.json: means over the measured frames per ring; coverage "
                     "is the ratio of the sums.</p>\n");
         summary_table(&b, sum, "");
+        post_saccade_table(&b, sum);
     }
     const cJSON *results = sum ? cJSON_GetObjectItemCaseSensitive(sum, "results") : NULL;
     int ti = 0;

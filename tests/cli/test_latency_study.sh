@@ -81,6 +81,18 @@ t = {r["latency_ms"]: float(r["fovea_rmse"]) for r in rows if r["mode"] == "trad
 assert t["150"] > t["0"] * 1.2, t
 EOF
 
+check "report.html shows the post-saccade error" /usr/bin/python3 - "$S/latency-150" <<'EOF'
+import json, sys
+d = sys.argv[1]
+html = open(d + "/report.html").read()
+p = json.load(open(d + "/summary.json"))["modes"][1]["post_saccade"]
+assert "<h2>After saccades</h2>" in html
+cell = 'data-k="modes.1.post_saccade.rmse">%.15g</td>' % p["rmse"]
+assert cell in html, cell
+k0 = 'data-k="modes.1.post_saccade.by_frame_after_landing.0.flip">%.15g</td>' % p["by_frame_after_landing"][0]["flip"]
+assert k0 in html, k0
+EOF
+
 expect_exit "a latency named twice" 2 "$BIN" compare forest --gaze-latency 0,20,20
 expect_exit "a list outside compare" 2 "$BIN" render forest --gaze-latency 0,20
 expect_exit "an empty item" 2 "$BIN" compare forest --gaze-latency 0,,20
