@@ -287,6 +287,12 @@ fs_status cli_finish(run_desc *d)
                "with it; plain bench does neither");
     if (d->bench.cost == ACC_COST_MODEL && !d->bench.cost_model)
         REFUSE("--cost model: give the model with --cost-model FILE");
+    if (d->foveation == FOVEATION_OFF && d->rings && d->rings_layout.kind != FOV_LAYOUT_OFF)
+        REFUSE("--foveation off and --rings %s: give one of them (--foveation off is --rings off)", d->rings);
+    if ((d->vrs || d->vrs_tile) && (d->foveation == FOVEATION_RINGS || d->foveation == FOVEATION_OFF))
+        REFUSE("--vrs and --vrs-tile shape VRS foveation: not with --foveation %s", foveation_kind_name(d->foveation));
+    if (d->foveation == FOVEATION_VRS && d->cmd != CMD_PLAN)
+        REFUSE("fovsim %s --foveation vrs: %s", c, VRS_NOT_BUILT);
     if (d->quiet && d->verbose)
         REFUSE("--quiet and --verbose: give one of them, not both");
     if (!d->builtin && !d->scene_path)

@@ -8,6 +8,7 @@
 
 #include "common/shared_defs.h"
 #include "core/status.h"
+#include "fov/vrs_map.h"
 #include "gaze/gaze.h"
 #include "gaze/gaze_tracker.h"
 #include "output/exr_write.h"
@@ -63,6 +64,10 @@ typedef struct run_desc {
     exr_compression_kind compression; /* --compression zip|none|piz */
     const char *rings;       /* --rings auto|off|SPEC; NULL = the scene's, else auto */
     fov_layout rings_layout; /* --rings parsed (FOV_LAYOUT_AUTO: resolved against the display per scene) */
+    foveation_kind foveation; /* --foveation rings|vrs|off; UNSET = the scene's, else rings (off is --rings off) */
+    const char *vrs;         /* --vrs auto|SPEC; NULL = the scene's, else auto */
+    vrs_spec vrs_spec;       /* --vrs parsed */
+    int vrs_tile;            /* --vrs-tile 8|16|32; 0 = the scene's, else VRS_TILE_DEFAULT */
     const char *ring_lod;    /* --ring-lod off|simplify[:U1,...]; NULL = the scene's, else off */
     const char *gaze_path;   /* --gaze FILE; NULL = fixation at the display centre */
     gaze_format gaze_format; /* --gaze-format, default detected from the content */

@@ -14,6 +14,7 @@
 #include "core/config.h"
 #include "core/log.h"
 #include "fov/fov_ring.h"
+#include "fov/vrs_map.h"
 
 /* >>setters: the options a range or a list of names does not describe */
 
@@ -90,6 +91,17 @@ static bool set_rings(const cli_option *o, run_desc *d, const char *v)
     const display_desc any = {1280, 720, 90.0f}; /* only the named layouts read it; their rings are redone */
     d->rings = v;
     if (fov_layout_parse(v, &any, &d->rings_layout, err, sizeof err) == FS_OK)
+        return true;
+    log_error("%s: %s", o->name, err);
+    return false;
+}
+
+/* The rate map parsed once, here (vrs_map.h). */
+static bool set_vrs(const cli_option *o, run_desc *d, const char *v)
+{
+    char err[256];
+    d->vrs = v;
+    if (vrs_spec_parse(v, &d->vrs_spec, err, sizeof err) == FS_OK)
         return true;
     log_error("%s: %s", o->name, err);
     return false;
@@ -234,6 +246,9 @@ static const cli_choice k_error[] = {{"flip", ACC_ERROR_FLIP}, {"alpha_rmse", AC
                                      {"rmse", ACC_ERROR_RMSE}, {"temporal_error", ACC_ERROR_TEMPORAL}, {NULL, 0}};
 static const cli_choice k_cost[] = {{"time", ACC_COST_TIME}, {"model", ACC_COST_MODEL}, {"work", ACC_COST_WORK},
                                     {NULL, 0}};
+static const cli_choice k_foveation[] = {{"rings", FOVEATION_RINGS}, {"vrs", FOVEATION_VRS}, {"off", FOVEATION_OFF},
+                                         {NULL, 0}};
+static const cli_choice k_vrs_tile[] = {{"8", 8}, {"16", 16}, {"32", 32}, {NULL, 0}};
 static const cli_choice k_format[] = {{"text", 0}, {"json", 1}, {NULL, 0}};
 
 /* >>the table */
@@ -337,6 +352,15 @@ const cli_option k_cli_options[] = {
     {"--rings", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
      "foveation rings: auto (acuity model, default), aggressive (twice the MAR\nslope, +0.5 mip bias in reduced "
      "rings), off, or innermost first\nOUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5", FIELD(rings), .set = set_rings, .flags = OPT_RECORDED},
+    {"--foveation", ARG_CHOICE, CMDS_DRAWING, "rings|vrs|off",
+     "how to foveate: rings (default; --rings), vrs (variable-rate shading:\none pass at full resolution, a shading rate "
+     "per tile; fovsim plan\nshows its map, drawing it is not built yet) or off (--rings off)", FIELD(foveation),
+     .choices = k_foveation, .flags = OPT_RECORDED},
+    {"--vrs", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
+     "VRS rate map: auto (acuity model, default) or innermost first\nOUTER:RATE,... with * for the last, rates 1x1, "
+     "1x2, 2x1, 2x2, 2x4, 4x2,\n4x4, e.g. 10:1x1,25:2x2,*:4x4", FIELD(vrs), .set = set_vrs, .flags = OPT_RECORDED},
+    {"--vrs-tile", ARG_CHOICE, CMDS_DRAWING, "8|16|32", "VRS tile size in pixels, one rate per tile (default 16)",
+     FIELD(vrs_tile), .choices = k_vrs_tile, .flags = OPT_RECORDED},
     {"--ring-lod", ARG_STRING /* checked against the ring layout once the scene is known */, CMDS_DRAWING, "SPEC",
      "stochastic simplification of MASK foliage per ring (docs/ring-lod.md):\noff (default); simplify: in reduced "
      "rings each card keeps u = its area\nin ring pixels (at least 1/16), the kept ones enlarged to keep the\n"

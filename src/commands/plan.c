@@ -3,9 +3,46 @@
 #include "commands/commands.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+
+#include "fov/vrs_map.h"
 
 #include "passes/plan.h"
 #include "session/session.h"
+
+/* VRS foveation (vrs_map.h): the rate map for the gaze at the display centre, its share of pixels
+ * per rate and ideal saving, beside the rings' (plan_print printed them above). */
+static void print_vrs(const run_desc *d, const scene *sc, const plan *pl)
+{
+    display_desc dd = {pl->width, pl->height, pl->hfov_deg};
+    vrs_spec spec;
+    int tile, nx, ny;
+    session_vrs(d, sc, &spec, &tile);
+    vrs_tile_grid(&dd, tile, &nx, &ny);
+    vrs_rate *rates = malloc((size_t)nx * (size_t)ny);
+    if (!rates)
+        return;
+    vrs_map_fill(&dd, &spec, tile, 0.5f * (float)dd.width, 0.5f * (float)dd.height, rates);
+    vrs_stats st = vrs_map_stats(&dd, tile, rates);
+    free(rates);
+    char text[256];
+    vrs_spec_format(&spec, text, sizeof text);
+    printf("foveation  vrs: one pass at full resolution, one shading rate per %d x %d tile (%d x %d tiles); drawing "
+           "it is not built yet (issue 33 part 2)\n", tile, tile, nx, ny);
+    printf("vrs        %s%s, gaze at the centre:\n", text,
+           spec.is_auto ? " (acuity model per tile: docs/foveation.md \"Variable-rate shading\")" : "");
+    for (int i = 0; i < VRS_RATE_COUNT; i++)
+        if (st.pixels[i] > 0)
+            printf("  %-4s     %5.1f %% of display pixels\n", vrs_rate_name(k_vrs_rates[i]), 100.0 * st.share[i]);
+    double px = (double)dd.width * (double)dd.height;
+    printf("  total      %.1f %% of display pixels shaded: ideal shading saving %.1f %% (ideal speedup %.2fx)\n",
+           100.0 * st.shaded / px, 100.0 * st.saving, px / st.shaded);
+    if (pl->rings) {
+        long long rp = fov_shaded_pixels(&dd, &pl->layout, 0.5f * (float)dd.width, 0.5f * (float)dd.height,
+                                         FOV_MARGIN_BLOCKS, NULL);
+        printf("  the rings above shade %.1f %%: saving %.1f %%\n", 100.0 * (double)rp / px, 100.0 * (1.0 - (double)rp / px));
+    }
+}
 
 fs_status cmd_plan(const run_desc *d)
 {
@@ -17,6 +54,8 @@ fs_status cmd_plan(const run_desc *d)
     st = session_build_plan(d, &sc, &pl);
     if (st == FS_OK)
         plan_print(&pl, &sc, stdout);
+    if (st == FS_OK && session_foveation(d, &sc) == FOVEATION_VRS)
+        print_vrs(d, &sc, &pl);
     gaze_tracker_desc td = gaze_tracker_merge(&d->tracker, &sc.tracker);
     if (st == FS_OK && !gaze_tracker_is_ideal(&td)) { /* absent without one: plans print as before */
         char tr[160];

@@ -33,6 +33,9 @@ const char *foveation_kind_name(foveation_kind k);
 /* "rings", "vrs" or "off" (exactly); false otherwise. */
 bool foveation_kind_parse(const char *text, foveation_kind *out);
 
+/* What drawing commands say when asked for VRS foveation (plan shows the map). */
+#define VRS_NOT_BUILT "VRS drawing is not built yet (issue 33 part 2); fovsim plan --foveation vrs shows the rate map"
+
 /* A shading rate: the coarse pixel's width and height in display pixels as log2 each, packed as
  * (log2 width) << 2 | (log2 height), the encoding of D3D12's shading-rate images, so a shader reads
  * width = 1 << (r >> 2), height = 1 << (r & 3). Only the seven rates below exist (no 1x4, 4x1). */

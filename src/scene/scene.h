@@ -26,6 +26,7 @@
 #include "core/fmath.h"
 #include "core/status.h"
 #include "fov/fov_ring.h"
+#include "fov/vrs_map.h"
 #include "gaze/gaze.h"
 #include "gaze/gaze_tracker.h"
 #include "common/shared_defs.h" /* FS_ALPHA_MODES, the table of alpha modes */
@@ -216,6 +217,12 @@ typedef struct scene {
                               empty = not given (the CLI's --rings, else auto); the run record hashes it */
     fov_layout rings_layout; /* the same, parsed once when the file is read (valid when rings[0]);
                                 FOV_LAYOUT_AUTO is resolved against the run's display later */
+    foveation_kind foveation; /* "foveation": rings, vrs or off; UNSET = not given (the CLI's
+                                 --foveation, else rings) */
+    char vrs[128];         /* the VRS rate map from the scene file ("auto" or "10:1x1,*:4x4"), empty =
+                              not given (the CLI's --vrs, else auto) */
+    vrs_spec vrs_spec;     /* the same, parsed once when the file is read (valid when vrs[0]) */
+    int vrs_tile;          /* "vrs_tile": 8, 16 or 32; 0 = not given (the CLI's --vrs-tile, else 16) */
     char ring_lod[128];    /* ring LOD from the scene file ("off", "simplify", "simplify:1,1,1/4"),
                               empty = not given (the CLI's --ring-lod, else off) */
     gaze_tracker_opts tracker; /* the eye tracker from the scene file's "gaze" object (latency, rate,

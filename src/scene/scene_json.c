@@ -274,10 +274,46 @@ static fs_status parse_gaze_tracker(const jctx *c, const cJSON *j)
     return s == FS_OK ? parse_gaze_place(c, j) : s;
 }
 
+/* "foveation", "vrs" and "vrs_tile" (vrs_map.h). "vrs" and "vrs_tile" may stand without
+ * "foveation": "vrs" (they shape VRS when --foveation vrs chooses it); "foveation": "off" with a
+ * "rings" layout other than "off" contradicts itself. */
+static fs_status parse_foveation(const jctx *c, const cJSON *root)
+{
+    scene *sc = c->sc;
+    const char *str;
+    const cJSON *j;
+    fs_status s = FS_OK;
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "foveation"))) {
+        if ((s = jstring(c, j, "foveation", &str)) != FS_OK)
+            return s;
+        if (!foveation_kind_parse(str, &sc->foveation))
+            return jfail(c, "foveation", "expected \"rings\", \"vrs\" or \"off\", got \"%s\"", str);
+        if (sc->foveation == FOVEATION_OFF && sc->rings[0] && sc->rings_layout.kind != FOV_LAYOUT_OFF)
+            return jfail(c, "foveation", "\"off\" contradicts \"rings\": \"%s\" (give one of them)", sc->rings);
+    }
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "vrs"))) {
+        if ((s = jstring(c, j, "vrs", &str)) != FS_OK)
+            return s;
+        char err[256];
+        if (strlen(str) >= sizeof sc->vrs || vrs_spec_parse(str, &sc->vrs_spec, err, sizeof err) != FS_OK)
+            return jfail(c, "vrs", "expected \"auto\" or a rate map like \"10:1x1,25:2x2,*:4x4\" (%s)",
+                         strlen(str) >= sizeof sc->vrs ? "too long" : err);
+        snprintf(sc->vrs, sizeof sc->vrs, "%s", str);
+    }
+    if ((j = cJSON_GetObjectItemCaseSensitive(root, "vrs_tile"))) {
+        if ((s = jint(c, j, "vrs_tile", 8, 32, &sc->vrs_tile)) != FS_OK)
+            return s;
+        if (!vrs_tile_valid(sc->vrs_tile))
+            return jfail(c, "vrs_tile", "expected 8, 16 or 32 (pixels), got %d", sc->vrs_tile);
+    }
+    return s;
+}
+
 static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
 {
     static const char *const keys[] = {"display", "alpha_mode", "light", "assets", "instances",
-                                       "camera", "materials", "rings", "ring_lod", "taa", "gaze", "comment", NULL};
+                                       "camera", "materials", "rings", "ring_lod", "foveation", "vrs", "vrs_tile",
+                                       "taa", "gaze", "comment", NULL};
     char got[64];
     scene *sc = c->sc;
     const char *str;
@@ -338,6 +374,8 @@ static fs_status parse_root(const jctx *c, const cJSON *root, asset_spec *specs)
                          strlen(str) >= sizeof sc->rings ? "too long" : err);
         snprintf(sc->rings, sizeof sc->rings, "%s", str);
     }
+    if ((s = parse_foveation(c, root)) != FS_OK)
+        return s;
     if ((j = cJSON_GetObjectItemCaseSensitive(root, "ring_lod"))) {
         /* Ring LOD (ring_lod.h): the form now; one keep fraction per ring once the layout is known. */
         if ((s = jstring(c, j, "ring_lod", &str)) != FS_OK)

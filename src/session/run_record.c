@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 680, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 744, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 
@@ -67,7 +67,11 @@ static uint64_t scene_settings_hash(const scene *sc)
         for (int m = 0; m < sc->assets[a].material_count; m++)
             if (sc->assets[a].materials[m].has_alpha_lod_max)
                 h = hash_floats(hash_u64(h, ((uint64_t)a << 32) | (uint64_t)m), &sc->assets[a].materials[m].alpha_lod_max, 1);
-    return hash_str(hash_str(h, sc->rings), sc->ring_lod);
+    h = hash_str(hash_str(h, sc->rings), sc->ring_lod);
+    /* The VRS keys only when given: other scenes hash as before. */
+    if (sc->foveation != FOVEATION_UNSET || sc->vrs[0] || sc->vrs_tile)
+        h = hash_u64(hash_str(hash_u64(h, (uint64_t)sc->foveation), sc->vrs), (uint64_t)sc->vrs_tile);
+    return h;
 }
 
 /* FNV-1a of the running executable: a rebuilt fovsim may draw other pixels under the same version. */
@@ -145,6 +149,9 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
         }
         sb_printf(&t, "rings: %s\n", or_default(d->rings));
         sb_printf(&t, "ring lod: %s\n", or_default(d->ring_lod));
+        if (d->foveation != FOVEATION_UNSET || d->vrs || d->vrs_tile) /* absent when not given: older folders stay valid */
+            sb_printf(&t, "foveation: %s, vrs: %s, vrs tile: %d\n", foveation_kind_name(d->foveation), or_default(d->vrs),
+                d->vrs_tile);
         sb_printf(&t, "overlay: %d, debug channels: %d\n", d->overlay, d->debug_channels);
         sb_printf(&t, "hash: scale %.9g, kind %d, aniso %d, fade %s, fade n %.9g, offset %s\n", d->hash_scale, d->hash_kind,
             d->hash_aniso, d->no_fade ? "off" : "on", d->fade_n, d->no_hash_offset ? "off" : "on");

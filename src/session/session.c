@@ -65,10 +65,27 @@ static alpha_params run_alpha_params(const run_desc *d)
     return alpha_params_defaults(&a);
 }
 
-/* The ring layout of a run: --rings (parsed by the CLI), else the scene file's, else auto; "auto"
- * resolved against the display. */
+foveation_kind session_foveation(const run_desc *d, const scene *sc)
+{
+    return d->foveation != FOVEATION_UNSET ? d->foveation : sc->foveation != FOVEATION_UNSET ? sc->foveation
+                                                                                            : FOVEATION_RINGS;
+}
+
+void session_vrs(const run_desc *d, const scene *sc, vrs_spec *spec, int *tile)
+{
+    *spec = d->vrs ? d->vrs_spec : sc->vrs[0] ? sc->vrs_spec : (vrs_spec){.is_auto = true};
+    *tile = d->vrs_tile ? d->vrs_tile : sc->vrs_tile ? sc->vrs_tile : VRS_TILE_DEFAULT;
+}
+
+/* The ring layout of a run: off with foveation off, else --rings (parsed by the CLI), else the scene
+ * file's, else auto; "auto" resolved against the display. Under VRS foveation the rings are what
+ * fovsim plan compares the rate map with. */
 static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, int height, fov_layout *out)
 {
+    if (session_foveation(d, sc) == FOVEATION_OFF) {
+        *out = fov_layout_off();
+        return FS_OK;
+    }
     display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
                        sc->display.hfov_deg};
     /* Both were parsed once, where they were read; only "auto" and "aggressive" depend on the
@@ -117,6 +134,10 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .history = d->taa.history,
                                            .nan_check = d->taa.nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
+    if (session_foveation(d, sc) == FOVEATION_VRS && d->cmd != CMD_PLAN) { /* the CLI's refused in cli_finish */
+        log_error("%s: \"foveation\": \"vrs\": %s", sc->path, VRS_NOT_BUILT);
+        return FS_ERR_USAGE;
+    }
     fs_status st = resolve_layout(d, sc, d->width, d->height, &out->layout);
     return st == FS_OK ? resolve_ring_lod(d, sc, &out->layout, &out->ring_lod) : st;
 }

@@ -33,9 +33,15 @@ bool session_interrupted(void);
 fs_status session_load_scene(const run_desc *d, scene *sc);
 /* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
 int session_frame_count(const run_desc *d, const scene *sc);
+/* How a run foveates: --foveation, else the scene's "foveation", else rings. */
+foveation_kind session_foveation(const run_desc *d, const scene *sc);
+/* The VRS rate map of a run: --vrs, else the scene's "vrs", else auto; the tile: --vrs-tile, else
+ * the scene's "vrs_tile", else VRS_TILE_DEFAULT. */
+void session_vrs(const run_desc *d, const scene *sc, vrs_spec *spec, int *tile);
 /* The plan options of a run: --alpha, the size, TAA and alpha controls (the CLI's, else the
  * scene's), and the ring layout (--rings, else the scene's, else auto; auto falls back to off where
- * it would not save pixels). One line and FS_ERR_USAGE for a bad layout. */
+ * it would not save pixels; off with foveation off). One line and FS_ERR_USAGE for a bad layout,
+ * and for VRS foveation in any command but plan (VRS_NOT_BUILT). */
 fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options *out);
 /* plan_build of those options. */
 fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl);
