@@ -67,8 +67,10 @@ static alpha_params run_alpha_params(const run_desc *d)
 
 foveation_kind session_foveation(const run_desc *d, const scene *sc)
 {
-    return d->foveation != FOVEATION_UNSET ? d->foveation : sc->foveation != FOVEATION_UNSET ? sc->foveation
-                                                                                            : FOVEATION_RINGS;
+    if (d->foveation != FOVEATION_UNSET)
+        return d->foveation;
+    /* A --rings layout asks for rings, whatever the scene's "foveation" says (the CLI wins). */
+    return !d->rings && sc->foveation != FOVEATION_UNSET ? sc->foveation : FOVEATION_RINGS;
 }
 
 void session_vrs(const run_desc *d, const scene *sc, vrs_spec *spec, int *tile)

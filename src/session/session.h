@@ -33,7 +33,8 @@ bool session_interrupted(void);
 fs_status session_load_scene(const run_desc *d, scene *sc);
 /* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
 int session_frame_count(const run_desc *d, const scene *sc);
-/* How a run foveates: --foveation, else the scene's "foveation", else rings. */
+/* How a run foveates: --foveation, else rings where --rings is given, else the scene's
+ * "foveation", else rings. */
 foveation_kind session_foveation(const run_desc *d, const scene *sc);
 /* The VRS rate map of a run: --vrs, else the scene's "vrs", else auto; the tile: --vrs-tile, else
  * the scene's "vrs_tile", else VRS_TILE_DEFAULT. */

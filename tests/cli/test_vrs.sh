@@ -41,6 +41,8 @@ expect_exit "compare --foveation vrs refuses" 2 "$BIN" compare forest --foveatio
 expect_exit "bench --foveation vrs refuses" 2 "$BIN" bench forest --foveation vrs --frames 1
 expect_exit "a scene with \"foveation\": \"vrs\" refuses to render" 2 "$BIN" render "$T/forest_vrs.json" --frames 1 --out "$T/k"
 check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS drawing is not built yet' "$T/err.txt"
+check "--rings on the command line chooses rings over the scene's \"foveation\": \"vrs\"" \
+  bash -c "'$BIN' plan '$T/forest_vrs.json' --rings aggressive >'$T/over.txt' && grep -q '^rings      aggressive' '$T/over.txt' && ! grep -q '^vrs' '$T/over.txt'"
 
 # ---- --foveation off is --rings off
 "$BIN" plan forest --foveation off >"$T/off.txt" 2>&1
