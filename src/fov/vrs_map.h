@@ -104,10 +104,12 @@ double vrs_rect_min_ecc_deg(const display_desc *d, float gx, float gy, double x0
 vrs_rate vrs_tile_rate_auto(const display_desc *d, int tile, float gx, float gy, int x0, int y0, float slope,
                             float omega0);
 
-/* Fills rates[ty * tiles_x + tx] (vrs_tile_grid's size) for gaze g (display pixels; clamped onto the
- * display as fov_gaze_clamp does): auto by vrs_tile_rate_auto with the default model; explicit: the
- * band holding the tile's lowest eccentricity (the finest rate any of its pixels' bands asks for).
- * Cost: a few square roots per tile (80 x 45 tiles for 1280x720 at 16 px). */
+/* Fills rates[ty * tiles_x + tx] (vrs_tile_grid's size; row 0 is the top row of tiles, so a GL
+ * texture of it, whose rows run bottom-up, is flipped or read at tiles_y - 1 - ty) for gaze g
+ * (display pixels; clamped onto the display as fov_gaze_clamp does): auto by vrs_tile_rate_auto
+ * with the default model; explicit: the band holding the tile's lowest eccentricity (the finest
+ * rate any of its pixels' bands asks for). Cost: about 150 ns of CPU per tile (1280x720 at 16 px,
+ * 80 x 45 tiles: 0.54 ms; docs/foveation.md), cheap enough to redo every frame. */
 void vrs_map_fill(const display_desc *d, const vrs_spec *s, int tile, float gx, float gy, vrs_rate *rates);
 
 /* What a map shades: display pixels per rate (indices of k_vrs_rates; tiles clipped to the
