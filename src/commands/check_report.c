@@ -116,7 +116,10 @@ static void print_groups(const judge *j)
         char fl[64], rg[8], wf[16], img[32];
         list_ints(frames, n, fl, sizeof fl);
         snprintf(rg, sizeof rg, f->ring < 0 ? "all" : "%d", f->ring);
-        snprintf(wf, sizeof wf, f->frame < 0 ? "" : "%04d", f->frame);
+        if (f->frame < 0)
+            wf[0] = '\0';
+        else
+            snprintf(wf, sizeof wf, "%04d", f->frame);
         snprintf(img, sizeof img, "%s", f->image[0] ? f->image : "(frame)");
         if (f->metric == CHECK_METRIC_COUNT)
             printf("  %-12s %-4s %-16s %-14s %s\n", img, rg, "-", f->frame < 0 ? "run" : fl, f->note);
