@@ -348,7 +348,7 @@ static fs_status parse_ring(const char *b, const char *e, int n, fov_ring *out, 
     double v;
     if (strcmp(tok[0], "*") == 0) {
         out->outer_deg = INFINITY;
-    } else if (parse_number(tok[0], &v) && v > 0.0 && isfinite((float)v)) {
+    } else if (parse_number(tok[0], &v) && (float)v > 0.0f && isfinite((float)v)) { /* as the float kept */
         out->outer_deg = (float)v;
     } else {
         fov_set_err(err, err_size, "ring %d: radius '%s' is not a positive finite number of degrees (or '*')", n, tok[0]);

@@ -93,7 +93,7 @@ static fs_status parse_band(const char *b, const char *e, int n, vrs_spec *s, ch
     double v;
     if (!strcmp(outer, "*"))
         s->outer_deg[n - 1] = INFINITY;
-    else if (fov_parse_ratio(outer, &v) && v > 0.0 && isfinite((float)v))
+    else if (fov_parse_ratio(outer, &v) && (float)v > 0.0f && isfinite((float)v)) /* as the float it is kept in */
         s->outer_deg[n - 1] = (float)v;
     else {
         fov_set_err(err, err_size, "band %d: border '%s' is not a positive finite number of degrees (or '*')", n, outer);
