@@ -657,7 +657,8 @@ static fs_status slurm_parts(const sweep_manifest *m, int nref, slurm_plan *sp)
     return FS_OK;
 }
 
-/* The #SBATCH lines of the manifest's resources. */
+/* The #SBATCH lines of the manifest's resources, then its "extra" lines (after fovsim's own, so
+ * that one of them, --no-requeue say, has the last word). */
 static void sbatch_resources(const sweep_manifest *m, sbuf *t)
 {
     sb_printf(t, "#SBATCH --cpus-per-task=%d\n", m->slurm.cpus_per_task);
@@ -667,6 +668,7 @@ static void sbatch_resources(const sweep_manifest *m, sbuf *t)
         sb_printf(t, "#SBATCH --time=%s\n", m->slurm.time);
     if (m->slurm.partition[0])
         sb_printf(t, "#SBATCH --partition=%s\n", m->slurm.partition);
+    sb_puts(t, "#SBATCH --requeue\n#SBATCH --open-mode=append\n");
     for (int i = 0; i < m->slurm.nextra; i++)
         sb_printf(t, "#SBATCH %s\n", m->slurm.extra[i]);
 }
@@ -691,7 +693,7 @@ static void sbatch_text(const sweep_manifest *m, const slurm_plan *sp, const slu
     sb_puts(t, "\n");
     sbatch_resources(m, t);
     const char *log = q->ref ? "ref" : "slurm";
-    sb_printf(t, "#SBATCH --requeue\n#SBATCH --open-mode=append\n#SBATCH --output=%s/logs/%s-%%A_%%a.out\n"
+    sb_printf(t, "#SBATCH --output=%s/logs/%s-%%A_%%a.out\n"
               "#SBATCH --error=%s/logs/%s-%%A_%%a.err\n"
               "# llvmpipe draws with as many threads as the task has cores\n"
               "export LP_NUM_THREADS=${LP_NUM_THREADS:-${SLURM_CPUS_PER_TASK:-1}}\nexec ",
@@ -701,6 +703,22 @@ static void sbatch_text(const sweep_manifest *m, const slurm_plan *sp, const slu
         snprintf(idx, sizeof idx, "\"$((SLURM_ARRAY_TASK_ID + %d))\"", q->offset);
     job_command(m, exe, q->ref, idx, t);
     sb_puts(t, "\n");
+}
+
+/* Scripts an earlier --slurm wrote that this one does not (a list split differently then): gone,
+ * so that no stale array is submitted by hand. `what`: "sweep" or "references"; nk: its parts. */
+static void remove_stale_scripts(const sweep_manifest *m, const char *what, int nk)
+{
+    char path[PATH_MAX + 64];
+    if (nk > 1) {
+        snprintf(path, sizeof path, "%s/%s.sbatch", m->out, what);
+        unlink(path);
+    }
+    for (int k = nk > 1 ? nk : 0;; k++) {
+        snprintf(path, sizeof path, "%s/%s-%d.sbatch", m->out, what, k);
+        if (unlink(path) != 0)
+            break;
+    }
 }
 
 static fs_status write_sbatch(const sweep_manifest *m, const slurm_plan *sp, const char *exe)
@@ -715,6 +733,13 @@ static fs_status write_sbatch(const sweep_manifest *m, const slurm_plan *sp, con
         free(t.p);
         if (st == FS_OK && chmod(sp->parts[p].script, 0755) != 0)
             log_warn("%s: cannot make it executable: %s", sp->parts[p].script, strerror(errno));
+    }
+    int nref_parts = 0;
+    while (nref_parts < sp->nparts && sp->parts[nref_parts].ref)
+        nref_parts++;
+    if (st == FS_OK) {
+        remove_stale_scripts(m, "references", nref_parts);
+        remove_stale_scripts(m, "sweep", sp->nparts - nref_parts);
     }
     return st;
 }
@@ -833,6 +858,7 @@ static fs_status submit(const sweep_manifest *m, const ref_plan *rp, const slurm
                    q->ref ? "reference job" : "task", n == 1 ? "" : "s", spec.p, strlen(spec.p) > 100 ? "..." : "");
             if (q->ref)
                 sb_printf(&deps, "%s%ld", deps.len ? ":" : "--dependency=afterok:", ids[nids]);
+            st = deps.oom ? FS_ERR_NOMEM : st;
             nids++;
         }
         free(spec.p);

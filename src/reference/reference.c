@@ -581,14 +581,12 @@ static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *i
  * cluster's shared storage) draw each frame once: the one that takes the lock draws, the others
  * wait for it and then read the entry. Polled (a blocking flock cannot be interrupted); the kernel
  * releases the lock of a process that dies, so a killed writer blocks nobody. The lock files stay:
- * removing one could split waiters between two files. -1 when no lock can be had (a read-only
- * cache, a file system without locks): the frame is then drawn unlocked, as before. */
-static int lock_entry(const char *dir, const char *hex)
+ * removing one could split waiters between two files (but see unlock_entry). -1 when no lock
+ * can be had (a read-only cache, a file system without locks): the frame is then drawn unlocked,
+ * as before. `path` (n bytes) receives the lock's path. */
+static int lock_entry(const char *dir, const char *hex, char *path, size_t n)
 {
-    char path[1100];
-    snprintf(path, sizeof path, "%s/ref-%s.lock", dir, hex);
-    if (file_make_dirs(dir) != FS_OK)
-        return -1;
+    snprintf(path, n, "%s/ref-%s.lock", dir, hex);
     int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
     if (fd < 0) {
         log_info("REFERENCE: %s: cannot open the entry's lock (%s); drawing unlocked", path, strerror(errno));
@@ -609,10 +607,17 @@ static int lock_entry(const char *dir, const char *hex)
     return fd;
 }
 
-static void unlock_entry(int fd)
+/* Releases the lock (closing the last descriptor releases the flock). After a failure (a full
+ * disk, a failed draw) its file goes too, so that a run that writes nothing leaves nothing in the
+ * cache; a process waiting on it then draws under a file a newcomer does not see, which at worst
+ * draws the frame twice, never wrongly. */
+static void unlock_entry(int fd, const char *path, bool failed)
 {
-    if (fd >= 0)
-        close(fd); /* closing the last descriptor releases the flock */
+    if (fd < 0)
+        return;
+    if (failed)
+        unlink(path);
+    close(fd);
 }
 
 /* The cached entry when it is usable (a hit fills img and info); *cr says why not. */
@@ -666,24 +671,27 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     cache_result cr;
     if (cache_hit(rf, hex, img, info, &cr, &mode))
         return FS_OK;
-    /* A miss: take the entry's lock and look again, for its holder may have just written it. */
-    int lock = lock_entry(rf->cache_dir, hex);
+    /* A miss: the folder (a run that cannot make it fails before drawing), the entry's lock, and a
+     * second look, for the lock's holder may have just written the entry. */
+    fs_status st = file_make_dirs(rf->cache_dir);
+    if (st != FS_OK)
+        return st;
+    char lock_path[1100];
+    int lock = lock_entry(rf->cache_dir, hex, lock_path, sizeof lock_path);
     if (lock >= 0 && cache_hit(rf, hex, img, info, &cr, &mode)) {
-        unlock_entry(lock);
+        unlock_entry(lock, lock_path, false);
         return FS_OK;
     }
     info->rebuilt = cr != CACHE_ABSENT;
-    fs_status st = report_miss(info, cr, mode);
+    st = report_miss(info, cr, mode);
     if (st == FS_OK)
         st = draw_frame(rf, fr, hex, img, info);
     if (st == FS_OK) {
-        st = file_make_dirs(rf->cache_dir);
-        if (st == FS_OK)
-            st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);
+        st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);
         if (st != FS_OK)
             exr_image_free(img);
     }
-    unlock_entry(lock);
+    unlock_entry(lock, lock_path, st != FS_OK);
     return st;
 }
 

@@ -71,6 +71,9 @@ check "  the reference jobs' own logs" grep -q '^#SBATCH --output=.*/logs/ref-%A
 "$BIN" sweep m.json --slurm --out sl2 >/dev/null 2>&1
 check "without a cluster: one array (MaxArraySize 1001), named after the manifest" \
   bash -c "grep -q '^#SBATCH --array=0-3$' sl2/sweep.sbatch && grep -q '^#SBATCH --job-name=fovsim-m$' sl2/sweep.sbatch"
+"$BIN" sweep m.json --slurm --out sl >/dev/null 2>&1
+check "written again unsplit: the split scripts are removed" \
+  bash -c "test -f sl/sweep.sbatch && test ! -e sl/sweep-0.sbatch && test ! -e sl/sweep-1.sbatch"
 expect_exit "--job-name without --slurm -> 2" 2 "$BIN" sweep m.json --job-name x
 expect_exit "--max-array-size 0 -> 2" 2 "$BIN" sweep m.json --slurm --max-array-size 0
 
