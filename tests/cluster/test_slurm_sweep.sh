@@ -3,8 +3,8 @@
 # (2 scenes x 2 traces x 3 TAA settings, 2 modes each) is split into three task arrays (5 + 5 + 2)
 # after one reference array (a job per scene), submitted with `fovsim sweep --slurm --submit
 # --wait`, merged, and compared with a serial run of the same manifest (byte-identical metrics
-# apart from the timing column). Then, one task's folder removed (as a task cancelled before it
-# ran leaves it), a second submission submits exactly that one index; a third submits nothing.
+# apart from the timing column). Then one task is resubmitted and cancelled with scancel before it
+# runs: the next submission submits exactly that one index; a third submits nothing.
 # Exits 77 (skipped) without the packages.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
@@ -58,11 +58,22 @@ check "  and every task read all 3 from the cache" \
 check "merge of the Slurm run exits 0" test $? -eq 0
 check "the Slurm arrays give the serial run's metrics" cmp -s <(untimed serial/metrics.csv) <(untimed onslurm/metrics.csv)
 
-# Task 7 (in the second array, index 2) as if cancelled before it ran
+# Task 7 (the second array's index 2) cancelled for real: its folder removed, the node drained so
+# that the submitted jobs stay pending, task 7's array task cancelled with scancel, the node back
 t7=$("$BIN" sweep ms.json --list --out onslurm | awk '$1 == 7 { print $3 }')
 rm -rf "onslurm/tasks/$t7"
+scontrol update NodeName="$SLURM_TEST_NODE" State=DRAIN Reason=fovsim-test
+timeout 60 "$BIN" sweep ms.json --slurm --submit --out onslurm >"$T/out_c.txt" 2>&1
+ref=$(sed -n 's|^submitted batch job \([0-9]*\): .*/references.sbatch, .*|\1|p' "$T/out_c.txt")
+job=$(sed -n 's|^submitted batch job \([0-9]*\): .*/sweep-1.sbatch, 1 task (--array=2)$|\1|p' "$T/out_c.txt")
+check "task 7 submitted alone, pending on a drained node" test -n "$ref" -a -n "$job"
+scancel "${job}_2"
+scontrol update NodeName="$SLURM_TEST_NODE" State=RESUME
+slurm_wait "$ref" 120; slurm_wait "$job" 120
+check "  cancelled: task 7 is still to do" \
+  bash -c "'$BIN' sweep ms.json --list --out onslurm | grep -q '^   7  todo '"
 timeout 300 "$BIN" sweep ms.json --slurm --submit --wait --out onslurm >"$T/out2.txt" 2>&1
-check "a resubmission after one task was lost exits 0" test $? -eq 0
+check "the resubmission after the cancellation exits 0" test $? -eq 0
 check "  says it skips 11 complete tasks" grep -q '^11 of 12 tasks complete, skipped; submitting 1$' "$T/out2.txt"
 check "  submits exactly one task index: 2 of sweep-1" grep -q 'sweep-1.sbatch, 1 task (--array=2)$' "$T/out2.txt"
 check "  and the one reference job of its scene" test "$(jobs_in "$T/out2.txt")" -eq 2
