@@ -1198,6 +1198,12 @@ fs_status cmd_sweep(int argc, char **argv)
         log_error("fovsim sweep: expected a manifest file (see fovsim sweep --help)");
         return FS_ERR_USAGE;
     }
+    if (job_name && (!job_name[0] || strspn(job_name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                      "0123456789-_.") != strlen(job_name))) {
+        /* an #SBATCH line ends its value at a blank */
+        log_error("--job-name '%s': expected letters, digits, '-', '_' or '.'", job_name);
+        return FS_ERR_USAGE;
+    }
     if ((job_name || max_array) && act != ACT_SLURM) {
         log_error("--job-name and --max-array-size go with --slurm");
         return FS_ERR_USAGE;

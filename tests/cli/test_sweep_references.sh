@@ -75,6 +75,8 @@ check "without a cluster: one array (MaxArraySize 1001), named after the manifes
 check "written again unsplit: the split scripts are removed" \
   bash -c "test -f sl/sweep.sbatch && test ! -e sl/sweep-0.sbatch && test ! -e sl/sweep-1.sbatch"
 expect_exit "--job-name without --slurm -> 2" 2 "$BIN" sweep m.json --job-name x
+expect_exit "--job-name with a blank -> 2" 2 "$BIN" sweep m.json --slurm --out sl3 --job-name "my study"
+check "  one line naming it" grep -q -- "--job-name 'my study': expected letters" "$T/err.txt"
 expect_exit "--max-array-size 0 -> 2" 2 "$BIN" sweep m.json --slurm --max-array-size 0
 
 summary
