@@ -41,11 +41,13 @@
 #include "core/hash.h"
 #include "core/log.h"
 #include "core/spawn.h"
+#include "core/progress.h"
 #include "core/strbuf.h"
 #include "output/out_path.h"
 #include "fov/fov_ring.h"
 #include "session/run_record.h"
 #include "frame/frame.h"
+#include "reference/reference.h"
 #include "session/session.h"
 #include "commands/sweep_manifest.h"
 
@@ -300,6 +302,126 @@ static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
     return st;
 }
 
+/* >>reference jobs (--reference-task G) */
+
+/* A task's reference frames depend on its scene, its frames (the chunk), the size and the
+ * reference settings, not on its gaze trace, ring layout, TAA or tracker (reference.h); the size
+ * and settings are the manifest's, one for all tasks. So the sweep plans one reference job per
+ * distinct (scene, chunk): it draws those frames into the shared cache before the group's compare
+ * tasks run (a Slurm dependency; the first jobs of --local and of a jobs file), and the tasks read
+ * them from there. The cache's lock per entry (reference.c) keeps a task that starts early from
+ * drawing a frame a reference job is drawing. */
+typedef struct ref_plan {
+    int n;
+    int *first_task; /* group g's first task, whose options the reference job uses */
+    int *group;      /* task i's group */
+} ref_plan;
+
+static void ref_plan_free(ref_plan *rp)
+{
+    free(rp->first_task);
+    free(rp->group);
+    *rp = (ref_plan){0};
+}
+
+static fs_status ref_plan_build(const sweep_manifest *m, ref_plan *rp)
+{
+    *rp = (ref_plan){.first_task = malloc(sizeof(int) * (size_t)m->ntasks),
+                     .group = malloc(sizeof(int) * (size_t)m->ntasks)};
+    if (!rp->first_task || !rp->group) {
+        ref_plan_free(rp);
+        return FS_ERR_NOMEM;
+    }
+    for (int i = 0; i < m->ntasks; i++) {
+        const sweep_task *k = &m->tasks[i];
+        int g = rp->n - 1; /* a scene's tasks are consecutive: its groups are the last ones */
+        for (; g >= 0 && m->tasks[rp->first_task[g]].scene == k->scene; g--)
+            if (m->tasks[rp->first_task[g]].first == k->first && m->tasks[rp->first_task[g]].end == k->end)
+                break;
+        if (g < 0 || m->tasks[rp->first_task[g]].scene != k->scene) {
+            g = rp->n++;
+            rp->first_task[g] = i;
+        }
+        rp->group[i] = g;
+    }
+    return FS_OK;
+}
+
+/* Which reference jobs and tasks have work: todo[g] for reference job g (a task of its group is not
+ * complete), todo[rp->n + i] for task i; *ntasks_todo counts the tasks. NULL: no memory. */
+static bool *todo_flags(const sweep_manifest *m, const ref_plan *rp, int *ntasks_todo)
+{
+    bool *t = calloc((size_t)(rp->n + m->ntasks), sizeof *t);
+    *ntasks_todo = 0;
+    for (int i = 0; t && i < m->ntasks; i++) {
+        bool todo = sweep_task_status(m, &m->tasks[i]) != TASK_DONE;
+        t[rp->n + i] = todo;
+        t[rp->group[i]] = t[rp->group[i]] || todo;
+        *ntasks_todo += todo;
+    }
+    return t;
+}
+
+/* Draws reference job g's frames into the cache: the frames its tasks measure, and the one
+ * before a chunk, whose reference compare draws too (for the frame-to-frame change). */
+static fs_status reference_frames(const run_desc *d, session *s, reference *rf, int *drawn, int *cached)
+{
+    int frames = session_frame_count(d, &s->sc);
+    int from = d->compare.first_frame > 0 ? d->compare.first_frame - 1 : 0;
+    fs_status st = FS_OK;
+    for (int i = from; i < frames && st == FS_OK; i++) {
+        if (session_interrupted())
+            return FS_ERR_INTERRUPTED;
+        frame_record fr = session_frame(s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
+        exr_image img;
+        reference_info info;
+        st = reference_frame(rf, &fr, &img, &info);
+        if (st == FS_OK) {
+            *drawn += !info.cached;
+            *cached += info.cached;
+            exr_image_free(&img);
+        }
+    }
+    return st;
+}
+
+static fs_status run_reference_task(const sweep_manifest *m, const ref_plan *rp, int g, bool quiet)
+{
+    const sweep_task *k = &m->tasks[rp->first_task[g]];
+    char *opts[SWEEP_MAX_ARGS];
+    int n;
+    run_desc d;
+    fs_status st = task_desc(m, k, opts, &n, &d, false, quiet);
+    char buf[1024];
+    const char *cache = st == FS_OK ? session_cache_dir(&d, buf, sizeof buf) : NULL;
+    if (st == FS_OK && !cache) {
+        printf("reference job %d: the tasks have no reference cache (--no-cache): nothing to draw ahead\n", g);
+        sweep_task_options_free(opts, n > 0 ? n : 0);
+        return FS_OK;
+    }
+    session s;
+    if (st == FS_OK) {
+        log_set_verbose(d.verbose);
+        st = session_begin(&d, &s, false);
+    }
+    if (st == FS_OK) {
+        ref_progress prog = {.pr = progress_begin("reference pass", 1, true, d.progress_interval)};
+        reference *rf = session_reference(&d, &s, &prog, &st);
+        int drawn = 0, cached = 0;
+        session_catch_sigint();
+        if (rf)
+            st = reference_frames(&d, &s, rf, &drawn, &cached);
+        if (st == FS_OK)
+            printf("reference job %d (the tasks of %s): %d frame%s drawn, %d from the cache, into %s\n", g, k->name,
+                   drawn, drawn == 1 ? "" : "s", cached, cache);
+        progress_end(&prog.pr);
+        reference_destroy(rf);
+        session_end(&s);
+    }
+    sweep_task_options_free(opts, n > 0 ? n : 0);
+    return st;
+}
+
 /* >>shell quoting (shell_quote, core/spawn.h) */
 
 /* Whether `s`, bound for a line of a jobs file or a Slurm script (`what` names it), holds no control
@@ -330,14 +452,19 @@ static fs_status scripts_safe(const sweep_manifest *m, const char *exe, bool slu
     return ok ? FS_OK : FS_ERR_USAGE;
 }
 
-/* The command that runs task I, as a shell line, appended to out. */
-static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, sbuf *out)
+/* The command that runs task I (or with `ref`, reference job I), as a shell line, appended to out. */
+static void job_command(const sweep_manifest *m, const char *exe, bool ref, const char *i_expr, sbuf *out)
 {
     shell_quote(out, exe);
     sb_puts(out, " sweep ");
     shell_quote(out, m->frozen);
-    sb_puts(out, " --task ");
+    sb_puts(out, ref ? " --reference-task " : " --task ");
     sb_puts(out, i_expr);
+}
+
+static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, sbuf *out)
+{
+    job_command(m, exe, false, i_expr, out);
 }
 
 /* >>--list */
@@ -377,11 +504,28 @@ static fs_status list_tasks(const sweep_manifest *m)
 
 /* >>--jobs-file */
 
-static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char *path)
+/* The reference jobs' lines come first, so that a farm that starts the lines in order (GNU
+ * parallel) starts them before the tasks; a task that starts while its reference job draws waits
+ * for the cache's entries (reference.c). */
+static void reference_job_lines(const sweep_manifest *m, const ref_plan *rp, const char *exe, sbuf *t)
+{
+    for (int g = 0; g < rp->n; g++) {
+        char idx[16], lp[PATH_MAX + 64];
+        snprintf(idx, sizeof idx, "%d", g);
+        snprintf(lp, sizeof lp, "%s/logs/ref-%04d.log", m->out, g);
+        job_command(m, exe, true, idx, t);
+        sb_puts(t, " >");
+        shell_quote(t, lp);
+        sb_puts(t, " 2>&1\n");
+    }
+}
+
+static fs_status write_jobs(const sweep_manifest *m, const ref_plan *rp, const char *exe, const char *path)
 {
     if (scripts_safe(m, exe, false) != FS_OK)
         return FS_ERR_USAGE;
     sbuf t = {0};
+    reference_job_lines(m, rp, exe, &t);
     for (int i = 0; i < m->ntasks; i++) {
         char idx[16], lp[PATH_MAX + 64];
         snprintf(idx, sizeof idx, "%d", i);
@@ -398,76 +542,343 @@ static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char
     fs_status st = out_write_atomic(path, t.p ? t.p : "");
     free(t.p);
     if (st == FS_OK)
-        printf("wrote %d commands to %s (one task each; a completed task is skipped, so running the file again "
-               "resumes it)\n  e.g.: parallel --jobs 4 --joblog %s/joblog --resume-failed < %s\n",
-               m->ntasks, path, m->out, path);
+        printf("wrote %d commands to %s (%d reference job%s, then one line per task; a completed task is "
+               "skipped, so running the file again resumes it)\n  e.g.: parallel --jobs 4 --joblog %s/joblog "
+               "--resume-failed < %s\n",
+               rp->n + m->ntasks, path, rp->n, rp->n == 1 ? "" : "s", m->out, path);
     return st;
 }
 
 /* >>--slurm */
 
-static fs_status write_sbatch(const sweep_manifest *m, const char *exe, char *script, size_t n)
+#define SWEEP_MAX_ARRAY_DEFAULT 1001 /* Slurm's default MaxArraySize */
+
+/* The sweep's array jobs: its reference jobs, then its tasks, each list cut into arrays of at most
+ * MaxArraySize indices (Slurm refuses an index of MaxArraySize or more), each array's index plus
+ * its offset being the reference job's or task's number. */
+typedef struct slurm_part {
+    bool ref;          /* reference jobs (--reference-task), else tasks */
+    int offset, count; /* items [offset, offset + count) */
+    char script[PATH_MAX + 64];
+} slurm_part;
+
+typedef struct slurm_plan {
+    int max_array;          /* indices per array: MaxArraySize */
+    int nref;               /* reference jobs */
+    const char *max_from;   /* where that came from, for people */
+    char job_name[128];     /* the tasks'; the reference jobs' is it + "-ref" */
+    slurm_part *parts;
+    int nparts;
+} slurm_plan;
+
+/* Runs argv (no shell) with its stdout and stderr into a temporary file of the sweep's logs/,
+ * read back into out (n bytes at most); returns spawn_run's result. */
+static int run_capture(const sweep_manifest *m, char *const argv[], char *out, size_t n)
 {
-    if (scripts_safe(m, exe, true) != FS_OK)
-        return FS_ERR_USAGE;
-    snprintf(script, n, "%s/sweep.sbatch", m->out);
-    char text[16384];
-    int o = snprintf(text, sizeof text,
-                     "#!/bin/bash\n"
-                     "# fovsim sweep: one task per array index (fovsim sweep --list shows them). A completed task\n"
-                     "# is skipped, so submitting this script again resumes the sweep. docs/cluster.md\n"
-                     "#SBATCH --job-name=fovsim-sweep\n#SBATCH --array=0-%d", m->ntasks - 1);
-    if (m->slurm.max_running > 0)
-        o += snprintf(text + o, sizeof text - (size_t)o, "%%%d", m->slurm.max_running);
-    o += snprintf(text + o, sizeof text - (size_t)o, "\n#SBATCH --cpus-per-task=%d\n", m->slurm.cpus_per_task);
-    if (m->slurm.mem[0])
-        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH --mem=%s\n", m->slurm.mem);
-    if (m->slurm.time[0])
-        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH --time=%s\n", m->slurm.time);
-    if (m->slurm.partition[0])
-        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH --partition=%s\n", m->slurm.partition);
-    for (int i = 0; i < m->slurm.nextra; i++)
-        o += snprintf(text + o, sizeof text - (size_t)o, "#SBATCH %s\n", m->slurm.extra[i]);
-    o += snprintf(text + o, sizeof text - (size_t)o,
-                  "#SBATCH --output=%s/logs/slurm-%%A_%%a.out\n#SBATCH --error=%s/logs/slurm-%%A_%%a.err\n"
-                  "# llvmpipe draws with as many threads as the task has cores\n"
-                  "export LP_NUM_THREADS=${LP_NUM_THREADS:-${SLURM_CPUS_PER_TASK:-1}}\n",
-                  m->out, m->out);
-    sbuf cmd = {0};
-    task_command(m, exe, "\"$SLURM_ARRAY_TASK_ID\"", &cmd);
-    if (cmd.oom) {
-        free(cmd.p);
-        return FS_ERR_NOMEM;
+    char tmp[PATH_MAX + 64];
+    snprintf(tmp, sizeof tmp, "%s/logs/.slurm-command.%ld", m->out, (long)getpid());
+    fflush(stdout);
+    int rc = spawn_run(argv, &(spawn_opts){.output = tmp});
+    out[0] = '\0';
+    FILE *f = fopen(tmp, "r");
+    if (f) {
+        size_t r = fread(out, 1, n - 1, f);
+        out[r] = '\0';
+        fclose(f);
     }
-    if (o < (int)sizeof text)
-        o += snprintf(text + o, sizeof text - (size_t)o, "exec %s\n", cmd.p);
-    free(cmd.p);
-    if (o >= (int)sizeof text) {
-        log_error("%s: the Slurm script is longer than %zu bytes (too many \"extra\" lines?)", script, sizeof text);
-        return FS_ERR_USAGE;
-    }
-    fs_status st = out_write_atomic(script, text);
-    if (st == FS_OK && chmod(script, 0755) != 0)
-        log_warn("%s: cannot make it executable: %s", script, strerror(errno));
-    return st;
+    unlink(tmp);
+    return rc;
 }
 
-static fs_status submit(const char *script, bool wait)
+/* MaxArraySize: --max-array-size, else the cluster's (scontrol show config), else Slurm's
+ * default. A login node that cannot reach the controller gets the default, said so. */
+static void slurm_max_array(const sweep_manifest *m, int option, slurm_plan *sp)
 {
-    char *argv[] = {"sbatch", wait ? "--wait" : NULL, NULL, NULL};
-    argv[wait ? 2 : 1] = (char *)script;
-    fflush(stdout);
-    int rc = spawn_run(argv, NULL);
+    sp->max_array = SWEEP_MAX_ARRAY_DEFAULT;
+    sp->max_from = "Slurm's default; scontrol show config did not say";
+    if (option > 0) {
+        sp->max_array = option;
+        sp->max_from = "--max-array-size";
+        return;
+    }
+    static char out[65536];
+    char *argv[] = {"scontrol", "show", "config", NULL};
+    if (run_capture(m, argv, out, sizeof out) != 0)
+        return;
+    const char *p = strstr(out, "\nMaxArraySize");
+    const char *eq = p ? strchr(p, '=') : NULL;
+    long v = eq ? strtol(eq + 1, NULL, 10) : 0;
+    if (v >= 1 && v <= INT_MAX) {
+        sp->max_array = (int)v;
+        sp->max_from = "scontrol show config";
+    }
+}
+
+/* The job name: --job-name, else "fovsim-" and the manifest's file name (without .json), so that
+ * two sweeps tell apart in squeue and sacct. */
+static void slurm_job_name(const sweep_manifest *m, const char *option, slurm_plan *sp)
+{
+    if (option) {
+        snprintf(sp->job_name, sizeof sp->job_name, "%s", option);
+        return;
+    }
+    const char *b = strrchr(m->path, '/') ? strrchr(m->path, '/') + 1 : m->path;
+    char base[64], sl[64];
+    snprintf(base, sizeof base, "%.63s", b);
+    char *dot = strrchr(base, '.');
+    if (dot && dot != base)
+        *dot = '\0';
+    slug(base, sl, sizeof sl);
+    snprintf(sp->job_name, sizeof sp->job_name, "fovsim-%s", sl);
+}
+
+/* The parts and their scripts' paths: DIR/references.sbatch and DIR/sweep.sbatch, or
+ * references-P.sbatch and sweep-P.sbatch when a list needs more than one array. */
+static fs_status slurm_parts(const sweep_manifest *m, int nref, slurm_plan *sp)
+{
+    sp->nref = nref;
+    int nr = (nref + sp->max_array - 1) / sp->max_array, nt = (m->ntasks + sp->max_array - 1) / sp->max_array;
+    sp->parts = calloc((size_t)(nr + nt), sizeof *sp->parts);
+    if (!sp->parts)
+        return FS_ERR_NOMEM;
+    for (int p = 0; p < nr + nt; p++) {
+        slurm_part *q = &sp->parts[p];
+        q->ref = p < nr;
+        int k = q->ref ? p : p - nr, total = q->ref ? nref : m->ntasks, nk = q->ref ? nr : nt;
+        q->offset = k * sp->max_array;
+        q->count = total - q->offset < sp->max_array ? total - q->offset : sp->max_array;
+        const char *what = q->ref ? "references" : "sweep";
+        if (nk == 1)
+            snprintf(q->script, sizeof q->script, "%s/%s.sbatch", m->out, what);
+        else
+            snprintf(q->script, sizeof q->script, "%s/%s-%d.sbatch", m->out, what, k);
+    }
+    sp->nparts = nr + nt;
+    return FS_OK;
+}
+
+/* The #SBATCH lines of the manifest's resources, then its "extra" lines (after fovsim's own, so
+ * that one of them, --no-requeue say, has the last word). */
+static void sbatch_resources(const sweep_manifest *m, sbuf *t)
+{
+    sb_printf(t, "#SBATCH --cpus-per-task=%d\n", m->slurm.cpus_per_task);
+    if (m->slurm.mem[0])
+        sb_printf(t, "#SBATCH --mem=%s\n", m->slurm.mem);
+    if (m->slurm.time[0])
+        sb_printf(t, "#SBATCH --time=%s\n", m->slurm.time);
+    if (m->slurm.partition[0])
+        sb_printf(t, "#SBATCH --partition=%s\n", m->slurm.partition);
+    sb_puts(t, "#SBATCH --requeue\n#SBATCH --open-mode=append\n");
+    for (int i = 0; i < m->slurm.nextra; i++)
+        sb_printf(t, "#SBATCH %s\n", m->slurm.extra[i]);
+}
+
+/* Part q's script. --requeue: a task ended by a node failure or preemption runs again (it resumes
+ * its folder); --open-mode=append: the requeued run's output goes after the first attempt's in
+ * the same log (the job and index, %A_%a, stay the same). */
+static void sbatch_text(const sweep_manifest *m, const slurm_plan *sp, const slurm_part *q, const char *exe, sbuf *t)
+{
+    const char *kind = q->ref ? "reference job" : "task";
+    sb_printf(t, "#!/bin/bash\n# fovsim sweep: %ss %d to %d of %d, one per array index", kind, q->offset,
+              q->offset + q->count - 1, q->ref ? sp->nref : m->ntasks);
+    if (q->offset)
+        sb_printf(t, " (the index plus %d)", q->offset);
+    sb_printf(t, "; fovsim sweep --list shows the tasks.\n# %s, so submitting again resumes the sweep. "
+              "`fovsim sweep MANIFEST --slurm --submit`\n# submits every script of the sweep, the reference jobs "
+              "first and the tasks after them (docs/cluster.md).\n",
+              q->ref ? "A frame in the cache is not drawn again" : "A completed task is skipped");
+    sb_printf(t, "#SBATCH --job-name=%s%s\n#SBATCH --array=0-%d", sp->job_name, q->ref ? "-ref" : "", q->count - 1);
+    if (m->slurm.max_running > 0)
+        sb_printf(t, "%%%d", m->slurm.max_running);
+    sb_puts(t, "\n");
+    sbatch_resources(m, t);
+    const char *log = q->ref ? "ref" : "slurm";
+    sb_printf(t, "#SBATCH --output=%s/logs/%s-%%A_%%a.out\n"
+              "#SBATCH --error=%s/logs/%s-%%A_%%a.err\n"
+              "# llvmpipe draws with as many threads as the task has cores\n"
+              "export LP_NUM_THREADS=${LP_NUM_THREADS:-${SLURM_CPUS_PER_TASK:-1}}\nexec ",
+              m->out, log, m->out, log);
+    char idx[64] = "\"$SLURM_ARRAY_TASK_ID\"";
+    if (q->offset)
+        snprintf(idx, sizeof idx, "\"$((SLURM_ARRAY_TASK_ID + %d))\"", q->offset);
+    job_command(m, exe, q->ref, idx, t);
+    sb_puts(t, "\n");
+}
+
+/* Scripts an earlier --slurm wrote that this one does not (a list split differently then): gone,
+ * so that no stale array is submitted by hand. `what`: "sweep" or "references"; nk: its parts. */
+static void remove_stale_scripts(const sweep_manifest *m, const char *what, int nk)
+{
+    char path[PATH_MAX + 64];
+    if (nk > 1) {
+        snprintf(path, sizeof path, "%s/%s.sbatch", m->out, what);
+        unlink(path);
+    }
+    for (int k = nk > 1 ? nk : 0;; k++) {
+        snprintf(path, sizeof path, "%s/%s-%d.sbatch", m->out, what, k);
+        if (unlink(path) != 0)
+            break;
+    }
+}
+
+static fs_status write_sbatch(const sweep_manifest *m, const slurm_plan *sp, const char *exe)
+{
+    if (scripts_safe(m, exe, true) != FS_OK || !script_safe("--job-name", sp->job_name))
+        return FS_ERR_USAGE;
+    fs_status st = FS_OK;
+    for (int p = 0; p < sp->nparts && st == FS_OK; p++) {
+        sbuf t = {0};
+        sbatch_text(m, sp, &sp->parts[p], exe, &t);
+        st = t.oom ? FS_ERR_NOMEM : out_write_atomic(sp->parts[p].script, t.p);
+        free(t.p);
+        if (st == FS_OK && chmod(sp->parts[p].script, 0755) != 0)
+            log_warn("%s: cannot make it executable: %s", sp->parts[p].script, strerror(errno));
+    }
+    int nref_parts = 0;
+    while (nref_parts < sp->nparts && sp->parts[nref_parts].ref)
+        nref_parts++;
+    if (st == FS_OK) {
+        remove_stale_scripts(m, "references", nref_parts);
+        remove_stale_scripts(m, "sweep", sp->nparts - nref_parts);
+    }
+    return st;
+}
+/* >>--submit */
+
+/* The array spec of part q's items with work ("0-3,7,9-12", indices of the array, not of the
+ * sweep), appended to t; returns how many. */
+static int array_spec(const slurm_part *q, const bool *todo, int nref, sbuf *t)
+{
+    const bool *w = todo + (q->ref ? 0 : nref) + q->offset;
+    int n = 0;
+    for (int j = 0; j < q->count; j++) {
+        if (!w[j])
+            continue;
+        int e = j;
+        while (e + 1 < q->count && w[e + 1])
+            e++;
+        sb_printf(t, "%s%d", n ? "," : "", j);
+        if (e > j)
+            sb_printf(t, "-%d", e);
+        n += e - j + 1;
+        j = e;
+    }
+    return n;
+}
+
+/* sbatch of part q with the array spec given on the command line (it overrides the script's) and,
+ * for tasks, the dependency on the reference jobs (`deps`: "--dependency=afterok:ID:ID", or
+ * empty): a failed reference job cancels the tasks that wait for it. *id: the job's id. */
+static fs_status submit_part(const sweep_manifest *m, const slurm_part *q, const char *spec, const char *deps,
+                             long *id)
+{
+    sbuf arr = {0};
+    sb_printf(&arr, "--array=%s", spec);
+    if (m->slurm.max_running > 0)
+        sb_printf(&arr, "%%%d", m->slurm.max_running);
+    if (arr.oom) {
+        free(arr.p);
+        return FS_ERR_NOMEM;
+    }
+    char *argv[8] = {"sbatch", "--parsable", arr.p};
+    int a = 3;
+    if (deps && deps[0]) {
+        argv[a++] = (char *)deps;
+        argv[a++] = "--kill-on-invalid-dep=yes";
+    }
+    argv[a++] = (char *)q->script;
+    char out[4096];
+    int rc = run_capture(m, argv, out, sizeof out);
+    free(arr.p);
+    char *line = out; /* the id: the line that starts with a digit ("123" or "123;cluster") */
+    while (*line && !(*line >= '0' && *line <= '9'))
+        line = strchr(line, '\n') ? strchr(line, '\n') + 1 : line + strlen(line);
+    *id = strtol(line, NULL, 10);
+    out[strcspn(out, "\n")] = '\0';
     if (rc < 0) {
-        log_error("sbatch: cannot run it (is Slurm's client installed and on PATH?); the script is %s", script);
+        log_error("sbatch: cannot run it (is Slurm's client installed and on PATH?); the script is %s", q->script);
         return FS_ERR_IO;
     }
-    if (rc != 0) {
-        log_error("sbatch %s%s: exit status %d%s", wait ? "--wait " : "", script, rc,
-                  wait ? " (a task failed: fovsim merge lists which)" : "");
+    if (rc != 0 || *id <= 0) {
+        log_error("sbatch %s: exit status %d: %.300s", q->script, rc, out);
         return FS_ERR_INCOMPLETE;
     }
     return FS_OK;
+}
+
+/* Until none of the jobs is in the queue (squeue lists pending, running and requeued ones; a job
+ * it does not know has ended and been purged), asking once a second. */
+static void wait_jobs(const sweep_manifest *m, const long *ids, int n)
+{
+    char out[4096], job[24];
+    char *argv[] = {"squeue", "-h", "-o", "%i", "-j", job, NULL};
+    for (int i = 0; i < n; i++) {
+        snprintf(job, sizeof job, "%ld", ids[i]);
+        while (run_capture(m, argv, out, sizeof out) == 0 && out[strspn(out, " \n")])
+            sleep(1);
+    }
+}
+
+/* The tasks submitted (todo) that are still not complete after the jobs ended. */
+static int tasks_left(const sweep_manifest *m, const bool *todo, int nref)
+{
+    int left = 0;
+    for (int i = 0; i < m->ntasks; i++)
+        left += todo[nref + i] && sweep_task_status(m, &m->tasks[i]) != TASK_DONE;
+    return left;
+}
+
+/* Submits every part, only the indices of unfinished tasks (and of the reference jobs of their
+ * groups), the reference jobs first and the tasks with a dependency on them; with `wait`, waits
+ * for all and fails when a submitted task did not complete. */
+static fs_status submit(const sweep_manifest *m, const ref_plan *rp, const slurm_plan *sp, bool wait)
+{
+    int ntodo;
+    bool *todo = todo_flags(m, rp, &ntodo);
+    long *ids = calloc((size_t)sp->nparts, sizeof *ids);
+    if (!todo || !ids) {
+        free(todo);
+        free(ids);
+        return FS_ERR_NOMEM;
+    }
+    printf("%d of %d tasks complete, skipped; submitting %d\n", m->ntasks - ntodo, m->ntasks, ntodo);
+    sbuf deps = {0};
+    int nids = 0;
+    fs_status st = FS_OK;
+    for (int p = 0; p < sp->nparts && st == FS_OK && ntodo > 0; p++) {
+        const slurm_part *q = &sp->parts[p];
+        sbuf spec = {0};
+        int n = array_spec(q, todo, rp->n, &spec);
+        if (n > 0 && spec.oom)
+            st = FS_ERR_NOMEM;
+        else if (n > 0)
+            st = submit_part(m, q, spec.p, q->ref ? NULL : deps.p, &ids[nids]);
+        if (n > 0 && st == FS_OK) {
+            printf("submitted batch job %ld: %s, %d %s%s (--array=%.100s%s)\n", ids[nids], q->script, n,
+                   q->ref ? "reference job" : "task", n == 1 ? "" : "s", spec.p, strlen(spec.p) > 100 ? "..." : "");
+            if (q->ref)
+                sb_printf(&deps, "%s%ld", deps.len ? ":" : "--dependency=afterok:", ids[nids]);
+            st = deps.oom ? FS_ERR_NOMEM : st;
+            nids++;
+        }
+        free(spec.p);
+    }
+    if (st != FS_OK && nids > 0)
+        log_error("%d array job%s submitted before that one stay in the queue (scancel them, or submit again: "
+                  "what they complete is skipped)", nids, nids == 1 ? " was" : "s were");
+    if (st == FS_OK && wait && nids > 0) {
+        wait_jobs(m, ids, nids);
+        int left = tasks_left(m, todo, rp->n);
+        if (left > 0) {
+            log_error("%d of the %d submitted tasks did not complete (fovsim merge %s lists them; logs in %s/logs)",
+                      left, ntodo, m->out, m->out);
+            st = FS_ERR_INCOMPLETE;
+        }
+    }
+    free(deps.p);
+    free(todo);
+    free(ids);
+    return st;
 }
 
 /* >>--local N */
@@ -501,15 +912,29 @@ static void stop_signals(sigset_t *set)
     sigaddset(set, SIGTERM);
 }
 
-static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, bool quiet)
+/* A finished reference job (ok or not): only a failure says something. */
+static void reference_job_ended(const sweep_manifest *m, int g, bool ok, int ws)
+{
+    if (!ok)
+        log_error("reference job %d failed with exit status %d; see %s/logs/ref-%04d.log", g,
+                  WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + WTERMSIG(ws), m->out, g);
+}
+
+/* The reference jobs of unfinished tasks run first (items 0 .. rp->n - 1), then the tasks (items
+ * rp->n ..): a task that starts while its reference job draws waits for the cache's entries
+ * (reference.c) instead of drawing them too. */
+static fs_status run_local(const sweep_manifest *m, const ref_plan *rp, const char *exe, int jobs, bool quiet)
 {
     pid_t *pids = calloc((size_t)jobs, sizeof *pids);
     int *which = calloc((size_t)jobs, sizeof *which);
     double *started = calloc((size_t)jobs, sizeof *started);
-    if (!pids || !which || !started) {
+    int ntodo;
+    bool *work = todo_flags(m, rp, &ntodo);
+    if (!pids || !which || !started || !work) {
         free(pids);
         free(which);
         free(started);
+        free(work);
         return FS_ERR_NOMEM;
     }
     /* Each task's llvmpipe gets its share of the cores, unless the user set it. */
@@ -531,19 +956,20 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     int next = 0, running = 0, finished = 0, failed = 0, skipped = 0, stopped = 0;
-    int todo = m->ntasks;
+    int todo = m->ntasks, nitems = rp->n + m->ntasks;
     struct timespec ts;
-    while ((next < m->ntasks && !g_stop) || running > 0) {
-        while (running < jobs && next < m->ntasks && !g_stop) {
+    while ((next < nitems && !g_stop) || running > 0) {
+        while (running < jobs && next < nitems && !g_stop) {
             int i = next++;
-            if (sweep_task_status(m, &m->tasks[i]) == TASK_DONE) {
-                skipped++;
-                todo--;
+            bool ref = i < rp->n;
+            if (!work[i]) {
+                skipped += !ref;
+                todo -= !ref;
                 continue;
             }
             char idx[16], log[PATH_MAX + 64];
-            snprintf(idx, sizeof idx, "%d", i);
-            snprintf(log, sizeof log, "%s/logs/task-%04d.log", m->out, i);
+            snprintf(idx, sizeof idx, "%d", ref ? i : i - rp->n);
+            snprintf(log, sizeof log, "%s/logs/%s-%04d.log", m->out, ref ? "ref" : "task", ref ? i : i - rp->n);
             int slot = 0;
             while (pids[slot])
                 slot++;
@@ -561,7 +987,8 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
                 FILE *f = freopen(log, "w", stdout);
                 if (!f || dup2(fileno(stdout), STDERR_FILENO) < 0)
                     _exit(126);
-                char *argv[] = {(char *)exe, "sweep", (char *)m->frozen, "--task", idx, "--quiet", NULL};
+                char *argv[] = {(char *)exe, "sweep", (char *)m->frozen, ref ? "--reference-task" : "--task", idx,
+                                "--quiet", NULL};
                 execv(exe, argv);
                 _exit(127);
             }
@@ -602,15 +1029,19 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
             stopped++;
             continue;
         }
-        finished++;
         failed += !ok;
-        const sweep_task *k = &m->tasks[which[slot]];
+        if (which[slot] < rp->n) {
+            reference_job_ended(m, which[slot], ok, ws);
+            continue;
+        }
+        finished++;
+        int t = which[slot] - rp->n;
+        const sweep_task *k = &m->tasks[t];
         if (ok && !quiet)
-            printf("[%d/%d] task %d (%s) done in %.1f s\n", finished, todo, which[slot], k->name, el);
+            printf("[%d/%d] task %d (%s) done in %.1f s\n", finished, todo, t, k->name, el);
         else if (!ok)
-            log_error("task %d (%s) failed with exit status %d after %.1f s; see %s/logs/task-%04d.log",
-                      which[slot], k->name, WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + WTERMSIG(ws), el, m->out,
-                      which[slot]);
+            log_error("task %d (%s) failed with exit status %d after %.1f s; see %s/logs/task-%04d.log", t, k->name,
+                      WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + WTERMSIG(ws), el, m->out, t);
         fflush(stdout);
     }
     sigaction(SIGINT, &old_int, NULL);
@@ -620,6 +1051,7 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
     free(pids);
     free(which);
     free(started);
+    free(work);
     if (g_stop) {
         log_error("interrupted%s: %d of %d tasks finished, %d stopped; run the sweep again to resume",
                   g_stop_signal == SIGTERM ? " (SIGTERM)" : g_stop_signal == SIGINT ? " (SIGINT)" : "", finished,
@@ -637,7 +1069,8 @@ static void sweep_help(void)
 {
     printf("usage: fovsim sweep MANIFEST.json [--list | --local N | --jobs-file FILE | --slurm [--submit [--wait]]]\n"
            "                    [--out DIR] [--chunk-frames N [--warmup W]] [--cpus-per-task N] [--mem M]\n"
-           "                    [--time T] [--partition P] [--max-running M]\n\n"
+           "                    [--time T] [--partition P] [--max-running M] [--job-name NAME]\n"
+           "                    [--max-array-size N]\n\n"
            "Runs the product of the manifest's scenes, gaze traces, ring layouts and TAA settings (and frame\n"
            "chunks), each task one fovsim compare of the manifest's modes into DIR/tasks/<task>/. The same\n"
            "task list runs three ways; a completed task is skipped, so running it again resumes it. Then\n"
@@ -645,9 +1078,17 @@ static void sweep_help(void)
            "  --list              the tasks, their state (todo, incomplete, done) and commands (default)\n"
            "  --local N           run the tasks here, N at a time (each with its share of the cores)\n"
            "  --jobs-file FILE    one shell command per task, for GNU parallel or any farm\n"
-           "  --slurm             write DIR/sweep.sbatch, a Slurm array job of the tasks\n"
-           "  --submit            with --slurm: submit it with sbatch; --wait: wait for the array to end\n"
+           "  --slurm             write DIR/references.sbatch and DIR/sweep.sbatch, Slurm array jobs of the\n"
+           "                      reference jobs and the tasks (several scripts past MaxArraySize)\n"
+           "  --submit            with --slurm: submit the unfinished ones, the tasks after the reference\n"
+           "                      jobs (afterok); --wait: wait for them to end\n"
+           "  --job-name NAME     with --slurm: the jobs' name (default fovsim-<manifest name>; the\n"
+           "                      reference jobs' is NAME-ref)\n"
+           "  --max-array-size N  with --slurm: indices per array job (default: MaxArraySize from scontrol\n"
+           "                      show config, else 1001); a longer task list is split into several arrays\n"
            "  --task I            run task I (what the three ways call)\n"
+           "  --reference-task G  draw reference job G's frames into the cache (the three ways run these\n"
+           "                      first: one per scene and chunk, so each reference frame is drawn once)\n"
            "  --out DIR           the sweep's folder (default: the manifest's \"out\", else\n"
            "                      out/sweep/<manifest name>)\n"
            "  --chunk-frames N    split each sequence into chunks of about N frames (moved to a camera cut\n"
@@ -659,11 +1100,39 @@ static void sweep_help(void)
            SWEEP_DEFAULT_WARMUP);
 }
 
-typedef enum sweep_action { ACT_LIST, ACT_LOCAL, ACT_JOBS, ACT_SLURM, ACT_TASK } sweep_action;
+typedef enum sweep_action { ACT_LIST, ACT_LOCAL, ACT_JOBS, ACT_SLURM, ACT_TASK, ACT_REFERENCE } sweep_action;
+
+/* --slurm: the scripts (DIR/references*.sbatch, DIR/sweep*.sbatch), then with --submit the jobs. */
+static fs_status slurm_action(const sweep_manifest *m, const ref_plan *rp, const char *exe, const char *job_name,
+                              int max_array, bool submit_it, bool wait)
+{
+    slurm_plan sp = {0};
+    slurm_job_name(m, job_name, &sp);
+    slurm_max_array(m, max_array, &sp);
+    fs_status st = slurm_parts(m, rp->n, &sp);
+    if (st == FS_OK)
+        st = write_sbatch(m, &sp, exe);
+    if (st == FS_OK) {
+        printf("wrote %d Slurm script%s in %s (job name %s, arrays of at most %d indices: MaxArraySize from %s):\n",
+               sp.nparts, sp.nparts == 1 ? "" : "s", m->out, sp.job_name, sp.max_array, sp.max_from);
+        for (int p = 0; p < sp.nparts; p++)
+            printf("  %s: %s %d to %d, %d core%s each\n", sp.parts[p].script,
+                   sp.parts[p].ref ? "reference jobs" : "tasks", sp.parts[p].offset,
+                   sp.parts[p].offset + sp.parts[p].count - 1, m->slurm.cpus_per_task,
+                   m->slurm.cpus_per_task == 1 ? "" : "s");
+        if (!submit_it)
+            printf("submit them with --submit (the reference jobs first, the tasks after them: docs/cluster.md)\n");
+    }
+    if (st == FS_OK && submit_it)
+        st = submit(m, rp, &sp, wait);
+    free(sp.parts);
+    return st;
+}
 
 fs_status cmd_sweep(int argc, char **argv)
 {
-    const char *manifest = NULL, *jobs_file = NULL;
+    const char *manifest = NULL, *jobs_file = NULL, *job_name = NULL;
+    int max_array = 0;
     sweep_overrides ov = {.warmup = -1};
     sweep_action act = ACT_LIST;
     int jobs = 1, task = -1;
@@ -690,6 +1159,12 @@ fs_status cmd_sweep(int argc, char **argv)
             quiet = true, takes = false;
         } else if (!strcmp(a, "--task")) {
             act = ACT_TASK, ok = v && cli_parse_int(a, v, 0, INT_MAX, &task);
+        } else if (!strcmp(a, "--reference-task")) {
+            act = ACT_REFERENCE, ok = v && cli_parse_int(a, v, 0, INT_MAX, &task);
+        } else if (!strcmp(a, "--job-name")) {
+            job_name = v, ok = v != NULL;
+        } else if (!strcmp(a, "--max-array-size")) {
+            ok = v && cli_parse_int(a, v, 1, INT_MAX, &max_array);
         } else if (!strcmp(a, "--out")) {
             ov.out = v, ok = v != NULL;
         } else if (!strcmp(a, "--chunk-frames")) {
@@ -723,6 +1198,16 @@ fs_status cmd_sweep(int argc, char **argv)
         log_error("fovsim sweep: expected a manifest file (see fovsim sweep --help)");
         return FS_ERR_USAGE;
     }
+    if (job_name && (!job_name[0] || strspn(job_name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                      "0123456789-_.") != strlen(job_name))) {
+        /* an #SBATCH line ends its value at a blank */
+        log_error("--job-name '%s': expected letters, digits, '-', '_' or '.'", job_name);
+        return FS_ERR_USAGE;
+    }
+    if ((job_name || max_array) && act != ACT_SLURM) {
+        log_error("--job-name and --max-array-size go with --slurm");
+        return FS_ERR_USAGE;
+    }
     if ((submit_it || wait) && act != ACT_SLURM) {
         log_error("--submit and --wait go with --slurm");
         return FS_ERR_USAGE;
@@ -744,31 +1229,33 @@ fs_status cmd_sweep(int argc, char **argv)
         st = sweep_build_tasks(&m);
     if (st == FS_OK && (act == ACT_JOBS || act == ACT_SLURM)) /* before anything is written */
         st = scripts_safe(&m, exe, act == ACT_SLURM);
-    if (st == FS_OK && act != ACT_TASK)
+    bool one = act == ACT_TASK || act == ACT_REFERENCE;
+    if (st == FS_OK && !one)
         st = sweep_manifest_write(&m);
-    if (st == FS_OK && act != ACT_TASK)
+    if (st == FS_OK && !one)
         st = check_tasks(&m);
+    ref_plan rp = {0};
+    if (st == FS_OK)
+        st = ref_plan_build(&m, &rp);
     if (st == FS_OK && act == ACT_TASK && task >= m.ntasks) {
         log_error("--task %d: the sweep has %d tasks (0 to %d)", task, m.ntasks, m.ntasks - 1);
         st = FS_ERR_USAGE;
     }
+    if (st == FS_OK && act == ACT_REFERENCE && task >= rp.n) {
+        log_error("--reference-task %d: the sweep has %d reference jobs (0 to %d)", task, rp.n, rp.n - 1);
+        st = FS_ERR_USAGE;
+    }
     if (st == FS_OK) {
-        char script[PATH_MAX + 64];
         switch (act) {
         case ACT_LIST: st = list_tasks(&m); break;
         case ACT_TASK: st = run_task(&m, task, quiet); break;
-        case ACT_JOBS: st = write_jobs(&m, exe, jobs_file); break;
-        case ACT_LOCAL: st = run_local(&m, exe, jobs, quiet); break;
-        case ACT_SLURM:
-            st = write_sbatch(&m, exe, script, sizeof script);
-            if (st == FS_OK)
-                printf("wrote %s: a Slurm array of %d tasks (%d cores each); submit it with sbatch %s\n", script,
-                       m.ntasks, m.slurm.cpus_per_task, script);
-            if (st == FS_OK && submit_it)
-                st = submit(script, wait);
-            break;
+        case ACT_REFERENCE: st = run_reference_task(&m, &rp, task, quiet); break;
+        case ACT_JOBS: st = write_jobs(&m, &rp, exe, jobs_file); break;
+        case ACT_LOCAL: st = run_local(&m, &rp, exe, jobs, quiet); break;
+        case ACT_SLURM: st = slurm_action(&m, &rp, exe, job_name, max_array, submit_it, wait); break;
         }
     }
+    ref_plan_free(&rp);
     sweep_manifest_free(&m);
     return st;
 }

@@ -6,7 +6,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "core/embedded.h"
 #include "core/file_read.h"
@@ -569,39 +574,133 @@ static fs_status draw_exact(reference *rf, const frame_record *fr0, exr_image *i
     return FS_OK;
 }
 
+/* >>the entry's lock */
+
+/* The lock of a cache entry, ref-KEY.lock beside it: an exclusive flock(2) held while the entry is
+ * drawn and written, so that processes sharing the cache (a sweep's tasks, on one machine or on a
+ * cluster's shared storage) draw each frame once: the one that takes the lock draws, the others
+ * wait for it and then read the entry. Polled (a blocking flock cannot be interrupted); the kernel
+ * releases the lock of a process that dies, so a killed writer blocks nobody. The lock files stay:
+ * removing one could split waiters between two files (but see unlock_entry). -1 when no lock
+ * can be had (a read-only cache, a file system without locks): the frame is then drawn unlocked,
+ * as before. `path` (n bytes) receives the lock's path. */
+static int lock_entry(const char *dir, const char *hex, char *path, size_t n)
+{
+    snprintf(path, n, "%s/ref-%s.lock", dir, hex);
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0) {
+        log_info("REFERENCE: %s: cannot open the entry's lock (%s); drawing unlocked", path, strerror(errno));
+        return -1;
+    }
+    bool said = false;
+    while (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        if (errno != EWOULDBLOCK && errno != EAGAIN && errno != EINTR) {
+            log_info("REFERENCE: %s: cannot lock (%s); drawing unlocked", path, strerror(errno));
+            close(fd);
+            return -1;
+        }
+        if (!said)
+            log_info("REFERENCE: another process is drawing %s/ref-%s.exr; waiting for it", dir, hex);
+        said = true;
+        nanosleep(&(struct timespec){.tv_nsec = 100 * 1000 * 1000}, NULL);
+    }
+    return fd;
+}
+
+/* Releases the lock (closing the last descriptor releases the flock). After a failure (a full
+ * disk, a failed draw) its file goes too, so that a run that writes nothing leaves nothing in the
+ * cache; a process waiting on it then draws under a file a newcomer does not see, which at worst
+ * draws the frame twice, never wrongly. */
+static void unlock_entry(int fd, const char *path, bool failed)
+{
+    if (fd < 0)
+        return;
+    if (failed)
+        unlink(path);
+    close(fd);
+}
+
+/* The cached entry when it is usable (a hit fills img and info); *cr says why not. */
+static bool cache_hit(reference *rf, const char *hex, exr_image *img, reference_info *info, cache_result *cr,
+                      mode_t *mode)
+{
+    *cr = cache_load(rf, info->path, hex, img, mode);
+    if (*cr != CACHE_HIT)
+        return false;
+    const exr_attr *e = exr_image_attr(img, "fovsim:ref_error");
+    info->error = e && e->type == FS_EXR_ATTR_FLOAT ? e->f[0] : 0.0;
+    info->cached = true;
+    return true;
+}
+
+/* What a miss says: nothing when absent, a line when something unusable was there; an error for a
+ * directory at the entry's path. */
+static fs_status report_miss(const reference_info *info, cache_result cr, mode_t mode)
+{
+    if (cr == CACHE_BAD)
+        log_info("REFERENCE: %s is truncated or stale; drawing it again", info->path);
+    else if (cr == CACHE_CHECKSUM)
+        log_warn("REFERENCE: %s: its pixels do not match their checksum (changed after it was written); "
+                 "drawing it again", info->path);
+    else if (cr == CACHE_NOT_REGULAR && S_ISDIR(mode)) {
+        /* One rule for an entry the cache cannot hold (docs/reference.md "Cache"): the run fails with one line,
+         * as it does when the cache folder cannot be made or written; before, a directory here
+         * was bypassed with a warning and every run drew the frame again. */
+        log_error("%s: is a directory where the reference cache keeps an entry; remove it or use another "
+                  "--cache", info->path);
+        return FS_ERR_IO;
+    } else if (cr == CACHE_NOT_REGULAR)
+        log_warn("REFERENCE: %s is %s, not a cache entry; drawing the frame and replacing it", info->path,
+                 file_kind(mode));
+    return FS_OK;
+}
+
+static fs_status draw_frame(reference *rf, const frame_record *fr, const char *hex, exr_image *img,
+                            reference_info *info);
+
 fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img, reference_info *info)
 {
     memset(info, 0, sizeof *info);
     info->key = reference_key(rf, fr);
     char hex[17];
     key_hex(info->key, hex);
-    if (rf->cache_dir[0]) {
-        snprintf(info->path, sizeof info->path, "%s/ref-%s.exr", rf->cache_dir, hex);
-        mode_t mode = 0;
-        cache_result cr = cache_load(rf, info->path, hex, img, &mode);
-        if (cr == CACHE_HIT) {
-            const exr_attr *e = exr_image_attr(img, "fovsim:ref_error");
-            info->error = e && e->type == FS_EXR_ATTR_FLOAT ? e->f[0] : 0.0;
-            info->cached = true;
-            return FS_OK;
-        }
-        info->rebuilt = cr != CACHE_ABSENT;
-        if (cr == CACHE_BAD)
-            log_info("REFERENCE: %s is truncated or stale; drawing it again", info->path);
-        else if (cr == CACHE_CHECKSUM)
-            log_warn("REFERENCE: %s: its pixels do not match their checksum (changed after it was written); "
-                     "drawing it again", info->path);
-        else if (cr == CACHE_NOT_REGULAR && S_ISDIR(mode)) {
-            /* One rule for an entry the cache cannot hold (docs/reference.md "Cache"): the run fails with one line,
-             * as it does when the cache folder cannot be made or written; before, a directory here
-             * was bypassed with a warning and every run drew the frame again. */
-            log_error("%s: is a directory where the reference cache keeps an entry; remove it or use another "
-                      "--cache", info->path);
-            return FS_ERR_IO;
-        } else if (cr == CACHE_NOT_REGULAR)
-            log_warn("REFERENCE: %s is %s, not a cache entry; drawing the frame and replacing it", info->path,
-                     file_kind(mode));
+    if (!rf->cache_dir[0])
+        return draw_frame(rf, fr, hex, img, info);
+    snprintf(info->path, sizeof info->path, "%s/ref-%s.exr", rf->cache_dir, hex);
+    mode_t mode = 0;
+    cache_result cr;
+    if (cache_hit(rf, hex, img, info, &cr, &mode))
+        return FS_OK;
+    /* A miss: the folder (a run that cannot make it fails before drawing), the entry's lock, and a
+     * second look, for the lock's holder may have just written the entry. */
+    fs_status st = file_make_dirs(rf->cache_dir);
+    if (st != FS_OK)
+        return st;
+    char lock_path[1100];
+    int lock = lock_entry(rf->cache_dir, hex, lock_path, sizeof lock_path);
+    if (lock >= 0 && cache_hit(rf, hex, img, info, &cr, &mode)) {
+        unlock_entry(lock, lock_path, false);
+        return FS_OK;
     }
+    info->rebuilt = cr != CACHE_ABSENT;
+    st = report_miss(info, cr, mode);
+    if (st == FS_OK)
+        st = draw_frame(rf, fr, hex, img, info);
+    if (st == FS_OK) {
+        st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);
+        if (st != FS_OK)
+            exr_image_free(img);
+    }
+    unlock_entry(lock, lock_path, st != FS_OK);
+    return st;
+}
+
+/* >>drawing a frame */
+
+/* Draws the frame and sets its attributes (key, kind, error and how it was measured, checksum). */
+static fs_status draw_frame(reference *rf, const frame_record *fr, const char *hex, exr_image *img,
+                            reference_info *info)
+{
     bool exact = rf->kind == REFERENCE_EXACT;
     fs_status st = exact ? draw_exact(rf, fr, img, info) : draw_stochastic(rf, fr, img, info);
     if (st != FS_OK)
@@ -627,12 +726,5 @@ fs_status reference_frame(reference *rf, const frame_record *fr, exr_image *img,
     char sum[17];
     pixel_checksum(img, sum);
     exr_image_set_string(img, "fovsim:ref_checksum", sum);
-    if (rf->cache_dir[0]) {
-        st = file_make_dirs(rf->cache_dir);
-        if (st == FS_OK)
-            st = exr_write_file(info->path, img, EXR_COMPRESS_ZIP);
-        if (st != FS_OK)
-            exr_image_free(img);
-    }
-    return st;
+    return FS_OK;
 }

@@ -31,6 +31,8 @@
  * completely with the same key, size and pixel checksum (fovsim:ref_checksum), else it is rebuilt
  * (truncated, stale, tampered, or written by another version); a directory at its path leaves the
  * frame uncached.
+ * A miss takes the entry's lock (an flock on ref-KEY.lock beside it) and looks again before it
+ * draws, so processes sharing the cache draw each frame once (docs/reference.md).
  *
  * Usage (a GL context must be current):
  *   reference *rf = reference_create(&sc, &(reference_desc){.width = w, .height = h,

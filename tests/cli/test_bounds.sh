@@ -92,21 +92,23 @@ check "  says it is too deep" grep -q 'deep.json:1: arrays and objects nested de
 mkdir -p fence
 check "a folder 'fence' does not hide the built-in" bash -c "'$BIN' plan fence >out_fence.txt 2>&1 && grep -q '^scene *builtin:fence' out_fence.txt"
 
-# ---- part 11: SIGTERM to `sweep --local 2` stops both tasks (they were left running and writing),
-# waits for them and exits 130. Each task is long enough (200 frames) to be running at the signal.
+# ---- part 11: SIGTERM to `sweep --local 2` stops both children (they were left running and
+# writing), waits for them and exits 130. The children at the signal are the two scenes' reference
+# jobs, which the sweep runs before the tasks (docs/cluster.md "References first"), each long
+# enough (200 frames) to be running at the signal.
 cat >m.json <<'EOF'
 { "scenes": ["fence", "tree"], "modes": ["traditional"], "width": 32, "height": 18, "frames": 200,
   "reference": {"supersample": 1}, "cache": "cache" }
 EOF
 "$BIN" sweep m.json --local 2 --out sw --quiet >sweep_out.txt 2>sweep_err.txt &
 sweep=$!
-# both tasks started: each has its folder (compare creates it before the first frame)
+# both children started
 for _ in $(seq 1 1200); do
-  [ "$(ls -d sw/tasks/*/ 2>/dev/null | wc -l)" -ge 2 ] && break
+  [ "$(pgrep -P $sweep | wc -l)" -ge 2 ] && break
   kill -0 $sweep 2>/dev/null || break; sleep 0.05
 done
 kids=$(pgrep -P $sweep | tr '\n' ' ')
-check "two tasks are running before the signal" test "$(echo $kids | wc -w)" -eq 2
+check "two children are running before the signal" test "$(echo $kids | wc -w)" -eq 2
 [ "$(echo $kids | wc -w)" -eq 2 ] || { echo "  children: '$kids'; task folders:" >&2; ls sw/tasks >&2; }
 kill -TERM $sweep
 wait $sweep; rc=$?

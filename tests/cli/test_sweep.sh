@@ -55,7 +55,7 @@ check "a second run skips the completed tasks" grep -q '^0 tasks run, 4 already 
 
 if command -v parallel >/dev/null; then
   "$BIN" sweep m.json --jobs-file jobs.txt --out jobs >/dev/null 2>&1
-  check "--jobs-file: one line per task" test "$(wc -l <jobs.txt)" -eq 4
+  check "--jobs-file: one line per reference job (2 scenes), then per task" test "$(wc -l <jobs.txt)" -eq 6
   timeout 300 parallel --will-cite --jobs 2 --joblog jobs/joblog <jobs.txt
   check "the jobs file through GNU parallel exits 0" test $? -eq 0
   "$BIN" merge jobs >/dev/null 2>&1

@@ -19,6 +19,8 @@
 #   SLURM_TEST_TASK_PLUGIN  task/none (default: a task sees every CPU of the node, `nproc` = all)
 #                       or task/affinity (a task is bound to the CPUs it was given, as on most
 #                       clusters: `nproc` = --cpus-per-task)
+#   SLURM_TEST_CONF_EXTRA   further slurm.conf lines, one per line (e.g. "MaxArraySize=5"), for a
+#                       test of a cluster's limits; to change them, slurm_down and slurm_up again
 # After slurm_up: SLURM_CONF, SLURM_TEST_DIR, SLURM_TEST_NODE, SLURM_TEST_PARTITION.
 
 SLURM_TEST_DIR=
@@ -298,6 +300,7 @@ slurm_up() {
     # stays unreachable
     echo "$nodeline NodeAddr=127.0.0.1 State=UNKNOWN"
     echo "PartitionName=test Nodes=$node Default=YES MaxTime=INFINITE State=UP"
+    [ -z "${SLURM_TEST_CONF_EXTRA:-}" ] || printf '%s\n' "$SLURM_TEST_CONF_EXTRA"
   } >"$dir/slurm.conf"
   export SLURM_CONF=$dir/slurm.conf
   # Who owns this cluster: _slurm_reap_orphans of a later slurm_up cleans up if it is killed
