@@ -18,7 +18,7 @@ check "plan prints the auto map's shares: 1x1 at the centre, 4x4 outside" \
 sum=$(awk '/^  [124]x[124] +[0-9.]+ % of display pixels/ {s += $2} END {printf "%.1f", s}' "$T/plan.txt")
 check "the shares sum to 100 % (got $sum)" bash -c "awk 'BEGIN {exit !($sum >= 99.6 && $sum <= 100.4)}'"
 check "plan prints the ideal saving and the rings' beside it" \
-  bash -c "grep -Eq 'ideal shading saving [0-9.]+ %' '$T/plan.txt' && grep -Eq 'the rings above shade [0-9.]+ %' '$T/plan.txt'"
+  bash -c "grep -Eq 'ideal shading saving [0-9.]+ %' '$T/plan.txt' && grep -Eq 'the rings would shade [0-9.]+ %' '$T/plan.txt'"
 "$BIN" plan forest --foveation vrs --vrs '10:1x1,*:4x4' --vrs-tile 32 >"$T/explicit.txt" 2>&1
 check "an explicit map: its bands, its tile, only its rates" \
   bash -c "grep -q '^vrs        10:1x1,\*:4x4, gaze' '$T/explicit.txt' && grep -q '32 x 32 tile (40 x 23 tiles)' '$T/explicit.txt' && [ \$(grep -Ec '^  [124]x[124] +[0-9.]+ %' '$T/explicit.txt') -eq 2 ]"
