@@ -484,6 +484,17 @@ static void plan_print_acuity(const display_desc *dd, const fov_layout *l, FILE 
                    "coarser than the acuity model by %.0f %%\n", margin, worst, ratio, 100.0 * (ratio - 1.0));
 }
 
+void plan_foveation_format(const plan *p, char *buf, size_t size)
+{
+    if (!p->vrs) {
+        fov_layout_format(&p->layout, buf, (int)size);
+        return;
+    }
+    char spec[128];
+    vrs_spec_format(&p->vrs_spec, spec, sizeof spec);
+    snprintf(buf, size, "vrs %s, %d px tiles", spec, p->vrs_tile);
+}
+
 void plan_print(const plan *p, const scene *sc, FILE *f)
 {
     long long tris = 0;

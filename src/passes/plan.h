@@ -194,6 +194,9 @@ float plan_material_alpha_lod_max(const plan *p, const material *m);
 /* The clamps in use, for `fovsim plan` and the EXR header: "Leaves 6, Flowers 6" (material and
  * level, each name once); "" when none. */
 void plan_alpha_lod_format(const plan *p, const scene *sc, char *buf, size_t size);
+/* How the plan foveates, for summaries: the ring layout ("auto", "*:1:0"), or under VRS
+ * "vrs auto, 16 px tiles" (the rate map's rule and tile). */
+void plan_foveation_format(const plan *p, char *buf, size_t size);
 /* Human-readable description (for `fovsim plan`). */
 void plan_print(const plan *p, const scene *sc, FILE *f);
 

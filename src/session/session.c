@@ -275,6 +275,11 @@ void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_t
     char rings[256];
     fov_layout_format(&pl->layout, rings, sizeof rings);
     exr_image_set_string(img, "fovsim:rings", rings);
+    if (pl->vrs) { /* only under VRS: other frames' headers stay as they were */
+        char fov[192];
+        plan_foveation_format(pl, fov, sizeof fov);
+        exr_image_set_string(img, "fovsim:foveation", fov);
+    }
     exr_image_set_string(img, "fovsim:gaze_trace", gz->count > 0 ? gz->path : "centre fixation");
     char taa[128];
     if (pl->taa)
