@@ -13,6 +13,20 @@
 #endif
 #include "common/shared_defs.h"
 #include "common/lighting.glsl"
+#ifdef VRS
+// VRS foveation: forward_vrs.geom hands on the vertex shader's outputs under these names (and the
+// triangle's vertices, for the coarse shading: common/vrs_shade.glsl).
+#define v_world_pos g_world_pos
+#define v_world_normal g_world_normal
+#define v_object_pos g_object_pos
+#define v_uv g_uv
+#define v_color g_color
+#define v_motion g_motion
+#define v_instance g_instance
+#define v_primitive g_primitive
+#define v_hash_instance g_hash_instance
+#define v_hash_triangle g_hash_triangle
+#endif
 
 #if !defined(PASS_OPAQUE) && !defined(PASS_MASK) && !defined(PASS_BLEND) && !defined(PASS_SOLID) && !defined(PASS_LIST)
 #error "forward.frag needs one of PASS_OPAQUE, PASS_MASK, PASS_BLEND, PASS_SOLID, PASS_LIST"
@@ -58,6 +72,28 @@ uniform vec3 u_eye;
 uniform float u_alpha_lod_max;
 #endif
 
+// What shading reads of the surface at a point: attributes and their change per pixel step, the
+// pixel and depth the stochastic test hashes. `coarse`: VRS's coarse pixel's (common/vrs_shade.glsl;
+// textureGrad with these derivatives); else the fragment's own (the implicit-derivative lookups).
+struct shade_in {
+    vec2 uv, duv_dx, duv_dy;
+    vec4 color;
+    vec3 normal, obj, dobj_dx, dobj_dy;
+    uvec2 pixel;
+    float depth;
+    bool coarse;
+};
+
+// The fragment's own inputs (in uniform control flow: derivatives).
+shade_in pixel_shade_in()
+{
+    return shade_in(v_uv, dFdx(v_uv), dFdy(v_uv), v_color, v_world_normal, v_object_pos, dFdx(v_object_pos),
+                    dFdy(v_object_pos), uvec2(gl_FragCoord.xy), gl_FragCoord.z, false);
+}
+#ifdef VRS
+#include "common/vrs_shade.glsl"
+#endif
+
 #ifdef COUNT_FRAGMENTS
 // Covered fragments of each ring and pass (COUNT_FRAGMENTS_BINDING): helper invocations (the
 // rest of a 2x2 quad or a 4x4 llvmpipe block) are not covered and do not count.
@@ -73,14 +109,28 @@ layout(location = 2) out vec4 o_motion;   // .xyz: world position last frame - n
 
 void main()
 {
+#ifdef VRS
+    // This twin shades the tiles coarser than 1x1; the pass's own program draws the others, exactly
+    // as without VRS (renderer_vrs.c scissors it to them).
+    uint vrs_rate = vrs_rate_here();
+    if (vrs_rate == 0u)
+        discard;
+#endif
 #ifdef COUNT_FRAGMENTS
     // Before the alpha test: every fragment the primitive covers counts, kept or discarded.
     if (!gl_HelperInvocation)
         atomicAdd(u_covered[u_count_slot], 1u);
 #endif
-    vec4 tex = u_has_base_tex ? texture(u_base_tex, v_uv, u_mip_bias) : vec4(1.0);
-    float alpha = tex.a * u_base_color.a * v_color.a;
-    vec3 albedo = tex.rgb / max(tex.a, PREMUL_ALPHA_EPS) * u_base_color.rgb * v_color.rgb;
+#ifdef VRS
+    shade_in s = vrs_shade_in(vrs_rate);
+#else
+    shade_in s = pixel_shade_in();
+#endif
+    vec4 tex = !u_has_base_tex ? vec4(1.0)
+               : s.coarse      ? textureGrad(u_base_tex, s.uv, s.duv_dx * u_mip_scale, s.duv_dy * u_mip_scale)
+                               : texture(u_base_tex, s.uv, u_mip_bias);
+    float alpha = tex.a * u_base_color.a * s.color.a;
+    vec3 albedo = tex.rgb / max(tex.a, PREMUL_ALPHA_EPS) * u_base_color.rgb * s.color.rgb;
 
 #ifdef PASS_MASK
     // The mip level the trilinear lookup reads (mip bias included), for the hashed fade-in and mip
@@ -93,9 +143,11 @@ void main()
         // From the uv derivatives in one log2 (alpha_texture_fade_level, the GL spec's isotropic
         // lod; the sampler has no bias or anisotropic filtering of its own): cheaper than
         // textureQueryLod on llvmpipe.
-        lod = alpha_texture_fade_level(dFdx(v_uv), dFdy(v_uv), size, u_mip_scale);
+        lod = alpha_texture_fade_level(s.duv_dx, s.duv_dy, size, u_mip_scale);
 #else
-        lod = max(textureQueryLod(u_base_tex, v_uv).y + u_mip_bias, 0.0);
+        // The coarse pixel's level by the same isotropic rule (alpha_texture_fade_level).
+        lod = s.coarse ? alpha_texture_fade_level(s.duv_dx, s.duv_dy, vec2(textureSize(u_base_tex, 0)), u_mip_scale)
+                       : max(textureQueryLod(u_base_tex, s.uv).y + u_mip_bias, 0.0);
 #endif
     }
 #endif
@@ -107,10 +159,10 @@ void main()
     // level: a pixel still spans 2^lod texels, of which the finer read is one point sample, and
     // only the full noise keeps its expectation the footprint's mean alpha. C twin: alpha_lod_clamp.
     if (u_has_base_tex) {
-        float level = alpha_texture_fade_level(dFdx(v_uv), dFdy(v_uv), vec2(textureSize(u_base_tex, 0)), u_mip_scale);
+        float level = alpha_texture_fade_level(s.duv_dx, s.duv_dy, vec2(textureSize(u_base_tex, 0)), u_mip_scale);
         float read = alpha_lod_clamp(level, u_alpha_lod_max);
         if (read < level) {
-            alpha = textureLod(u_base_tex, v_uv, read).a * u_base_color.a * v_color.a;
+            alpha = textureLod(u_base_tex, s.uv, read).a * u_base_color.a * s.color.a;
 #if ALPHA_MODE != ALPHA_MODE_ID_HASHED
             lod = min(lod, read);
 #endif
@@ -124,11 +176,11 @@ void main()
     alpha *= 1.0 + lod * ALPHA_MIPSCALE_PER_LOD;
     alpha = clamp((alpha - u_alpha_cutoff) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
 #endif
-    if (!alpha_test(alpha, u_alpha_cutoff, v_object_pos, lod))
+    if (!alpha_test_at(alpha, u_alpha_cutoff, s.obj, s.dobj_dx, s.dobj_dy, lod, s.pixel, s.depth))
         discard;
 #endif
 
-    vec3 n = normalize(v_world_normal);
+    vec3 n = normalize(s.normal);
     if (u_double_sided && !gl_FrontFacing)
         n = -n;
     vec3 rgb = shade_lambert(albedo, n);

@@ -13,10 +13,12 @@ uniform float u_fade_n;      // fade-in length in mip levels; <= 0: no fade
 uniform uint u_frame;        // frame index: stochastic thresholds change every frame
 
 // True when a fragment of opacity `alpha` survives the test. `obj` is the object-space position
-// (anchored to the whole instance), `lod` the mip level the trilinear lookup reads (bias included,
-// >= 0). Must be called in uniform control flow (derivatives).
+// (anchored to the whole instance) and dx, dy its change per pixel step along x and y, `lod` the
+// mip level the trilinear lookup reads (bias included, >= 0), `pixel` and `depth` the pixel and
+// window depth the stochastic test hashes. alpha_test below passes the fragment's own; VRS's coarse
+// shading (forward.frag) passes its coarse pixel's, so the whole coarse pixel decides once.
 // HASHED_A2C also writes gl_SampleMask; A2C leaves coverage to GL_SAMPLE_ALPHA_TO_COVERAGE.
-bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
+bool alpha_test_at(float alpha, float cutoff, vec3 obj, vec3 dx, vec3 dy, float lod, uvec2 pixel, float depth)
 {
 #if ALPHA_MODE == ALPHA_MODE_ID_TRADITIONAL || ALPHA_MODE == ALPHA_MODE_ID_CASTANO
     // glTF MASK: "rendered fully opaque if alpha >= alphaCutoff". Castano differs only in its
@@ -29,18 +31,16 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
     // a threshold (that would correlate them like a fixed dither). The salt mixes the primitive, the
     // fragment's depth bits and its draw order (common/draw_order.glsl): coplanar cards of other
     // draws or instances share the first two, and would otherwise pass and fail together.
-    uint salt = v_primitive * 0x9E3779B9u ^ floatBitsToUint(gl_FragCoord.z) ^
-                (u_draw_order + v_instance) * 0x85EBCA6Bu;
-    return alpha >= alpha_stochastic_threshold(uint(gl_FragCoord.x), uint(gl_FragCoord.y), u_frame, salt);
+    uint salt = v_primitive * 0x9E3779B9u ^ floatBitsToUint(depth) ^ (u_draw_order + v_instance) * 0x85EBCA6Bu;
+    return alpha >= alpha_stochastic_threshold(pixel.x, pixel.y, u_frame, salt);
 #elif ALPHA_MODE == ALPHA_MODE_ID_HASHED
-    // Derivatives first (uniform control flow), then skip the hash where no threshold can change
+    // The caller took the derivatives (in uniform control flow); skip the hash where no threshold can change
     // the answer: thresholds lie in (0, 1], so alpha 0 never passes and alpha 1 always does. Most
     // texels of foliage at fine mips are exactly 0 or 1, and whole SIMD groups skip the hashing.
     // Where the fade-in has not started (b = 0: magnified or mip-0 texels), alpha_hashed_fade
     // returns the cutoff whatever the hash: the traditional test, without hashing. One branch for
     // the three cases: llvmpipe
     // evaluates both sides anyway, and one branch costs it less mask bookkeeping than three returns.
-    vec3 dx = dFdx(obj), dy = dFdy(obj);
     if (alpha <= 0.0 || alpha >= 1.0 || (u_fade_n > 0.0 && lod <= 0.0))
         return alpha >= 1.0 || (alpha > 0.0 && alpha >= max(cutoff, float(ALPHA_THRESHOLD_MIN)));
     // Each instance and triangle hashes its own lattice (docs/hashed-alpha.md, "Layers"): far away,
@@ -61,7 +61,7 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
     // per fragment gives chi; xi1 and xi2 are derived from it (fract of multiples of a uniform
     // variable are uniform), so layers with different hashes get decorrelated masks.
     uint layer = alpha_hash_layer(v_hash_instance, v_hash_triangle);
-    float t = alpha_hashed_threshold_layer(obj, dFdx(obj), dFdy(obj), u_hash_scale, u_hash_kind, u_hash_aniso, layer);
+    float t = alpha_hashed_threshold_layer(obj, dx, dy, u_hash_scale, u_hash_kind, u_hash_aniso, layer);
 #ifdef TAA_HASH_OFFSET
     t = alpha_hashed_frame_offset(t, u_frame);
 #endif
@@ -71,4 +71,11 @@ bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
 #else
 #error "unknown ALPHA_MODE"
 #endif
+}
+
+// The test of this fragment: its own object-space derivatives, pixel and depth. Must be called in
+// uniform control flow (derivatives).
+bool alpha_test(float alpha, float cutoff, vec3 obj, float lod)
+{
+    return alpha_test_at(alpha, cutoff, obj, dFdx(obj), dFdy(obj), lod, uvec2(gl_FragCoord.xy), gl_FragCoord.z);
 }

@@ -83,6 +83,7 @@
 
 /* Texture units. */
 #define TEX_UNIT_BASE_COLOR 0
+#define TEX_UNIT_VRS_RATE 7   /* VRS foveation: the rate image (R8UI, one texel per tile) */
 
 /* Samples per pixel of the alpha-to-coverage modes' multisampled targets (a power of two). */
 #define MSAA_SAMPLES 4

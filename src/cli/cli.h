@@ -46,6 +46,9 @@ typedef enum acc_error_kind { ACC_ERROR_FLIP = 0, ACC_ERROR_ALPHA_RMSE, ACC_ERRO
 /* bench --accuracy --cost: the x axis of the accuracy-vs-cost plot (docs/benchmarks.md "Cost model"). */
 typedef enum acc_cost_kind { ACC_COST_TIME = 0, ACC_COST_MODEL, ACC_COST_WORK } acc_cost_kind;
 
+/* The commands that take --foveation vrs (the others refuse it: VRS_NOT_BUILT). */
+#define CMD_TAKES_VRS(c) ((c) == CMD_PLAN || (c) == CMD_RENDER || (c) == CMD_COMPARE)
+
 typedef struct run_desc {
     command cmd;
     command help_for;        /* CMD_HELP: which command's help (CMD_NONE = general) */

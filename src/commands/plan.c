@@ -27,8 +27,8 @@ static void print_vrs(const run_desc *d, const scene *sc, const plan *pl)
     free(rates);
     char text[256];
     vrs_spec_format(&spec, text, sizeof text);
-    printf("foveation  vrs: one pass at full resolution, one shading rate per %d x %d tile (%d x %d tiles); drawing "
-           "it is not built yet (issue 33 part 2)\n", tile, tile, nx, ny);
+    printf("foveation  vrs: one pass at full resolution, one shading rate per %d x %d tile (%d x %d tiles); coarse "
+           "shading emulated in the forward passes (VRS)\n", tile, tile, nx, ny);
     printf("vrs        %s%s, gaze at the centre:\n", text,
            spec.is_auto ? " (acuity model per tile: docs/foveation.md \"Variable-rate shading\")" : "");
     for (int i = 0; i < VRS_RATE_COUNT; i++)
@@ -37,10 +37,11 @@ static void print_vrs(const run_desc *d, const scene *sc, const plan *pl)
     double px = (double)dd.width * (double)dd.height;
     printf("  total      %.1f %% of display pixels shaded: ideal shading saving %.1f %% (ideal speedup %.2fx)\n",
            100.0 * st.shaded / px, 100.0 * st.saving, px / st.shaded);
-    if (pl->rings) {
-        long long rp = fov_shaded_pixels(&dd, &pl->layout, 0.5f * (float)dd.width, 0.5f * (float)dd.height,
+    const fov_layout *rings = pl->vrs ? &pl->vrs_rings : &pl->layout;
+    if (rings->count > 1 || rings->rings[0].scale_log2 > 0) {
+        long long rp = fov_shaded_pixels(&dd, rings, 0.5f * (float)dd.width, 0.5f * (float)dd.height,
                                          FOV_MARGIN_BLOCKS, NULL);
-        printf("  the rings above shade %.1f %%: saving %.1f %%\n", 100.0 * (double)rp / px, 100.0 * (1.0 - (double)rp / px));
+        printf("  the rings would shade %.1f %%: saving %.1f %%\n", 100.0 * (double)rp / px, 100.0 * (1.0 - (double)rp / px));
     }
 }
 

@@ -94,9 +94,10 @@ fs_status cmd_render(const run_desc *d)
     double el = time_now() - t0;
     if (st == FS_OK) {
         char rings[256];
-        fov_layout_format(&s.pl.layout, rings, sizeof rings);
-        printf("wrote %d frame%s (%dx%d, alpha %s, rings %s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n",
-               done, done == 1 ? "" : "s", s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode), rings, out, d->name, el,
+        plan_foveation_format(&s.pl, rings, sizeof rings);
+        printf("wrote %d frame%s (%dx%d, alpha %s, %s%s) to %s/%s.####.exr in %.1f s (%.2f fps) on %s\n",
+               done, done == 1 ? "" : "s", s.pl.width, s.pl.height, alpha_mode_name(s.pl.global_mode),
+               s.pl.vrs ? "" : "rings ", rings, out, d->name, el,
                el > 0 ? (done + redrawn) / el : 0.0, gl_device_renderer());
         run_folder_print_resume(&rf, redrawn, redrawn_s);
     } else if (st == FS_ERR_INTERRUPTED) {

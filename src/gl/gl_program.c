@@ -35,13 +35,15 @@ fs_status gl_program_build(const gl_program_desc *d, gpu_program_handle *out)
 {
     out->id = 0;
     fs_status st = FS_OK;
-    GLuint stages[2] = {0, 0};
+    GLuint stages[3] = {0, 0, 0};
     int n = 0;
     if (d->cs) {
         stages[n++] = compile_stage(GL_COMPUTE_SHADER, d->cs, d, &st);
     } else {
         stages[n++] = compile_stage(GL_VERTEX_SHADER, d->vs, d, &st);
-        if (stages[0])
+        if (stages[0] && d->gs)
+            stages[n++] = compile_stage(GL_GEOMETRY_SHADER, d->gs, d, &st);
+        if (stages[n - 1])
             stages[n++] = compile_stage(GL_FRAGMENT_SHADER, d->fs, d, &st);
     }
     if (!stages[n - 1]) {

@@ -17,6 +17,7 @@ typedef struct gpu_program_handle {
 
 typedef struct gl_program_desc {
     const char *vs, *fs;            /* embedded paths, e.g. "shaders/forward.vert" */
+    const char *gs;                 /* optional geometry shader between them (NULL: none) */
     const char *cs;                 /* or a compute shader alone (vs and fs NULL) */
     const char *const *defines;     /* "NAME VALUE" strings */
     int define_count;

@@ -311,6 +311,38 @@ static void plan_rings(const plan_options *o, plan *out)
     out->ring_cull = out->layout.count > 1 && !o->no_ring_cull;
 }
 
+/* Phase 4b: VRS foveation (docs/foveation.md "Variable-rate shading: coarse shading"): one
+ * full-resolution ring. Each forward pass that shades colour keeps its program for the tiles at
+ * 1x1 and gets a coarse-shading twin (plan_pass_vrs) for the others; the exact reference's passes
+ * never (the reference is never foveated). */
+static void plan_vrs(const plan_options *o, plan *out)
+{
+    if (!o->vrs || out->reference)
+        return;
+    out->vrs = true;
+    out->vrs_spec = o->vrs_spec;
+    out->vrs_tile = o->vrs_tile > 0 ? o->vrs_tile : VRS_TILE_DEFAULT;
+    out->vrs_rings = out->layout;
+    out->layout = fov_layout_off();
+    out->rings = false;
+    out->composite = o->overlay || o->debug_channels;
+    out->ring_cull = false;
+}
+
+bool plan_pass_vrs(const plan_pass *ps, plan_pass *out)
+{
+    *out = *ps;
+    if (ps->kind == PLAN_PASS_FORWARD_SOLID || ps->kind == PLAN_PASS_FORWARD_LIST)
+        return false;
+    if (out->define_count >= PLAN_MAX_DEFINES) {
+        log_error("plan: pass %s: no room for the VRS variant's define", ps->name);
+        return false;
+    }
+    out->gs = "shaders/forward_vrs.geom";
+    add_define(out, "VRS", 1);
+    return true;
+}
+
 /* Phase 5: ring LOD (docs/ring-lod.md): only for scenes with foliage to thin, never for the
  * reference, and only when some ring keeps fewer than all cards (an explicit schedule of ones
  * compiles it too: that is how a test shows u = 1 changes nothing). The MASK passes then compile
@@ -423,6 +455,7 @@ fs_status plan_build(const scene *sc, const plan_options *opt, plan *out)
         return st;
     plan_time(sc, &o, out);
     plan_rings(&o, out);
+    plan_vrs(&o, out);
     st = plan_ring_lod(sc, &o, out);
     if (st != FS_OK)
         return st;
@@ -449,6 +482,17 @@ static void plan_print_acuity(const display_desc *dd, const fov_layout *l, FILE 
     else
         fprintf(f, "  acuity     margin %.3fx: ring %d's blocks span up to %.3fx the MAR at its inner edge for some gazes, "
                    "coarser than the acuity model by %.0f %%\n", margin, worst, ratio, 100.0 * (ratio - 1.0));
+}
+
+void plan_foveation_format(const plan *p, char *buf, size_t size)
+{
+    if (!p->vrs) {
+        fov_layout_format(&p->layout, buf, (int)size);
+        return;
+    }
+    char spec[128];
+    vrs_spec_format(&p->vrs_spec, spec, sizeof spec);
+    snprintf(buf, size, "vrs %s, %d px tiles", spec, p->vrs_tile);
 }
 
 void plan_print(const plan *p, const scene *sc, FILE *f)
@@ -487,6 +531,10 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
             fprintf(f, "%s%s", d ? ", " : "", ps->defines[d]);
         fprintf(f, "]\n");
     }
+    plan_pass v;
+    if (p->vrs && p->pass_count > 0 && plan_pass_vrs(&p->passes[0], &v))
+        fprintf(f, "  (VRS: each pass above draws the 1x1 tiles; its twin + %s [VRS 1] shades the coarser ones once per "
+                   "coarse pixel and triangle)\n", v.gs);
     display_desc dd = {p->width, p->height, p->hfov_deg};
     if (p->rings) {
         char spec[256];

@@ -17,12 +17,13 @@
 
 #include "fov/fov_ring.h"
 #include "fov/ring_lod.h"
+#include "fov/vrs_map.h"
 #include "scene/scene.h"
 
 #ifndef PLAN_MAX_PASSES
 #define PLAN_MAX_PASSES 16
 #endif
-#define PLAN_MAX_DEFINES 10
+#define PLAN_MAX_DEFINES 12
 
 typedef enum plan_pass_kind {
     PLAN_PASS_FORWARD_OPAQUE = 0,
@@ -37,6 +38,7 @@ typedef struct plan_pass {
     char name[48];          /* "forward.opaque", "forward.mask[traditional]", "forward.blend", "forward.list" */
     alpha_mode mode;        /* MASK passes: the strategy; others: DEFAULT */
     const char *vs, *fs;    /* embedded shader paths */
+    const char *gs;         /* geometry shader between them, or NULL (VRS twins: forward_vrs.geom) */
     char defines[PLAN_MAX_DEFINES][48]; /* sorted "NAME VALUE" strings */
     int define_count;
     int prim_count;         /* primitives (per asset, drawn instanced) this pass draws */
@@ -104,6 +106,10 @@ typedef struct plan_options {
                                  for measuring what the classification saves */
     ring_lod_spec ring_lod; /* --ring-lod: per-ring stochastic simplification of MASK foliage
                                (ring_lod.h); zeroed = off. Checked against the layout by the caller */
+    bool vrs;              /* VRS foveation (vrs_map.h): one full-resolution pass shaded at the rate
+                              map's rates; `layout` is then only what `fovsim plan` compares with */
+    vrs_spec vrs_spec;     /* with vrs: the rate map's rule */
+    int vrs_tile;          /* with vrs: the tile (8, 16 or 32) */
 } plan_options;
 
 typedef struct plan {
@@ -158,6 +164,12 @@ typedef struct plan {
     bool list_resolve;          /* the exact reference's list pass runs: its lists are sorted and
                                  * composited by list_resolve_pass (shaders/list_resolve.frag) */
     plan_pass list_resolve_pass;
+    bool vrs;                   /* VRS foveation: rings off; each forward pass draws the 1x1 tiles and
+                                 * its VRS twin (plan_pass_vrs) the coarser ones, from a rate image
+                                 * filled per frame for the rendered gaze */
+    vrs_spec vrs_spec;          /* with vrs: the map's rule */
+    int vrs_tile;               /* with vrs: its tile */
+    fov_layout vrs_rings;       /* with vrs: the rings the run would have drawn (for `fovsim plan`) */
 } plan;
 
 /* Builds the plan (FS_ERR_INTERNAL only if the scene needs more than PLAN_MAX_PASSES passes). */
@@ -168,6 +180,11 @@ const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode);
  * COUNT_FRAGMENTS defined, so its fragment shader counts covered fragments. False (and a logged
  * error) when the pass has no room for another define. */
 bool plan_pass_counting(const plan_pass *ps, plan_pass *out);
+/* The VRS twin of forward pass `ps` (plan.vrs; docs/foveation.md "Variable-rate shading: coarse
+ * shading"): the same pass with the geometry shader forward_vrs.geom and VRS defined, which shades
+ * the tiles coarser than 1x1 (the pass itself draws the 1x1 tiles). False for the exact reference's
+ * passes, and (with a logged error) when the pass has no room for another define. */
+bool plan_pass_vrs(const plan_pass *ps, plan_pass *out);
 /* The effective alpha mode of a material under this plan. */
 alpha_mode plan_material_mode(const plan *p, const material *m);
 /* The mip level at most at which a MASK material's alpha test reads alpha under this plan (its
@@ -177,6 +194,9 @@ float plan_material_alpha_lod_max(const plan *p, const material *m);
 /* The clamps in use, for `fovsim plan` and the EXR header: "Leaves 6, Flowers 6" (material and
  * level, each name once); "" when none. */
 void plan_alpha_lod_format(const plan *p, const scene *sc, char *buf, size_t size);
+/* How the plan foveates, for summaries: the ring layout ("auto", "*:1:0"), or under VRS
+ * "vrs auto, 16 px tiles" (the rate map's rule and tile). */
+void plan_foveation_format(const plan *p, char *buf, size_t size);
 /* Human-readable description (for `fovsim plan`). */
 void plan_print(const plan *p, const scene *sc, FILE *f);
 

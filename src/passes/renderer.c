@@ -19,7 +19,7 @@ static fs_status build_pass_program(const plan_pass *ps, GLuint *id)
     for (int i = 0; i < ps->define_count; i++)
         defs[i] = ps->defines[i];
     gpu_program_handle h = {0};
-    fs_status st = gl_program_build(&(gl_program_desc){.vs = ps->vs, .fs = ps->fs, .defines = defs,
+    fs_status st = gl_program_build(&(gl_program_desc){.vs = ps->vs, .gs = ps->gs, .fs = ps->fs, .defines = defs,
                                                        .define_count = ps->define_count, .label = ps->name},
                                     &h);
     *id = h.id;
@@ -42,6 +42,7 @@ static const uniform_slot k_pass_uniforms[] = {
     PASS(u_hash_scale), PASS(u_hash_kind), PASS(u_hash_aniso), PASS(u_fade_n), PASS(u_frame), PASS(u_time),
     PASS(u_prev_time), PASS(u_draw_order), PASS(u_list_capacity), PASS(u_hash_instance),
     PASS(u_ring_lod), PASS(u_ring_lod_instance), PASS(u_ring_lod_px), PASS(u_alpha_lod_max), PASS(u_count_slot),
+    PASS(u_vrs_tile), PASS(u_vrs_viewport),
 };
 #undef PASS
 
@@ -140,6 +141,11 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = plan_pass_counting(&r->pl.passes[i], &counting) ? program_create(&counting, &r->count_programs[i])
                                                               : FS_ERR_INTERNAL;
     }
+    for (int i = 0; i < r->pl.pass_count && st == FS_OK && r->pl.vrs; i++) {
+        plan_pass twin;
+        if (plan_pass_vrs(&r->pl.passes[i], &twin))
+            st = program_create(&twin, &r->vrs_programs[i]);
+    }
     if (st == FS_OK && desc->count_fragments) {
         glCreateBuffers(1, &r->count_buf);
         glNamedBufferStorage(r->count_buf, sizeof(GLuint) * MAX_FOV_RINGS * PLAN_MAX_PASSES, NULL,
@@ -159,6 +165,8 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = renderer_upload_scene(r);
     if (st == FS_OK)
         st = renderer_create_targets(r);
+    if (st == FS_OK && r->pl.vrs)
+        st = renderer_vrs_create(r);
     r->target_bpp = renderer_target_bytes(r);
     if (st == FS_OK && r->timers) {
         glGenQueries(r->stage_count, r->time_queries);
@@ -261,5 +269,10 @@ void renderer_destroy(renderer *r)
     for (int i = 0; i < r->pl.pass_count; i++)
         glDeleteProgram(r->count_programs[i].id);
     glDeleteBuffers(1, &r->count_buf);
+    glDeleteTextures(1, &r->vrs_tex);
+    free(r->vrs_rates);
+    free(r->vrs_rects);
+    for (int i = 0; i < r->pl.pass_count; i++)
+        glDeleteProgram(r->vrs_programs[i].id);
     free(r);
 }

@@ -391,6 +391,70 @@ static void list_resolve(renderer *r)
     glEnable(GL_DEPTH_TEST);
 }
 
+/* Forward pass `ps` with program `pg` (its uniforms set), over what the scissor lets through. */
+static void draw_pass(renderer *r, const gpu_program *pg, const plan_pass *ps, const frame_record *fr)
+{
+    r->list_draw_order = 0;
+    if (ps->kind == PLAN_PASS_FORWARD_BLEND) {
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
+        glDepthMask(GL_FALSE);
+        /* Blended surfaces are see-through: the motion stays that of what lies behind. */
+        if (r->pl.velocity)
+            glColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        draw_blend_sorted(r, pg, ps, fr);
+        if (r->pl.velocity)
+            glColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_BLEND);
+    } else if (ps->kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(ps->mode, ALPHA_TRAIT_GL_A2C)) {
+        glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+        glEnable(GL_SAMPLE_ALPHA_TO_ONE);
+        draw_instanced(r, pg, ps);
+        glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+        glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+    } else if (ps->kind == PLAN_PASS_FORWARD_SOLID) {
+        /* Pushed back, so that the list pass (GL_LESS) still stores these fragments and any
+         * coplanar with them, in draw order: they order among themselves in the resolve. */
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(1.0f, 2.0f);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        draw_instanced(r, pg, ps);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDisable(GL_POLYGON_OFFSET_FILL);
+    } else if (ps->kind == PLAN_PASS_FORWARD_LIST) {
+        draw_lists(r, pg, ps);
+    } else {
+        draw_instanced(r, pg, ps);
+    }
+}
+
+/* VRS foveation (plan.vrs): plan pass i's own program `pg` draws the 1x1 tiles, scissored to their
+ * rectangles, exactly as without VRS; its twin (plan_pass_vrs) then draws the whole target and
+ * shades the coarser tiles, discarding the 1x1 tiles' fragments. A pixel's fragments all come from
+ * one of the two, in the same order as from one draw. */
+static void draw_pass_vrs(renderer *r, const gpu_program *pg, int i, const frame_record *fr)
+{
+    const plan_pass *ps = &r->pl.passes[i];
+    const gpu_program *twin = &r->vrs_programs[i];
+    if (!twin->id) { /* a pass without a twin (none shades colour under VRS) draws it all */
+        draw_pass(r, pg, ps, fr);
+        return;
+    }
+    for (int k = 0; k < r->vrs_rect_count; k++) {
+        const int *q = &r->vrs_rects[4 * k];
+        glScissor(q[0], q[1], q[2], q[3]);
+        draw_pass(r, pg, ps, fr);
+    }
+    glScissor(0, 0, r->width, r->height);
+    if (!r->vrs_coarse)
+        return;
+    glUseProgram(twin->id);
+    set_frame_uniforms(r, twin, fr, 0);
+    renderer_vrs_uniforms(r, twin);
+    draw_pass(r, twin, ps, fr);
+}
+
 /* The forward passes of one ring into its target. `stage` >= 0: time each pass as a stage from
  * there (rings off); < 0: the caller times the ring as a whole. */
 static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, double *t_prev)
@@ -417,6 +481,8 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
     r->ring_instances[ring] = cull_instances(r, fr, ring);
+    if (r->pl.vrs) /* the rate map for this frame's gaze (VRS foveation: one ring) */
+        renderer_vrs_frame(r, fr);
     r->draw_vp = fr->ring_view_proj[ring];
     if (r->pl.taa) {
         /* Sub-pixel jitter (Halton 2,3), in this ring's own pixels: an NDC offset of 2 j / size. */
@@ -434,39 +500,10 @@ static void draw_ring(renderer *r, const frame_record *fr, int ring, int stage, 
         set_frame_uniforms(r, pg, fr, ring);
         if (r->counting) /* this ring's and pass's counter (COUNT_FRAGMENTS_BINDING) */
             glProgramUniform1ui(pg->id, pg->u_count_slot, (GLuint)(ring * r->pl.pass_count + i));
-        r->list_draw_order = 0;
-        if (ps->kind == PLAN_PASS_FORWARD_BLEND) {
-            glEnable(GL_BLEND);
-            glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); /* premultiplied "over" */
-            glDepthMask(GL_FALSE);
-            /* Blended surfaces are see-through: the motion stays that of what lies behind. */
-            if (r->pl.velocity)
-                glColorMaski(2, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-            draw_blend_sorted(r, pg, ps, fr);
-            if (r->pl.velocity)
-                glColorMaski(2, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-            glDepthMask(GL_TRUE);
-            glDisable(GL_BLEND);
-        } else if (ps->kind == PLAN_PASS_FORWARD_MASK && alpha_mode_has(ps->mode, ALPHA_TRAIT_GL_A2C)) {
-            glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-            glEnable(GL_SAMPLE_ALPHA_TO_ONE);
-            draw_instanced(r, pg, ps);
-            glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-            glDisable(GL_SAMPLE_ALPHA_TO_ONE);
-        } else if (ps->kind == PLAN_PASS_FORWARD_SOLID) {
-            /* Pushed back, so that the list pass (GL_LESS) still stores these fragments and any
-             * coplanar with them, in draw order: they order among themselves in the resolve. */
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(1.0f, 2.0f);
-            glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-            draw_instanced(r, pg, ps);
-            glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-            glDisable(GL_POLYGON_OFFSET_FILL);
-        } else if (ps->kind == PLAN_PASS_FORWARD_LIST) {
-            draw_lists(r, pg, ps);
-        } else {
-            draw_instanced(r, pg, ps);
-        }
+        if (r->pl.vrs)
+            draw_pass_vrs(r, pg, i, fr);
+        else
+            draw_pass(r, pg, ps, fr);
         if (stage >= 0)
             stage_end(r, stage + i, t_prev);
     }

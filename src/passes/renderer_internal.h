@@ -8,6 +8,7 @@
  *   renderer_draw.c    one frame: each ring's culling and forward passes, the list pass and its
  *                      resolve, the TAA resolve; stage timing and statistics
  *   renderer_composite.c  the composite: the display classified into cells, drawn as points
+ *   renderer_vrs.c     VRS foveation's rate image, filled per frame (plan.vrs)
  *   renderer_stats.c   renderer_last_stats: the stages' queries, covered fragments, footprint bytes
  *   renderer_read.c    read-back (images, depth, fragment lists) and the framebuffer the viewer blits
  *
@@ -44,7 +45,7 @@ typedef struct gpu_program {
     GLint u_view_proj, u_has_base_tex, u_base_color, u_alpha_cutoff, u_double_sided, u_mip_bias, u_mip_scale, u_eye,
         u_light_dir, u_light_color, u_ambient, u_hash_scale, u_hash_kind, u_hash_aniso, u_fade_n, u_frame, u_time,
         u_prev_time, u_draw_order, u_list_capacity, u_hash_instance, u_ring_lod,
-        u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max, u_count_slot;
+        u_ring_lod_instance, u_ring_lod_px, u_alpha_lod_max, u_count_slot, u_vrs_tile, u_vrs_viewport;
 } gpu_program;
 
 typedef struct composite_program {
@@ -189,11 +190,26 @@ struct renderer {
     uint32_t *list_head_buf;               /* renderer_read_lists' scratch */
     void *list_node_buf;
     uint64_t list_node_buf_cap;
+    /* >>vrs: plan.vrs: the rate image (R8UI, one texel per tile, row 0 the top row of tiles) and
+     * the map vrs_map_fill writes into it every frame for the rendered gaze */
+    GLuint vrs_tex;
+    vrs_rate *vrs_rates;
+    int vrs_tiles_x, vrs_tiles_y;
+    gpu_program vrs_programs[PLAN_MAX_PASSES]; /* each plan pass's VRS twin (plan_pass_vrs), id 0: none */
+    int *vrs_rects;        /* this frame's 1x1 tiles as window rectangles (x, y, width, height) */
+    int vrs_rect_count;
+    bool vrs_coarse;       /* this frame's map has a tile coarser than 1x1 */
 };
 
 /* >>create: renderer_create's steps after the programs (renderer_upload.c) */
 fs_status renderer_upload_scene(renderer *r);
 fs_status renderer_create_targets(renderer *r);
+/* >>vrs (renderer_vrs.c, plan.vrs): the rate image's texture, map and rectangles; each frame, the
+ * map for the frame's rendered gaze uploaded and bound, and its 1x1 tiles as rectangles (where
+ * the passes' own programs draw); the uniforms of a VRS twin. */
+fs_status renderer_vrs_create(renderer *r);
+void renderer_vrs_frame(renderer *r, const frame_record *fr);
+void renderer_vrs_uniforms(const renderer *r, const gpu_program *pg);
 /* >>composite (renderer_composite.c) */
 /* The composite's vertex buffer and scratch (its targets and sampler are renderer_upload.c's). */
 fs_status renderer_composite_create(renderer *r);

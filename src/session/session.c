@@ -136,9 +136,13 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .history = d->taa.history,
                                            .nan_check = d->taa.nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
-    if (session_foveation(d, sc) == FOVEATION_VRS && d->cmd != CMD_PLAN) { /* the CLI's refused in cli_finish */
-        log_error("%s: \"foveation\": \"vrs\": %s", sc->path, VRS_NOT_BUILT);
-        return FS_ERR_USAGE;
+    if (session_foveation(d, sc) == FOVEATION_VRS) {
+        if (!CMD_TAKES_VRS(d->cmd)) { /* the CLI's refused in cli_finish */
+            log_error("%s: \"foveation\": \"vrs\": %s", sc->path, VRS_NOT_BUILT);
+            return FS_ERR_USAGE;
+        }
+        out->vrs = true;
+        session_vrs(d, sc, &out->vrs_spec, &out->vrs_tile);
     }
     fs_status st = resolve_layout(d, sc, d->width, d->height, &out->layout);
     return st == FS_OK ? resolve_ring_lod(d, sc, &out->layout, &out->ring_lod) : st;
@@ -271,6 +275,11 @@ void session_attrs(exr_image *img, const scene *sc, const plan *pl, const gaze_t
     char rings[256];
     fov_layout_format(&pl->layout, rings, sizeof rings);
     exr_image_set_string(img, "fovsim:rings", rings);
+    if (pl->vrs) { /* only under VRS: other frames' headers stay as they were */
+        char fov[192];
+        plan_foveation_format(pl, fov, sizeof fov);
+        exr_image_set_string(img, "fovsim:foveation", fov);
+    }
     exr_image_set_string(img, "fovsim:gaze_trace", gz->count > 0 ? gz->path : "centre fixation");
     char taa[128];
     if (pl->taa)

@@ -42,7 +42,8 @@ void session_vrs(const run_desc *d, const scene *sc, vrs_spec *spec, int *tile);
 /* The plan options of a run: --alpha, the size, TAA and alpha controls (the CLI's, else the
  * scene's), and the ring layout (--rings, else the scene's, else auto; auto falls back to off where
  * it would not save pixels; off with foveation off). One line and FS_ERR_USAGE for a bad layout,
- * and for VRS foveation in any command but plan (VRS_NOT_BUILT). */
+ * and for VRS foveation in a command that does not draw it (VRS_NOT_BUILT); under VRS the options
+ * carry the rate map's rule and tile. */
 fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options *out);
 /* plan_build of those options. */
 fs_status session_build_plan(const run_desc *d, const scene *sc, plan *pl);

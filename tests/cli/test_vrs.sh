@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # VRS foveation, part 1 (docs/foveation.md "Variable-rate shading (VRS): the rate map"): `fovsim
 # plan --foveation vrs` prints the rate map's shares and ideal saving, the scene keys equal the
-# options, drawing commands refuse VRS in one line (not built yet), --foveation off is --rings off,
-# and bad values get one-line errors.
+# options, the commands that do not draw VRS yet refuse it in one line, --foveation off is --rings
+# off, and bad values get one-line errors.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
 T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/vrs
@@ -18,7 +18,7 @@ check "plan prints the auto map's shares: 1x1 at the centre, 4x4 outside" \
 sum=$(awk '/^  [124]x[124] +[0-9.]+ % of display pixels/ {s += $2} END {printf "%.1f", s}' "$T/plan.txt")
 check "the shares sum to 100 % (got $sum)" bash -c "awk 'BEGIN {exit !($sum >= 99.6 && $sum <= 100.4)}'"
 check "plan prints the ideal saving and the rings' beside it" \
-  bash -c "grep -Eq 'ideal shading saving [0-9.]+ %' '$T/plan.txt' && grep -Eq 'the rings above shade [0-9.]+ %' '$T/plan.txt'"
+  bash -c "grep -Eq 'ideal shading saving [0-9.]+ %' '$T/plan.txt' && grep -Eq 'the rings would shade [0-9.]+ %' '$T/plan.txt'"
 "$BIN" plan forest --foveation vrs --vrs '10:1x1,*:4x4' --vrs-tile 32 >"$T/explicit.txt" 2>&1
 check "an explicit map: its bands, its tile, only its rates" \
   bash -c "grep -q '^vrs        10:1x1,\*:4x4, gaze' '$T/explicit.txt' && grep -q '32 x 32 tile (40 x 23 tiles)' '$T/explicit.txt' && [ \$(grep -Ec '^  [124]x[124] +[0-9.]+ %' '$T/explicit.txt') -eq 2 ]"
@@ -33,14 +33,14 @@ sed 's/^{/{"foveation": "vrs", "vrs": "10:1x1,*:4x4", "vrs_tile": 32,/' "$FOREST
 grep -v '^scene ' "$T/explicit.txt" >"$T/explicit_noscene.txt"
 check "the scene's foveation, vrs and vrs_tile print what the options do" diff "$T/key.txt" "$T/explicit_noscene.txt"
 
-# ---- drawing commands refuse VRS in one line, exit 2
-expect_exit "render --foveation vrs refuses" 2 "$BIN" render forest --foveation vrs --frames 1 --out "$T/r"
-check "  ... saying it is not built yet and where the map is" grep -q 'not built yet (issue 33 part 2); fovsim plan --foveation vrs shows the rate map' "$T/err.txt"
-check "  ... and writes nothing" test ! -e "$T/r"
-expect_exit "compare --foveation vrs refuses" 2 "$BIN" compare forest --foveation vrs --frames 1 --out "$T/c"
+# ---- the commands that do not draw VRS yet refuse it in one line, exit 2 (render and compare draw
+# it: test_vrs_shade.sh)
 expect_exit "bench --foveation vrs refuses" 2 "$BIN" bench forest --foveation vrs --frames 1
-expect_exit "a scene with \"foveation\": \"vrs\" refuses to render" 2 "$BIN" render "$T/forest_vrs.json" --frames 1 --out "$T/k"
-check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS drawing is not built yet' "$T/err.txt"
+check "  ... saying which commands draw it" grep -q 'VRS is drawn by render and compare (issue 33 part 2); this command does not draw it yet' "$T/err.txt"
+expect_exit "demo --foveation vrs refuses" 2 "$BIN" demo --foveation vrs --frames 1 --out "$T/d"
+check "  ... and writes nothing" test ! -e "$T/d"
+expect_exit "a scene with \"foveation\": \"vrs\" refuses to bench" 2 "$BIN" bench "$T/forest_vrs.json" --frames 1
+check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS is drawn by render and compare' "$T/err.txt"
 check "--rings on the command line chooses rings over the scene's \"foveation\": \"vrs\"" \
   bash -c "'$BIN' plan '$T/forest_vrs.json' --rings aggressive >'$T/over.txt' && grep -q '^rings      aggressive' '$T/over.txt' && ! grep -q '^vrs' '$T/over.txt'"
 
