@@ -227,36 +227,172 @@ void sweep_task_dir(const sweep_manifest *m, const sweep_task *k, char *out, siz
     snprintf(out, n, "%s/tasks/%s", m->out, k->name);
 }
 
-/* Done when its folder's record says complete (compare writes it last, after metrics and summary). */
-sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k)
+/* What describing a task needs, kept between calls: the tasks are built scene by scene and trace
+ * by trace, so a sweep loads each scene once and each trace once per scene. */
+struct sweep_ident {
+    int scene, gaze, width, height; /* what sc and gz hold (-1: nothing) */
+    scene sc;
+    gaze_trace gz;
+    run_record_hashes h;
+};
+
+sweep_ident *sweep_ident_new(void)
 {
-    char path[PATH_MAX + 300];
-    sweep_task_dir(m, k, path, sizeof path);
-    size_t l = strlen(path);
-    snprintf(path + l, sizeof path - l, "/%s", RUN_RECORD_FILE);
-    struct stat sb;
-    const char *why;
-    int fd = file_open_regular(path, &sb, &why); /* a FIFO there must not hang --list */
-    if (fd < 0)
-        return errno == ENOENT ? TASK_TODO : TASK_INCOMPLETE; /* the task's run says what is wrong */
-    FILE *f = fdopen(fd, "r");
-    if (!f) {
-        close(fd);
-        return TASK_INCOMPLETE;
-    }
-    char line[512];
-    bool done = false;
-    while (fgets(line, sizeof line, f))
-        done = done || strcmp(line, "complete: yes\n") == 0;
-    fclose(f);
-    return done ? TASK_DONE : TASK_INCOMPLETE;
+    sweep_ident *id = calloc(1, sizeof *id);
+    if (id)
+        id->scene = id->gaze = -1;
+    return id;
 }
 
-static const char *const k_state_names[] = {"todo", "incomplete", "done"};
+void sweep_ident_free(sweep_ident *id)
+{
+    if (!id)
+        return;
+    if (id->scene >= 0)
+        scene_free(&id->sc);
+    gaze_free(&id->gz);
+    free(id);
+}
 
-/* Every task's options through the CLI's table (its ring layout included), before anything runs:
- * a bad option fails the sweep at once, not task by task on a cluster. Messages say which task. */
-static fs_status check_tasks(const sweep_manifest *m)
+/* Removes the "key: ..." line from a configuration text, in place. */
+static void drop_line(char *text, const char *key)
+{
+    size_t kl = strlen(key);
+    for (char *l = text; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+        if (!strncmp(l, key, kl) && l[kl] == ':') {
+            char *next = strchr(l, '\n');
+            memmove(l, next ? next + 1 : l + strlen(l), strlen(next ? next + 1 : l + strlen(l)) + 1);
+            return;
+        }
+}
+
+/* Loads task k's scene into id unless it holds it. */
+static fs_status ident_scene(sweep_ident *id, const sweep_task *k, const run_desc *d)
+{
+    if (id->scene == k->scene)
+        return FS_OK;
+    if (id->scene >= 0)
+        scene_free(&id->sc);
+    id->scene = id->gaze = -1;
+    fs_status st = session_load_scene(d, &id->sc);
+    if (st == FS_OK)
+        id->scene = k->scene;
+    return st;
+}
+
+/* Loads task k's trace, placed on the plan's display as session_begin places it, unless id holds
+ * it, and hashes the scene and the trace (run_record.h). */
+static fs_status ident_trace(sweep_ident *id, const sweep_task *k, const run_desc *d, const plan *pl)
+{
+    if (id->gaze == k->gaze && id->width == pl->width && id->height == pl->height)
+        return FS_OK;
+    gaze_free(&id->gz);
+    memset(&id->gz, 0, sizeof id->gz);
+    id->gaze = -1;
+    fs_status st = FS_OK;
+    if (d->gaze_path)
+        st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &id->gz);
+    if (st == FS_OK && d->gaze_path) {
+        gaze_place_desc pd = gaze_place_merge(&d->place, &id->sc.gaze_place);
+        gaze_place(&id->gz, &pd, &(display_desc){pl->width, pl->height, id->sc.display.hfov_deg});
+    }
+    session s = {.sc = id->sc, .pl = *pl, .gaze = id->gz};
+    if (st == FS_OK && (st = run_record_hashes_of(&s, &id->h)) == FS_OK) {
+        id->gaze = k->gaze;
+        id->width = pl->width;
+        id->height = pl->height;
+    }
+    return st;
+}
+
+fs_status sweep_task_describe(const sweep_manifest *m, const sweep_task *k, sweep_ident *id, char **config,
+                              int *frames)
+{
+    *config = NULL;
+    char *opts[SWEEP_MAX_ARGS];
+    int n;
+    run_desc d;
+    plan pl;
+    fs_status st = task_desc(m, k, opts, &n, &d, false, false);
+    if (st == FS_OK)
+        st = ident_scene(id, k, &d);
+    if (st == FS_OK)
+        st = session_build_plan(&d, &id->sc, &pl);
+    if (st == FS_OK)
+        st = ident_trace(id, k, &d, &pl);
+    if (st == FS_OK) {
+        session s = {.sc = id->sc, .pl = pl, .gaze = id->gz};
+        st = run_record_describe_hashed(&d, &s, &id->h, config);
+        *frames = session_frame_count(&d, &id->sc);
+    }
+    /* The renderer is the machine's (the one that lists or merges a sweep may have no GL), not
+     * the task's: not part of its identity (docs/cluster.md "When a task is done"). */
+    if (*config)
+        drop_line(*config, "renderer");
+    sweep_task_options_free(opts, n > 0 ? n : 0);
+    return st;
+}
+
+/* The value of a "key: value" line of a configuration text into out ("" when absent). */
+static void line_value(const char *text, const char *key, char *out, size_t n)
+{
+    size_t kl = strlen(key);
+    out[0] = '\0';
+    for (const char *l = text; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+        if (!strncmp(l, key, kl) && l[kl] == ':' && l[kl + 1] == ' ') {
+            snprintf(out, n, "%.*s", (int)strcspn(l + kl + 2, "\n"), l + kl + 2);
+            return;
+        }
+}
+
+/* Done when its folder's record says complete (compare writes it last, after metrics and summary)
+ * and holds the configuration the task would write now; stale when it holds another. */
+fs_status sweep_task_status(const sweep_manifest *m, const sweep_task *k, sweep_ident *id, bool any_executable,
+                            sweep_task_check *c)
+{
+    char dir[PATH_MAX + 300];
+    sweep_task_dir(m, k, dir, sizeof dir);
+    char *there = NULL, *now = NULL;
+    int there_frames, now_frames = 0;
+    bool complete;
+    c->why[0] = c->exe[0] = '\0';
+    log_set_quiet_errors(true);
+    fs_status st = run_record_read(dir, &there, &there_frames, &complete);
+    log_set_quiet_errors(false);
+    if (st != FS_OK) { /* not fovsim's record (a FIFO there must not hang --list): the task's run says */
+        c->state = TASK_INCOMPLETE;
+        return FS_OK;
+    }
+    c->state = !there ? TASK_TODO : !complete ? TASK_INCOMPLETE : TASK_DONE;
+    if (c->state == TASK_DONE)
+        st = sweep_task_describe(m, k, id, &now, &now_frames);
+    if (st == FS_OK && c->state == TASK_DONE) {
+        line_value(there, "fovsim", c->exe, sizeof c->exe);
+        drop_line(there, "renderer");
+        if (any_executable) {
+            drop_line(there, "fovsim");
+            drop_line(now, "fovsim");
+        }
+        if (strcmp(now, there) != 0) {
+            c->state = TASK_STALE;
+            run_record_difference(now, there, c->why, sizeof c->why);
+        } else if (now_frames != there_frames) {
+            c->state = TASK_STALE;
+            snprintf(c->why, sizeof c->why, "frames: '%d' now, '%d' there", now_frames, there_frames);
+        }
+    }
+    free(there);
+    free(now);
+    return st;
+}
+
+static const char *const k_state_names[] = {"todo", "incomplete", "done", "stale"};
+
+/* Every task's options through the CLI's table (its ring layout included), its scene, trace and
+ * plan, the checks compare makes before drawing, before anything is written or submitted: a bad
+ * scene file or option fails the sweep at once, not task by task on a cluster. Each scene and
+ * trace is loaded once (sweep_ident). Messages say which task. */
+static fs_status check_tasks(const sweep_manifest *m, sweep_ident *id)
 {
     fs_status st = FS_OK;
     for (int i = 0; i < m->ntasks && st == FS_OK; i++) {
@@ -264,11 +400,10 @@ static fs_status check_tasks(const sweep_manifest *m)
         char context[420];
         snprintf(context, sizeof context, "%.150s: task %d (%.200s): ", m->path, i, k->name);
         log_set_context(context);
-        char *opts[SWEEP_MAX_ARGS];
-        int n;
-        run_desc d;
-        st = task_desc(m, k, opts, &n, &d, false, false);
-        sweep_task_options_free(opts, n > 0 ? n : 0);
+        char *config = NULL;
+        int frames;
+        st = sweep_task_describe(m, k, id, &config, &frames);
+        free(config);
     }
     log_set_context(NULL);
     return st;
@@ -276,13 +411,20 @@ static fs_status check_tasks(const sweep_manifest *m)
 
 /* >>running one task (--task I) */
 
-static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
+static fs_status run_task(const sweep_manifest *m, int index, sweep_ident *id, bool quiet)
 {
     const sweep_task *k = &m->tasks[index];
-    if (sweep_task_status(m, k) == TASK_DONE) {
+    sweep_task_check c;
+    fs_status st = sweep_task_status(m, k, id, false, &c);
+    if (st != FS_OK)
+        return st;
+    if (c.state == TASK_DONE) {
         printf("task %d (%s): complete, skipped\n", index, k->name);
         return FS_OK;
     }
+    if (c.state == TASK_STALE) /* drawn again: --replace below */
+        printf("task %d (%s): its folder holds another configuration (%s); drawing it again\n", index, k->name,
+               c.why);
     char dir[PATH_MAX + 300];
     sweep_task_dir(m, k, dir, sizeof dir);
     printf("task %d (%s) -> %s\n", index, k->name, dir);
@@ -290,8 +432,8 @@ static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
     char *opts[SWEEP_MAX_ARGS];
     int n;
     run_desc d;
-    /* --replace: an incomplete folder of this task (a killed run) is drawn anew */
-    fs_status st = task_desc(m, k, opts, &n, &d, true, quiet);
+    /* --replace: an incomplete folder of this task (a killed run), or a stale one, is drawn anew */
+    st = task_desc(m, k, opts, &n, &d, true, quiet);
     if (st == FS_OK) {
         log_set_verbose(d.verbose);
         st = cmd_compare(&d);
@@ -342,9 +484,9 @@ static void task_command(const sweep_manifest *m, const char *exe, const char *i
 
 /* >>--list */
 
-static fs_status list_tasks(const sweep_manifest *m)
+static fs_status list_tasks(const sweep_manifest *m, sweep_ident *id)
 {
-    int state_count[3] = {0};
+    int state_count[4] = {0};
     char trackers[48] = "";
     if (m->has_tracker)
         snprintf(trackers, sizeof trackers, " x %d tracker setting%s", m->ntracker, m->ntracker == 1 ? "" : "s");
@@ -354,7 +496,11 @@ static fs_status list_tasks(const sweep_manifest *m)
            trackers, m->chunk_frames ? " x frame chunks" : "", m->modes, m->out);
     for (int i = 0; i < m->ntasks; i++) {
         const sweep_task *k = &m->tasks[i];
-        sweep_task_state s = sweep_task_status(m, k);
+        sweep_task_check c;
+        fs_status st = sweep_task_status(m, k, id, false, &c);
+        if (st != FS_OK)
+            return st;
+        sweep_task_state s = c.state;
         state_count[s]++;
         char *opts[SWEEP_MAX_ARGS];
         int n = sweep_task_options(m, k, opts, SWEEP_MAX_ARGS);
@@ -368,10 +514,16 @@ static fs_status list_tasks(const sweep_manifest *m)
         }
         sweep_task_options_free(opts, n > 0 ? n : 0);
         printf("%4d  %-10s %s\n      %s\n", i, k_state_names[s], k->name, cmd.p ? cmd.p : "");
+        if (s == TASK_STALE)
+            printf("      (its folder holds another configuration: %s)\n", c.why);
         free(cmd.p);
     }
-    printf("%d done, %d incomplete, %d to do\n", state_count[TASK_DONE], state_count[TASK_INCOMPLETE],
+    printf("%d done, %d incomplete, %d to do", state_count[TASK_DONE], state_count[TASK_INCOMPLETE],
            state_count[TASK_TODO]);
+    if (state_count[TASK_STALE])
+        printf(", %d stale (complete, but with another configuration: the sweep draws them again)",
+               state_count[TASK_STALE]);
+    printf("\n");
     return FS_OK;
 }
 
@@ -386,6 +538,9 @@ static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char
         char idx[16], lp[PATH_MAX + 64];
         snprintf(idx, sizeof idx, "%d", i);
         snprintf(lp, sizeof lp, "%s/logs/task-%04d.log", m->out, i);
+        /* llvmpipe draws with the task's share of the cores (cpus_per_task), not every core: eight
+         * tasks at once must not each start a thread per core. A value set by the user wins. */
+        sb_printf(&t, "LP_NUM_THREADS=${LP_NUM_THREADS:-%d} ", m->slurm.cpus_per_task);
         task_command(m, exe, idx, &t);
         sb_puts(&t, " >");
         shell_quote(&t, lp);
@@ -397,10 +552,13 @@ static fs_status write_jobs(const sweep_manifest *m, const char *exe, const char
     }
     fs_status st = out_write_atomic(path, t.p ? t.p : "");
     free(t.p);
-    if (st == FS_OK)
-        printf("wrote %d commands to %s (one task each; a completed task is skipped, so running the file again "
-               "resumes it)\n  e.g.: parallel --jobs 4 --joblog %s/joblog --resume-failed < %s\n",
-               m->ntasks, path, m->out, path);
+    if (st == FS_OK) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN), per = m->slurm.cpus_per_task;
+        printf("wrote %d commands to %s (one task each, %ld cores each: LP_NUM_THREADS; a completed task is "
+               "skipped, so running the file again resumes it)\n  e.g.: parallel --jobs %ld --joblog %s/joblog "
+               "--resume-failed < %s\n",
+               m->ntasks, path, per, cores / per > 1 ? cores / per : 1, m->out, path);
+    }
     return st;
 }
 
@@ -501,7 +659,7 @@ static void stop_signals(sigset_t *set)
     sigaddset(set, SIGTERM);
 }
 
-static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, bool quiet)
+static fs_status run_local(const sweep_manifest *m, sweep_ident *id, const char *exe, int jobs, bool quiet)
 {
     pid_t *pids = calloc((size_t)jobs, sizeof *pids);
     int *which = calloc((size_t)jobs, sizeof *which);
@@ -530,17 +688,24 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
     sa.sa_flags = 0; /* no SA_RESTART: waitpid returns EINTR */
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
-    int next = 0, running = 0, finished = 0, failed = 0, skipped = 0, stopped = 0;
+    int next = 0, running = 0, finished = 0, failed = 0, skipped = 0, stopped = 0, stale = 0;
     int todo = m->ntasks;
     struct timespec ts;
     while ((next < m->ntasks && !g_stop) || running > 0) {
         while (running < jobs && next < m->ntasks && !g_stop) {
             int i = next++;
-            if (sweep_task_status(m, &m->tasks[i]) == TASK_DONE) {
+            sweep_task_check c;
+            if (sweep_task_status(m, &m->tasks[i], id, false, &c) != FS_OK)
+                c.state = TASK_INCOMPLETE; /* cannot happen (check_tasks described every task): the task says */
+            if (c.state == TASK_DONE) {
                 skipped++;
                 todo--;
                 continue;
             }
+            if (c.state == TASK_STALE && !quiet)
+                printf("task %d (%s): its folder holds another configuration (%s); drawing it again\n", i,
+                       m->tasks[i].name, c.why);
+            stale += c.state == TASK_STALE;
             char idx[16], log[PATH_MAX + 64];
             snprintf(idx, sizeof idx, "%d", i);
             snprintf(log, sizeof log, "%s/logs/task-%04d.log", m->out, i);
@@ -626,8 +791,11 @@ static fs_status run_local(const sweep_manifest *m, const char *exe, int jobs, b
                   todo, stopped);
         return FS_ERR_INTERRUPTED;
     }
-    printf("%d task%s run, %d already complete, %d failed; fovsim merge %s gathers the metrics\n", finished,
-           finished == 1 ? "" : "s", skipped, failed, m->out);
+    char stale_note[64] = "";
+    if (stale)
+        snprintf(stale_note, sizeof stale_note, " (%d of them stale: another configuration)", stale);
+    printf("%d task%s run%s, %d already complete, %d failed; fovsim merge %s gathers the metrics\n", finished,
+           finished == 1 ? "" : "s", stale_note, skipped, failed, m->out);
     return failed ? FS_ERR_INCOMPLETE : FS_OK;
 }
 
@@ -739,15 +907,18 @@ fs_status cmd_sweep(int argc, char **argv)
     }
     exe[n] = '\0';
     sweep_manifest m;
-    fs_status st = sweep_manifest_load(manifest, &ov, &m);
+    sweep_ident *id = sweep_ident_new();
+    fs_status st = id ? sweep_manifest_load(manifest, &ov, &m) : FS_ERR_NOMEM;
+    if (!id)
+        memset(&m, 0, sizeof m);
     if (st == FS_OK)
         st = sweep_build_tasks(&m);
     if (st == FS_OK && (act == ACT_JOBS || act == ACT_SLURM)) /* before anything is written */
         st = scripts_safe(&m, exe, act == ACT_SLURM);
+    if (st == FS_OK && act != ACT_TASK) /* every scene, trace and option, before anything is written */
+        st = check_tasks(&m, id);
     if (st == FS_OK && act != ACT_TASK)
         st = sweep_manifest_write(&m);
-    if (st == FS_OK && act != ACT_TASK)
-        st = check_tasks(&m);
     if (st == FS_OK && act == ACT_TASK && task >= m.ntasks) {
         log_error("--task %d: the sweep has %d tasks (0 to %d)", task, m.ntasks, m.ntasks - 1);
         st = FS_ERR_USAGE;
@@ -755,10 +926,10 @@ fs_status cmd_sweep(int argc, char **argv)
     if (st == FS_OK) {
         char script[PATH_MAX + 64];
         switch (act) {
-        case ACT_LIST: st = list_tasks(&m); break;
-        case ACT_TASK: st = run_task(&m, task, quiet); break;
+        case ACT_LIST: st = list_tasks(&m, id); break;
+        case ACT_TASK: st = run_task(&m, task, id, quiet); break;
         case ACT_JOBS: st = write_jobs(&m, exe, jobs_file); break;
-        case ACT_LOCAL: st = run_local(&m, exe, jobs, quiet); break;
+        case ACT_LOCAL: st = run_local(&m, id, exe, jobs, quiet); break;
         case ACT_SLURM:
             st = write_sbatch(&m, exe, script, sizeof script);
             if (st == FS_OK)
@@ -769,6 +940,7 @@ fs_status cmd_sweep(int argc, char **argv)
             break;
         }
     }
+    sweep_ident_free(id);
     sweep_manifest_free(&m);
     return st;
 }
