@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# SIGTERM (and SIGINT) to `fovsim sweep --local 2` reaches its running tasks (docs/cluster.md
-# "Stopping a local sweep"): the sweep passes the signal on, waits for both task processes and
-# exits 130; afterwards no task process is left (checked by PID), and the next run resumes.
+# SIGTERM and SIGINT to `fovsim sweep --local 2` reach its running tasks (docs/cluster.md "Resume",
+# run_local since issue 28): the sweep passes the signal on, waits for both task processes, says
+# both were stopped and exits 130; afterwards no task process is left (checked by PID).
+# tests/cli/test_bounds.sh part 11 checks SIGTERM too; this adds SIGINT and "both stopped".
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
 T=${FOVSIM_TEST_OUT:-/tmp/fovsim_test}/sweep_sigterm
@@ -37,7 +38,5 @@ stop() {
 }
 stop TERM
 stop INT
-timeout 300 "$BIN" sweep m.json --local 2 --out s --quiet >/dev/null 2>&1
-check "the next run completes the sweep" test $? -eq 0
 
 summary
