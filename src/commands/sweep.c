@@ -810,7 +810,7 @@ static void sweep_help(void)
            "chunks), each task one fovsim compare of the manifest's modes into DIR/tasks/<task>/. The same\n"
            "task list runs three ways; a completed task is skipped, so running it again resumes it. Then\n"
            "`fovsim merge DIR` gathers the metrics. Manifest format and cluster use: docs/cluster.md.\n\n"
-           "  --list              the tasks, their state (todo, incomplete, done) and commands (default)\n"
+           "  --list              the tasks, their state (todo, incomplete, done, stale) and commands (default)\n"
            "  --local N           run the tasks here, N at a time (each with its share of the cores)\n"
            "  --jobs-file FILE    one shell command per task, for GNU parallel or any farm\n"
            "  --slurm             write DIR/sweep.sbatch, a Slurm array job of the tasks\n"
