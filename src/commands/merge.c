@@ -198,7 +198,7 @@ fs_status merge_check_metrics(const char *path, const char *text, size_t size)
 
 /* Appends task k's metrics rows (prefixed) to csv, and its ring -1 rows to the points. */
 static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char *prefix, int config, char *header,
-                        size_t header_cap, sbuf *csv, points *ps)
+                        size_t header_cap, FILE *csv, points *ps)
 {
     char dir[PATH_MAX + 300], path[PATH_MAX + 320];
     sweep_task_dir(m, k, dir, sizeof dir);
@@ -219,8 +219,12 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
         return FS_ERR_IO;
     }
     *nl = '\0';
-    if (!header[0]) {
+    if (!header[0]) { /* the merged file's header: the sweep's columns, then the tasks' */
         snprintf(header, header_cap, "%s", text);
+        fputs("task,scene,gaze,rings,taa,", csv);
+        if (m->has_tracker) /* only then: merged sweeps without a tracker read as before */
+            fputs("gaze_latency,gaze_rate,gaze_noise,gaze_loss,", csv);
+        fprintf(csv, "%s\n", header);
     } else if (strcmp(header, text) != 0) {
         log_error("%s: its columns differ from the other tasks' (written by another fovsim?)", path);
         free(text);
@@ -236,9 +240,7 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
     for (char *row = nl + 1; *row && st == FS_OK;) {
         char *end = strchr(row, '\n');
         size_t len = end ? (size_t)(end - row) : strlen(row);
-        sb_append(csv, prefix, strlen(prefix));
-        sb_append(csv, row, len);
-        sb_append(csv, "\n", 1);
+        fprintf(csv, "%s%.*s\n", prefix, (int)len, row);
         char ring[16], mode[32], v[64];
         field(row, c_ring, ring, sizeof ring);
         field(row, c_mode, mode, sizeof mode);
@@ -269,7 +271,7 @@ static fs_status gather(const sweep_manifest *m, const sweep_task *k, const char
         row = end ? end + 1 : row + len;
     }
     free(text);
-    return csv->oom ? FS_ERR_NOMEM : st;
+    return st;
 }
 
 /* The task's summary.json as a JSON object into *out. A file that cannot be read, is not JSON or
@@ -374,149 +376,306 @@ static void tracker_columns(const sweep_manifest *m, int e, char *out, size_t n)
     }
 }
 
+/* >>the merged files, written as they are gathered */
+
+/* A file of the merge written while the tasks are read, under a temporary name renamed to its
+ * own when whole, so that memory holds one task's files, never the sweep's, and a merge that
+ * fails leaves the earlier files as they were. */
+typedef struct out_stream {
+    FILE *f;
+    char path[PATH_MAX + 32], tmp[PATH_MAX + 128];
+} out_stream;
+
+static fs_status stream_open(out_stream *o, const char *dir, const char *name)
+{
+    snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
+    o->f = out_path_temp_name(o->path, o->tmp, sizeof o->tmp) ? fopen(o->tmp, "w") : NULL;
+    if (!o->f) {
+        log_error("%s: cannot write: %s", o->path, strerror(errno));
+        return FS_ERR_IO;
+    }
+    return FS_OK;
+}
+
+/* keep: rename it into place (when everything went well), else remove it. */
+static fs_status stream_close(out_stream *o, bool keep)
+{
+    if (!o->f)
+        return FS_OK;
+    bool ok = !ferror(o->f);
+    ok = fclose(o->f) == 0 && ok;
+    o->f = NULL;
+    if (keep && ok && rename(o->tmp, o->path) == 0)
+        return FS_OK;
+    unlink(o->tmp);
+    if (keep) {
+        log_error("%s: cannot write: %s", o->path, strerror(errno));
+        return FS_ERR_IO;
+    }
+    return FS_OK;
+}
+
+/* A JSON string (quoted and escaped by cJSON). */
+static void json_string(FILE *f, const char *s)
+{
+    cJSON *j = cJSON_CreateString(s);
+    char *t = j ? cJSON_PrintUnformatted(j) : NULL;
+    fputs(t ? t : "null", f);
+    cJSON_free(t);
+    cJSON_Delete(j);
+}
+
+/* accuracy.csv's lines of the points (one configuration's: its tasks are consecutive), then frees
+ * their frame times. */
+static void flush_points(const sweep_manifest *m, points *ps, FILE *acc)
+{
+    for (int i = 0; i < ps->n; i++) {
+        point *p = &ps->v[i];
+        int c = p->config, e = c % m->ntracker;
+        c /= m->ntracker;
+        int t = c % m->ntaa, r = (c /= m->ntaa) % m->nrings, g = (c /= m->nrings) % m->ngaze, s = c / m->ngaze;
+        char tc[256], sc[128], gz[128];
+        tracker_columns(m, e, tc, sizeof tc);
+        qsort(p->ms, (size_t)p->n, sizeof *p->ms, cmp_double);
+        short_of(m->scenes[s], sc, sizeof sc);
+        short_of(m->gaze[g], gz, sizeof gz);
+        /* The whole display: texels are display pixels (metrics_coverage_ratio_rests, block 1). */
+        fprintf(acc, "%s,%s,%s,%s,%s%s,%.4f,%.6f,%.5f,%d,%.5f,%.3f\n", sc, gz, m->rings[r], m->taa[t], tc, p->mode,
+                stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows, p->ratio_rows ? p->ratio / p->ratio_rows : -1.0,
+                p->rows, metrics_coverage_ratio_of_sums(p->cov_px, p->ref_px, 1), p->ref_px);
+        free(p->ms);
+    }
+    ps->n = 0;
+}
+
+/* Task k's entry of summary.json's "results", its summary.json inside. */
+static fs_status write_result(const sweep_manifest *m, const sweep_task *k, bool first, FILE *out)
+{
+    cJSON *r = cJSON_CreateObject();
+    cJSON_AddStringToObject(r, "task", k->name);
+    cJSON_AddStringToObject(r, "scene", m->scenes[k->scene]);
+    cJSON_AddStringToObject(r, "gaze", m->gaze[k->gaze] ? m->gaze[k->gaze] : "centre");
+    cJSON_AddStringToObject(r, "rings", m->rings[k->rings]);
+    cJSON_AddStringToObject(r, "taa", m->taa[k->taa]);
+    for (int a = 0; m->has_tracker && a < SWEEP_TRACKER_AXES; a++) {
+        const char *v = sweep_tracker_value(m, k->tracker, a);
+        cJSON_AddStringToObject(r, sweep_tracker_key(a), v ? v : "default");
+    }
+    cJSON_AddNumberToObject(r, "first_frame", k->first);
+    if (k->end)
+        cJSON_AddNumberToObject(r, "end_frame", k->end);
+    cJSON *ts = NULL;
+    fs_status st = task_summary(m, k, &ts);
+    cJSON_AddItemToObject(r, "summary", ts ? ts : cJSON_CreateNull());
+    char *text = st == FS_OK ? cJSON_PrintUnformatted(r) : NULL;
+    if (st == FS_OK && !text)
+        st = FS_ERR_NOMEM;
+    if (text)
+        fprintf(out, "%s\n    %s", first ? "" : ",", text);
+    cJSON_free(text);
+    cJSON_Delete(r);
+    return st;
+}
+
+/* >>merge */
+
+#define MERGE_MISSING_SHOWN 20       /* missing tasks listed without --list-missing */
+#define MERGE_REPORT_MAX_TASKS 500   /* report.html (one table per task) up to this many tasks */
+
+typedef struct merge_run {
+    const char *dir;
+    sweep_manifest m;
+    sweep_ident *id;
+    out_stream csv, sum, acc;
+    points ps, modes; /* the points of the configuration being read; every mode seen (for the plot) */
+    char header[2048];
+    char exe[160];    /* the executable that wrote the first complete task (its record's line) */
+    int exe_task;
+    int *absent;      /* missing (2 i) or incomplete (2 i + 1) tasks */
+    int nabsent, cap_absent, done, config;
+} merge_run;
+
+/* Every task of the same sweep was written by one executable; merge compares them with each other,
+ * not with the one merging (a fovsim rebuilt after the sweep still merges it). */
+static fs_status same_executable(merge_run *r, int i, const char *exe)
+{
+    if (!r->exe[0]) {
+        snprintf(r->exe, sizeof r->exe, "%s", exe);
+        r->exe_task = i;
+    } else if (strcmp(r->exe, exe) != 0) {
+        log_error("%s: task %d (%s) was written by another fovsim than task %d (fovsim: '%s' there, '%s' in task "
+                  "%d): results of two builds are not merged; run the sweep again with one fovsim", r->dir, i,
+                  r->m.tasks[i].name, r->exe_task, exe, r->exe, r->exe_task);
+        return FS_ERR_USAGE;
+    }
+    return FS_OK;
+}
+
+/* Task i: recorded as absent, refused (another configuration than the manifest's), or gathered. */
+static fs_status merge_task(merge_run *r, int i)
+{
+    const sweep_manifest *m = &r->m;
+    const sweep_task *k = &m->tasks[i];
+    sweep_task_check c;
+    fs_status st = sweep_task_status(m, k, r->id, true, &c);
+    if (st != FS_OK)
+        return st;
+    if (c.state == TASK_TODO || c.state == TASK_INCOMPLETE) {
+        if (!FS_GROW_INT(r->absent, r->cap_absent, r->nabsent + 1))
+            return FS_ERR_NOMEM;
+        r->absent[r->nabsent++] = 2 * i + (c.state == TASK_INCOMPLETE);
+        return FS_OK;
+    }
+    if (c.state == TASK_STALE) {
+        log_error("%s: task %d (%s) holds another configuration than the manifest (%s); fovsim sweep draws it "
+                  "again", r->dir, i, k->name, c.why);
+        return FS_ERR_USAGE;
+    }
+    if ((st = same_executable(r, i, c.exe)) != FS_OK)
+        return st;
+    int config = (((k->scene * m->ngaze + k->gaze) * m->nrings + k->rings) * m->ntaa + k->taa) * m->ntracker +
+                 k->tracker;
+    if (config != r->config) /* the configuration before is whole: its points go out */
+        flush_points(m, &r->ps, r->acc.f);
+    r->config = config;
+    char sc[128], gz[128], prefix[1024];
+    short_of(m->scenes[k->scene], sc, sizeof sc);
+    short_of(m->gaze[k->gaze], gz, sizeof gz);
+    int pl = snprintf(prefix, sizeof prefix, "%s,%s,%s,%s,%s,", k->name, sc, gz, m->rings[k->rings], m->taa[k->taa]);
+    tracker_columns(m, k->tracker, prefix + pl, sizeof prefix - (size_t)pl);
+    st = gather(m, k, prefix, config, r->header, sizeof r->header, r->csv.f, &r->ps);
+    for (int p = 0; p < r->ps.n && st == FS_OK; p++)
+        if (!point_of(&r->modes, 0, r->ps.v[p].mode))
+            st = FS_ERR_NOMEM;
+    if (st == FS_OK)
+        st = write_result(m, k, r->done == 0, r->sum.f);
+    r->done += st == FS_OK;
+    return st;
+}
+
+/* The missing and incomplete tasks: all with --list-missing, else the first MERGE_MISSING_SHOWN and
+ * how many more; and summary.json's list of them. */
+static void report_absent(const merge_run *r, bool all)
+{
+    int shown = all || r->nabsent <= MERGE_MISSING_SHOWN ? r->nabsent : MERGE_MISSING_SHOWN;
+    for (int j = 0; j < shown; j++) {
+        int i = r->absent[j] / 2;
+        printf("task %d (%s): %s\n", i, r->m.tasks[i].name,
+               r->absent[j] % 2 ? "incomplete (started, not finished)" : "missing");
+    }
+    if (shown < r->nabsent)
+        printf("... and %d more (fovsim merge %s --list-missing lists them all)\n", r->nabsent - shown, r->dir);
+}
+
+static fs_status merge_finish(merge_run *r, fs_status st)
+{
+    flush_points(&r->m, &r->ps, r->acc.f);
+    FILE *f = r->sum.f;
+    fprintf(f, "\n  ],\n  \"tasks\": %d,\n  \"complete\": %d,\n  \"missing_or_incomplete\": [", r->m.ntasks, r->done);
+    for (int j = 0; j < r->nabsent; j++) {
+        fputs(j ? ", " : "", f);
+        json_string(f, r->m.tasks[r->absent[j] / 2].name);
+    }
+    fputs("]\n}\n", f);
+    /* metrics.csv and accuracy.csv only when a task finished (as before: no header-only files) */
+    fs_status s1 = stream_close(&r->csv, st == FS_OK && r->done > 0);
+    fs_status s2 = stream_close(&r->acc, st == FS_OK && r->done > 0 && s1 == FS_OK);
+    fs_status s3 = stream_close(&r->sum, st == FS_OK && s1 == FS_OK && s2 == FS_OK);
+    return st != FS_OK ? st : s1 != FS_OK ? s1 : s2 != FS_OK ? s2 : s3;
+}
+
+static fs_status merge_run_all(merge_run *r)
+{
+    fs_status st = stream_open(&r->csv, r->dir, "metrics.csv");
+    if (st == FS_OK)
+        st = stream_open(&r->acc, r->dir, "accuracy.csv");
+    if (st == FS_OK)
+        st = stream_open(&r->sum, r->dir, "summary.json");
+    if (st != FS_OK) {
+        stream_close(&r->csv, false);
+        stream_close(&r->acc, false);
+        return st;
+    }
+    fputs("scene,gaze,rings,taa,", r->acc.f);
+    if (r->m.has_tracker)
+        fputs("gaze_latency,gaze_rate,gaze_noise,gaze_loss,", r->acc.f);
+    fputs("mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames,coverage_ratio,ref_coverage_px\n", r->acc.f);
+    fputs("{\n  \"sweep\": ", r->sum.f);
+    json_string(r->sum.f, r->m.out);
+    fputs(",\n  \"results\": [", r->sum.f);
+    r->config = -1;
+    for (int i = 0; i < r->m.ntasks && st == FS_OK; i++)
+        st = merge_task(r, i);
+    return merge_finish(r, st);
+}
+
+static void merge_help(void)
+{
+    printf("usage: fovsim merge SWEEP_DIR [--list-missing]\n\n"
+           "Gathers every task of a sweep (fovsim sweep) into SWEEP_DIR/metrics.csv (each task's rows,\n"
+           "after the columns task, scene, gaze, rings, taa), SWEEP_DIR/summary.json (each task's\n"
+           "summary, and the tasks missing or incomplete) and the accuracy-vs-time plot of the\n"
+           "whole sweep, SWEEP_DIR/accuracy.png (points in accuracy.csv). Refuses a task whose folder\n"
+           "holds another configuration than the manifest's. Lists the first %d tasks that are missing\n"
+           "or did not finish (--list-missing: all of them), and then exits 11. docs/cluster.md\n",
+           MERGE_MISSING_SHOWN);
+}
+
 fs_status cmd_merge(int argc, char **argv)
 {
-    const char *dir = NULL;
+    merge_run r = {0};
+    bool list_missing = false;
     for (int i = 2; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            printf("usage: fovsim merge SWEEP_DIR\n\n"
-                   "Gathers every task of a sweep (fovsim sweep) into SWEEP_DIR/metrics.csv (each task's rows,\n"
-                   "after the columns task, scene, gaze, rings, taa), SWEEP_DIR/summary.json (each task's\n"
-                   "summary, and the tasks missing or incomplete) and the accuracy-vs-time plot of the\n"
-                   "whole sweep, SWEEP_DIR/accuracy.png (points in accuracy.csv). Lists the tasks that are\n"
-                   "missing or did not finish, and then exits 11. docs/cluster.md\n");
+            merge_help();
             return FS_OK;
         }
-        if (argv[i][0] == '-' || dir) {
+        if (!strcmp(argv[i], "--list-missing")) {
+            list_missing = true;
+            continue;
+        }
+        if (argv[i][0] == '-' || r.dir) {
             log_error("fovsim merge: unexpected argument '%s' (see fovsim merge --help)", argv[i]);
             return FS_ERR_USAGE;
         }
-        dir = argv[i];
+        r.dir = argv[i];
     }
-    if (!dir) {
+    if (!r.dir) {
         log_error("fovsim merge: expected a sweep's folder (see fovsim merge --help)");
         return FS_ERR_USAGE;
     }
-    sweep_manifest m;
-    fs_status st = sweep_manifest_load_dir(dir, &m);
+    const char *dir = r.dir;
+    fs_status st = sweep_manifest_load_dir(dir, &r.m);
     if (st == FS_OK)
-        st = sweep_build_tasks(&m);
-    sbuf csv = {0}, acc = {0};
-    points ps = {0};
-    char header[2048] = "";
-    cJSON *sum = cJSON_CreateObject(), *results = cJSON_CreateArray(), *missing = cJSON_CreateArray();
-    int done = 0, absent = 0;
-    for (int i = 0; i < m.ntasks && st == FS_OK; i++) {
-        const sweep_task *k = &m.tasks[i];
-        sweep_task_state s = sweep_task_status(&m, k);
-        if (s != TASK_DONE) {
-            printf("task %d (%s): %s\n", i, k->name, s == TASK_TODO ? "missing" : "incomplete (started, not finished)");
-            cJSON_AddItemToArray(missing, cJSON_CreateString(k->name));
-            absent++;
-            continue;
-        }
-        char sc[128], gz[128], prefix[1024];
-        short_of(m.scenes[k->scene], sc, sizeof sc);
-        short_of(m.gaze[k->gaze], gz, sizeof gz);
-        int pl = snprintf(prefix, sizeof prefix, "%s,%s,%s,%s,%s,", k->name, sc, gz, m.rings[k->rings], m.taa[k->taa]);
-        tracker_columns(&m, k->tracker, prefix + pl, sizeof prefix - (size_t)pl);
-        int config = (((k->scene * m.ngaze + k->gaze) * m.nrings + k->rings) * m.ntaa + k->taa) * m.ntracker + k->tracker;
-        st = gather(&m, k, prefix, config, header, sizeof header, &csv, &ps);
-        cJSON *r = cJSON_CreateObject();
-        cJSON_AddStringToObject(r, "task", k->name);
-        cJSON_AddStringToObject(r, "scene", m.scenes[k->scene]);
-        cJSON_AddStringToObject(r, "gaze", m.gaze[k->gaze] ? m.gaze[k->gaze] : "centre");
-        cJSON_AddStringToObject(r, "rings", m.rings[k->rings]);
-        cJSON_AddStringToObject(r, "taa", m.taa[k->taa]);
-        for (int a = 0; m.has_tracker && a < SWEEP_TRACKER_AXES; a++) {
-            const char *v = sweep_tracker_value(&m, k->tracker, a);
-            cJSON_AddStringToObject(r, sweep_tracker_key(a), v ? v : "default");
-        }
-        cJSON_AddNumberToObject(r, "first_frame", k->first);
-        if (k->end)
-            cJSON_AddNumberToObject(r, "end_frame", k->end);
-        cJSON *ts = NULL;
-        if (st == FS_OK)
-            st = task_summary(&m, k, &ts);
-        cJSON_AddItemToObject(r, "summary", ts ? ts : cJSON_CreateNull());
-        cJSON_AddItemToArray(results, r);
-        done++;
-    }
-    if (st == FS_OK && done > 0) {
-        char path[PATH_MAX + 32];
-        sbuf all = {0};
-        const char *cols = "task,scene,gaze,rings,taa,";
-        sb_append(&all, cols, strlen(cols));
-        if (m.has_tracker) /* only then: merged sweeps without a tracker read as before */
-            sb_puts(&all, "gaze_latency,gaze_rate,gaze_noise,gaze_loss,");
-        sb_append(&all, header, strlen(header));
-        sb_append(&all, "\n", 1);
-        sb_append(&all, csv.p, csv.len);
-        snprintf(path, sizeof path, "%s/metrics.csv", dir);
-        st = all.oom ? FS_ERR_NOMEM : out_write_atomic(path, all.p);
-        free(all.p);
-        /* accuracy.csv: one point per configuration and mode */
-        const char *ah = "mode,frame_ms_median,flip_mean,coverage_ratio_mean,frames,coverage_ratio,ref_coverage_px\n";
-        sb_puts(&acc, "scene,gaze,rings,taa,");
-        if (m.has_tracker)
-            sb_puts(&acc, "gaze_latency,gaze_rate,gaze_noise,gaze_loss,");
-        sb_append(&acc, ah, strlen(ah));
-        for (int i = 0; i < ps.n && st == FS_OK; i++) {
-            point *p = &ps.v[i];
-            int c = p->config, e = c % m.ntracker;
-            c /= m.ntracker;
-            int t = c % m.ntaa, r = (c /= m.ntaa) % m.nrings, g = (c /= m.nrings) % m.ngaze, s = c / m.ngaze;
-            char tc[256];
-            tracker_columns(&m, e, tc, sizeof tc);
-            qsort(p->ms, (size_t)p->n, sizeof *p->ms, cmp_double);
-            char sc[128], gz[128], line[1024];
-            short_of(m.scenes[s], sc, sizeof sc);
-            short_of(m.gaze[g], gz, sizeof gz);
-            /* The whole display: texels are display pixels (metrics_coverage_ratio_rests, block 1). */
-            int l = snprintf(line, sizeof line, "%s,%s,%s,%s,%s%s,%.4f,%.6f,%.5f,%d,%.5f,%.3f\n", sc, gz, m.rings[r],
-                             m.taa[t], tc, p->mode, stats_quantile(p->ms, p->n, 0.5), p->flip / p->rows,
-                             p->ratio_rows ? p->ratio / p->ratio_rows : -1.0, p->rows,
-                             metrics_coverage_ratio_of_sums(p->cov_px, p->ref_px, 1), p->ref_px);
-            sb_append(&acc, line, (size_t)l);
-        }
-        snprintf(path, sizeof path, "%s/accuracy.csv", dir);
-        if (st == FS_OK)
-            st = acc.oom ? FS_ERR_NOMEM : out_write_atomic(path, acc.p);
-        if (st == FS_OK)
-            st = plot(dir, &ps, m.has_tracker ? SWEEP_TRACKER_AXES : 0);
-    }
-    if (st == FS_OK) {
-        cJSON_AddStringToObject(sum, "sweep", m.out);
-        cJSON_AddNumberToObject(sum, "tasks", m.ntasks);
-        cJSON_AddNumberToObject(sum, "complete", done);
-        cJSON_AddItemToObject(sum, "missing_or_incomplete", missing);
-        cJSON_AddItemToObject(sum, "results", results);
-        missing = results = NULL;
-        char *text = cJSON_Print(sum), path[PATH_MAX + 32];
-        snprintf(path, sizeof path, "%s/summary.json", dir);
-        st = text ? out_write_atomic(path, text) : FS_ERR_NOMEM;
-        cJSON_free(text);
-    }
+        st = sweep_build_tasks(&r.m);
+    if (st == FS_OK && !(r.id = sweep_ident_new()))
+        st = FS_ERR_NOMEM;
     if (st == FS_OK)
+        st = merge_run_all(&r);
+    if (st == FS_OK && r.done > 0)
+        st = plot(dir, &r.modes, r.m.has_tracker ? SWEEP_TRACKER_AXES : 0);
+    if (st == FS_OK && r.m.ntasks <= MERGE_REPORT_MAX_TASKS)
         st = report_html_write(&(report_html_desc){.dir = dir, .kind = "merge", .acc_error = "flip_mean",
                                                    .acc_error_label = "FLIP vs reference (mean over frames)"});
+    else if (st == FS_OK) /* it reads summary.json back whole: memory would grow with the sweep */
+        printf("(no report.html for a sweep of more than %d tasks: summary.json and accuracy.csv hold them)\n",
+               MERGE_REPORT_MAX_TASKS);
     if (st == FS_OK) {
-        printf("merged %d of %d tasks into %s/metrics.csv, summary.json and accuracy.csv%s\n", done, m.ntasks, dir,
-               done ? "" : " (no task has finished)");
-        if (absent) {
+        report_absent(&r, list_missing);
+        printf("merged %d of %d tasks into %s/metrics.csv, summary.json and accuracy.csv%s\n", r.done, r.m.ntasks,
+               dir, r.done ? "" : " (no task has finished)");
+        if (r.nabsent) {
             log_error("%s: %d of %d tasks missing or incomplete (listed above); run the sweep again to finish them",
-                      dir, absent, m.ntasks);
+                      dir, r.nabsent, r.m.ntasks);
             st = FS_ERR_INCOMPLETE;
         }
     }
-    cJSON_Delete(sum);
-    cJSON_Delete(missing);
-    cJSON_Delete(results);
-    for (int i = 0; i < ps.n; i++)
-        free(ps.v[i].ms);
-    free(ps.v);
-    free(csv.p);
-    free(acc.p);
-    sweep_manifest_free(&m);
+    for (int i = 0; i < r.ps.n; i++)
+        free(r.ps.v[i].ms);
+    free(r.ps.v);
+    free(r.modes.v);
+    free(r.absent);
+    sweep_ident_free(r.id);
+    sweep_manifest_free(&r.m);
     return st;
 }

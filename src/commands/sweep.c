@@ -229,36 +229,172 @@ void sweep_task_dir(const sweep_manifest *m, const sweep_task *k, char *out, siz
     snprintf(out, n, "%s/tasks/%s", m->out, k->name);
 }
 
-/* Done when its folder's record says complete (compare writes it last, after metrics and summary). */
-sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k)
+/* What describing a task needs, kept between calls: the tasks are built scene by scene and trace
+ * by trace, so a sweep loads each scene once and each trace once per scene. */
+struct sweep_ident {
+    int scene, gaze, width, height; /* what sc and gz hold (-1: nothing) */
+    scene sc;
+    gaze_trace gz;
+    run_record_hashes h;
+};
+
+sweep_ident *sweep_ident_new(void)
 {
-    char path[PATH_MAX + 300];
-    sweep_task_dir(m, k, path, sizeof path);
-    size_t l = strlen(path);
-    snprintf(path + l, sizeof path - l, "/%s", RUN_RECORD_FILE);
-    struct stat sb;
-    const char *why;
-    int fd = file_open_regular(path, &sb, &why); /* a FIFO there must not hang --list */
-    if (fd < 0)
-        return errno == ENOENT ? TASK_TODO : TASK_INCOMPLETE; /* the task's run says what is wrong */
-    FILE *f = fdopen(fd, "r");
-    if (!f) {
-        close(fd);
-        return TASK_INCOMPLETE;
-    }
-    char line[512];
-    bool done = false;
-    while (fgets(line, sizeof line, f))
-        done = done || strcmp(line, "complete: yes\n") == 0;
-    fclose(f);
-    return done ? TASK_DONE : TASK_INCOMPLETE;
+    sweep_ident *id = calloc(1, sizeof *id);
+    if (id)
+        id->scene = id->gaze = -1;
+    return id;
 }
 
-static const char *const k_state_names[] = {"todo", "incomplete", "done"};
+void sweep_ident_free(sweep_ident *id)
+{
+    if (!id)
+        return;
+    if (id->scene >= 0)
+        scene_free(&id->sc);
+    gaze_free(&id->gz);
+    free(id);
+}
 
-/* Every task's options through the CLI's table (its ring layout included), before anything runs:
- * a bad option fails the sweep at once, not task by task on a cluster. Messages say which task. */
-static fs_status check_tasks(const sweep_manifest *m)
+/* Removes the "key: ..." line from a configuration text, in place. */
+static void drop_line(char *text, const char *key)
+{
+    size_t kl = strlen(key);
+    for (char *l = text; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+        if (!strncmp(l, key, kl) && l[kl] == ':') {
+            char *next = strchr(l, '\n');
+            memmove(l, next ? next + 1 : l + strlen(l), strlen(next ? next + 1 : l + strlen(l)) + 1);
+            return;
+        }
+}
+
+/* Loads task k's scene into id unless it holds it. */
+static fs_status ident_scene(sweep_ident *id, const sweep_task *k, const run_desc *d)
+{
+    if (id->scene == k->scene)
+        return FS_OK;
+    if (id->scene >= 0)
+        scene_free(&id->sc);
+    id->scene = id->gaze = -1;
+    fs_status st = session_load_scene(d, &id->sc);
+    if (st == FS_OK)
+        id->scene = k->scene;
+    return st;
+}
+
+/* Loads task k's trace, placed on the plan's display as session_begin places it, unless id holds
+ * it, and hashes the scene and the trace (run_record.h). */
+static fs_status ident_trace(sweep_ident *id, const sweep_task *k, const run_desc *d, const plan *pl)
+{
+    if (id->gaze == k->gaze && id->width == pl->width && id->height == pl->height)
+        return FS_OK;
+    gaze_free(&id->gz);
+    memset(&id->gz, 0, sizeof id->gz);
+    id->gaze = -1;
+    fs_status st = FS_OK;
+    if (d->gaze_path)
+        st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &id->gz);
+    if (st == FS_OK && d->gaze_path) {
+        gaze_place_desc pd = gaze_place_merge(&d->place, &id->sc.gaze_place);
+        gaze_place(&id->gz, &pd, &(display_desc){pl->width, pl->height, id->sc.display.hfov_deg});
+    }
+    session s = {.sc = id->sc, .pl = *pl, .gaze = id->gz};
+    if (st == FS_OK && (st = run_record_hashes_of(&s, &id->h)) == FS_OK) {
+        id->gaze = k->gaze;
+        id->width = pl->width;
+        id->height = pl->height;
+    }
+    return st;
+}
+
+fs_status sweep_task_describe(const sweep_manifest *m, const sweep_task *k, sweep_ident *id, char **config,
+                              int *frames)
+{
+    *config = NULL;
+    char *opts[SWEEP_MAX_ARGS];
+    int n;
+    run_desc d;
+    plan pl;
+    fs_status st = task_desc(m, k, opts, &n, &d, false, false);
+    if (st == FS_OK)
+        st = ident_scene(id, k, &d);
+    if (st == FS_OK)
+        st = session_build_plan(&d, &id->sc, &pl);
+    if (st == FS_OK)
+        st = ident_trace(id, k, &d, &pl);
+    if (st == FS_OK) {
+        session s = {.sc = id->sc, .pl = pl, .gaze = id->gz};
+        st = run_record_describe_hashed(&d, &s, &id->h, config);
+        *frames = session_frame_count(&d, &id->sc);
+    }
+    /* The renderer is the machine's (the one that lists or merges a sweep may have no GL), not
+     * the task's: not part of its identity (docs/cluster.md "When a task is done"). */
+    if (*config)
+        drop_line(*config, "renderer");
+    sweep_task_options_free(opts, n > 0 ? n : 0);
+    return st;
+}
+
+/* The value of a "key: value" line of a configuration text into out ("" when absent). */
+static void line_value(const char *text, const char *key, char *out, size_t n)
+{
+    size_t kl = strlen(key);
+    out[0] = '\0';
+    for (const char *l = text; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL)
+        if (!strncmp(l, key, kl) && l[kl] == ':' && l[kl + 1] == ' ') {
+            snprintf(out, n, "%.*s", (int)strcspn(l + kl + 2, "\n"), l + kl + 2);
+            return;
+        }
+}
+
+/* Done when its folder's record says complete (compare writes it last, after metrics and summary)
+ * and holds the configuration the task would write now; stale when it holds another. */
+fs_status sweep_task_status(const sweep_manifest *m, const sweep_task *k, sweep_ident *id, bool any_executable,
+                            sweep_task_check *c)
+{
+    char dir[PATH_MAX + 300];
+    sweep_task_dir(m, k, dir, sizeof dir);
+    char *there = NULL, *now = NULL;
+    int there_frames, now_frames = 0;
+    bool complete;
+    c->why[0] = c->exe[0] = '\0';
+    log_set_quiet_errors(true);
+    fs_status st = run_record_read(dir, &there, &there_frames, &complete);
+    log_set_quiet_errors(false);
+    if (st != FS_OK) { /* not fovsim's record (a FIFO there must not hang --list): the task's run says */
+        c->state = TASK_INCOMPLETE;
+        return FS_OK;
+    }
+    c->state = !there ? TASK_TODO : !complete ? TASK_INCOMPLETE : TASK_DONE;
+    if (c->state == TASK_DONE)
+        st = sweep_task_describe(m, k, id, &now, &now_frames);
+    if (st == FS_OK && c->state == TASK_DONE) {
+        line_value(there, "fovsim", c->exe, sizeof c->exe);
+        drop_line(there, "renderer");
+        if (any_executable) {
+            drop_line(there, "fovsim");
+            drop_line(now, "fovsim");
+        }
+        if (strcmp(now, there) != 0) {
+            c->state = TASK_STALE;
+            run_record_difference(now, there, c->why, sizeof c->why);
+        } else if (now_frames != there_frames) {
+            c->state = TASK_STALE;
+            snprintf(c->why, sizeof c->why, "frames: '%d' now, '%d' there", now_frames, there_frames);
+        }
+    }
+    free(there);
+    free(now);
+    return st;
+}
+
+static const char *const k_state_names[] = {"todo", "incomplete", "done", "stale"};
+
+/* Every task's options through the CLI's table (its ring layout included), its scene, trace and
+ * plan, the checks compare makes before drawing, before anything is written or submitted: a bad
+ * scene file or option fails the sweep at once, not task by task on a cluster. Each scene and
+ * trace is loaded once (sweep_ident). Messages say which task. */
+static fs_status check_tasks(const sweep_manifest *m, sweep_ident *id)
 {
     fs_status st = FS_OK;
     for (int i = 0; i < m->ntasks && st == FS_OK; i++) {
@@ -266,11 +402,10 @@ static fs_status check_tasks(const sweep_manifest *m)
         char context[420];
         snprintf(context, sizeof context, "%.150s: task %d (%.200s): ", m->path, i, k->name);
         log_set_context(context);
-        char *opts[SWEEP_MAX_ARGS];
-        int n;
-        run_desc d;
-        st = task_desc(m, k, opts, &n, &d, false, false);
-        sweep_task_options_free(opts, n > 0 ? n : 0);
+        char *config = NULL;
+        int frames;
+        st = sweep_task_describe(m, k, id, &config, &frames);
+        free(config);
     }
     log_set_context(NULL);
     return st;
@@ -278,13 +413,20 @@ static fs_status check_tasks(const sweep_manifest *m)
 
 /* >>running one task (--task I) */
 
-static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
+static fs_status run_task(const sweep_manifest *m, int index, sweep_ident *id, bool quiet)
 {
     const sweep_task *k = &m->tasks[index];
-    if (sweep_task_status(m, k) == TASK_DONE) {
+    sweep_task_check c;
+    fs_status st = sweep_task_status(m, k, id, false, &c);
+    if (st != FS_OK)
+        return st;
+    if (c.state == TASK_DONE) {
         printf("task %d (%s): complete, skipped\n", index, k->name);
         return FS_OK;
     }
+    if (c.state == TASK_STALE) /* drawn again: --replace below */
+        printf("task %d (%s): its folder holds another configuration (%s); drawing it again\n", index, k->name,
+               c.why);
     char dir[PATH_MAX + 300];
     sweep_task_dir(m, k, dir, sizeof dir);
     printf("task %d (%s) -> %s\n", index, k->name, dir);
@@ -292,8 +434,8 @@ static fs_status run_task(const sweep_manifest *m, int index, bool quiet)
     char *opts[SWEEP_MAX_ARGS];
     int n;
     run_desc d;
-    /* --replace: an incomplete folder of this task (a killed run) is drawn anew */
-    fs_status st = task_desc(m, k, opts, &n, &d, true, quiet);
+    /* --replace: an incomplete folder of this task (a killed run), or a stale one, is drawn anew */
+    st = task_desc(m, k, opts, &n, &d, true, quiet);
     if (st == FS_OK) {
         log_set_verbose(d.verbose);
         st = cmd_compare(&d);
@@ -347,14 +489,32 @@ static fs_status ref_plan_build(const sweep_manifest *m, ref_plan *rp)
     return FS_OK;
 }
 
-/* Which reference jobs and tasks have work: todo[g] for reference job g (a task of its group is not
- * complete), todo[rp->n + i] for task i; *ntasks_todo counts the tasks. NULL: no memory. */
-static bool *todo_flags(const sweep_manifest *m, const ref_plan *rp, int *ntasks_todo)
+/* Whether task i has work: not complete, or complete with another configuration (stale: drawn again,
+ * said unless quiet, counted in *stale). */
+static bool task_todo(const sweep_manifest *m, int i, sweep_ident *id, bool quiet, int *stale)
+{
+    sweep_task_check c;
+    if (sweep_task_status(m, &m->tasks[i], id, false, &c) != FS_OK)
+        c.state = TASK_INCOMPLETE; /* cannot happen (check_tasks described every task): the task says */
+    if (c.state == TASK_STALE) {
+        if (!quiet)
+            printf("task %d (%s): its folder holds another configuration (%s); drawing it again\n", i,
+                   m->tasks[i].name, c.why);
+        ++*stale;
+    }
+    return c.state != TASK_DONE;
+}
+
+/* Which reference jobs and tasks have work: todo[g] for reference job g (a task of its group has
+ * work), todo[rp->n + i] for task i (task_todo); *ntasks_todo counts the tasks, *stale the stale
+ * ones. NULL: no memory. */
+static bool *todo_flags(const sweep_manifest *m, const ref_plan *rp, sweep_ident *id, bool quiet, int *ntasks_todo,
+                        int *stale)
 {
     bool *t = calloc((size_t)(rp->n + m->ntasks), sizeof *t);
-    *ntasks_todo = 0;
+    *ntasks_todo = *stale = 0;
     for (int i = 0; t && i < m->ntasks; i++) {
-        bool todo = sweep_task_status(m, &m->tasks[i]) != TASK_DONE;
+        bool todo = task_todo(m, i, id, quiet, stale);
         t[rp->n + i] = todo;
         t[rp->group[i]] = t[rp->group[i]] || todo;
         *ntasks_todo += todo;
@@ -462,16 +622,11 @@ static void job_command(const sweep_manifest *m, const char *exe, bool ref, cons
     sb_puts(out, i_expr);
 }
 
-static void task_command(const sweep_manifest *m, const char *exe, const char *i_expr, sbuf *out)
-{
-    job_command(m, exe, false, i_expr, out);
-}
-
 /* >>--list */
 
-static fs_status list_tasks(const sweep_manifest *m)
+static fs_status list_tasks(const sweep_manifest *m, sweep_ident *id)
 {
-    int state_count[3] = {0};
+    int state_count[4] = {0};
     char trackers[48] = "";
     if (m->has_tracker)
         snprintf(trackers, sizeof trackers, " x %d tracker setting%s", m->ntracker, m->ntracker == 1 ? "" : "s");
@@ -481,7 +636,11 @@ static fs_status list_tasks(const sweep_manifest *m)
            trackers, m->chunk_frames ? " x frame chunks" : "", m->modes, m->out);
     for (int i = 0; i < m->ntasks; i++) {
         const sweep_task *k = &m->tasks[i];
-        sweep_task_state s = sweep_task_status(m, k);
+        sweep_task_check c;
+        fs_status st = sweep_task_status(m, k, id, false, &c);
+        if (st != FS_OK)
+            return st;
+        sweep_task_state s = c.state;
         state_count[s]++;
         char *opts[SWEEP_MAX_ARGS];
         int n = sweep_task_options(m, k, opts, SWEEP_MAX_ARGS);
@@ -495,10 +654,16 @@ static fs_status list_tasks(const sweep_manifest *m)
         }
         sweep_task_options_free(opts, n > 0 ? n : 0);
         printf("%4d  %-10s %s\n      %s\n", i, k_state_names[s], k->name, cmd.p ? cmd.p : "");
+        if (s == TASK_STALE)
+            printf("      (its folder holds another configuration: %s)\n", c.why);
         free(cmd.p);
     }
-    printf("%d done, %d incomplete, %d to do\n", state_count[TASK_DONE], state_count[TASK_INCOMPLETE],
+    printf("%d done, %d incomplete, %d to do", state_count[TASK_DONE], state_count[TASK_INCOMPLETE],
            state_count[TASK_TODO]);
+    if (state_count[TASK_STALE])
+        printf(", %d stale (complete, but with another configuration: the sweep draws them again)",
+               state_count[TASK_STALE]);
+    printf("\n");
     return FS_OK;
 }
 
@@ -507,17 +672,19 @@ static fs_status list_tasks(const sweep_manifest *m)
 /* The reference jobs' lines come first, so that a farm that starts the lines in order (GNU
  * parallel) starts them before the tasks; a task that starts while its reference job draws waits
  * for the cache's entries (reference.c). */
-static void reference_job_lines(const sweep_manifest *m, const ref_plan *rp, const char *exe, sbuf *t)
+/* One line of the jobs file: task (or with `ref`, reference job) i with its log. llvmpipe draws
+ * with the job's share of the cores (cpus_per_task), not every core: eight jobs at once must not
+ * each start a thread per core. A value set by the user wins. */
+static void job_line(const sweep_manifest *m, const char *exe, bool ref, int i, sbuf *t)
 {
-    for (int g = 0; g < rp->n; g++) {
-        char idx[16], lp[PATH_MAX + 64];
-        snprintf(idx, sizeof idx, "%d", g);
-        snprintf(lp, sizeof lp, "%s/logs/ref-%04d.log", m->out, g);
-        job_command(m, exe, true, idx, t);
-        sb_puts(t, " >");
-        shell_quote(t, lp);
-        sb_puts(t, " 2>&1\n");
-    }
+    char idx[16], lp[PATH_MAX + 64];
+    snprintf(idx, sizeof idx, "%d", i);
+    snprintf(lp, sizeof lp, "%s/logs/%s-%04d.log", m->out, ref ? "ref" : "task", i);
+    sb_printf(t, "LP_NUM_THREADS=${LP_NUM_THREADS:-%d} ", m->slurm.cpus_per_task);
+    job_command(m, exe, ref, idx, t);
+    sb_puts(t, " >");
+    shell_quote(t, lp);
+    sb_puts(t, " 2>&1\n");
 }
 
 static fs_status write_jobs(const sweep_manifest *m, const ref_plan *rp, const char *exe, const char *path)
@@ -525,27 +692,24 @@ static fs_status write_jobs(const sweep_manifest *m, const ref_plan *rp, const c
     if (scripts_safe(m, exe, false) != FS_OK)
         return FS_ERR_USAGE;
     sbuf t = {0};
-    reference_job_lines(m, rp, exe, &t);
-    for (int i = 0; i < m->ntasks; i++) {
-        char idx[16], lp[PATH_MAX + 64];
-        snprintf(idx, sizeof idx, "%d", i);
-        snprintf(lp, sizeof lp, "%s/logs/task-%04d.log", m->out, i);
-        task_command(m, exe, idx, &t);
-        sb_puts(&t, " >");
-        shell_quote(&t, lp);
-        sb_puts(&t, " 2>&1\n");
-    }
+    for (int g = 0; g < rp->n; g++) /* the reference jobs first */
+        job_line(m, exe, true, g, &t);
+    for (int i = 0; i < m->ntasks; i++)
+        job_line(m, exe, false, i, &t);
     if (t.oom) {
         free(t.p);
         return FS_ERR_NOMEM;
     }
     fs_status st = out_write_atomic(path, t.p ? t.p : "");
     free(t.p);
-    if (st == FS_OK)
-        printf("wrote %d commands to %s (%d reference job%s, then one line per task; a completed task is "
-               "skipped, so running the file again resumes it)\n  e.g.: parallel --jobs 4 --joblog %s/joblog "
-               "--resume-failed < %s\n",
-               rp->n + m->ntasks, path, rp->n, rp->n == 1 ? "" : "s", m->out, path);
+    if (st == FS_OK) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN), per = m->slurm.cpus_per_task;
+        printf("wrote %d commands to %s (%d reference job%s, then one line per task; %ld cores each: "
+               "LP_NUM_THREADS; a completed task is skipped, so running the file again resumes it)\n"
+               "  e.g.: parallel --jobs %ld --joblog %s/joblog --resume-failed < %s\n",
+               rp->n + m->ntasks, path, rp->n, rp->n == 1 ? "" : "s", per, cores / per > 1 ? cores / per : 1, m->out,
+               path);
+    }
     return st;
 }
 
@@ -820,21 +984,21 @@ static void wait_jobs(const sweep_manifest *m, const long *ids, int n)
 }
 
 /* The tasks submitted (todo) that are still not complete after the jobs ended. */
-static int tasks_left(const sweep_manifest *m, const bool *todo, int nref)
+static int tasks_left(const sweep_manifest *m, const bool *todo, int nref, sweep_ident *id)
 {
-    int left = 0;
+    int left = 0, stale = 0;
     for (int i = 0; i < m->ntasks; i++)
-        left += todo[nref + i] && sweep_task_status(m, &m->tasks[i]) != TASK_DONE;
+        left += todo[nref + i] && task_todo(m, i, id, true, &stale);
     return left;
 }
 
 /* Submits every part, only the indices of unfinished tasks (and of the reference jobs of their
  * groups), the reference jobs first and the tasks with a dependency on them; with `wait`, waits
  * for all and fails when a submitted task did not complete. */
-static fs_status submit(const sweep_manifest *m, const ref_plan *rp, const slurm_plan *sp, bool wait)
+static fs_status submit(const sweep_manifest *m, const ref_plan *rp, const slurm_plan *sp, sweep_ident *id, bool wait)
 {
-    int ntodo;
-    bool *todo = todo_flags(m, rp, &ntodo);
+    int ntodo, stale;
+    bool *todo = todo_flags(m, rp, id, false, &ntodo, &stale);
     long *ids = calloc((size_t)sp->nparts, sizeof *ids);
     if (!todo || !ids) {
         free(todo);
@@ -868,7 +1032,7 @@ static fs_status submit(const sweep_manifest *m, const ref_plan *rp, const slurm
                   "what they complete is skipped)", nids, nids == 1 ? " was" : "s were");
     if (st == FS_OK && wait && nids > 0) {
         wait_jobs(m, ids, nids);
-        int left = tasks_left(m, todo, rp->n);
+        int left = tasks_left(m, todo, rp->n, id);
         if (left > 0) {
             log_error("%d of the %d submitted tasks did not complete (fovsim merge %s lists them; logs in %s/logs)",
                       left, ntodo, m->out, m->out);
@@ -923,13 +1087,14 @@ static void reference_job_ended(const sweep_manifest *m, int g, bool ok, int ws)
 /* The reference jobs of unfinished tasks run first (items 0 .. rp->n - 1), then the tasks (items
  * rp->n ..): a task that starts while its reference job draws waits for the cache's entries
  * (reference.c) instead of drawing them too. */
-static fs_status run_local(const sweep_manifest *m, const ref_plan *rp, const char *exe, int jobs, bool quiet)
+static fs_status run_local(const sweep_manifest *m, const ref_plan *rp, sweep_ident *id, const char *exe, int jobs,
+                           bool quiet)
 {
     pid_t *pids = calloc((size_t)jobs, sizeof *pids);
     int *which = calloc((size_t)jobs, sizeof *which);
     double *started = calloc((size_t)jobs, sizeof *started);
-    int ntodo;
-    bool *work = todo_flags(m, rp, &ntodo);
+    int ntodo, stale;
+    bool *work = todo_flags(m, rp, id, quiet, &ntodo, &stale);
     if (!pids || !which || !started || !work) {
         free(pids);
         free(which);
@@ -1058,8 +1223,11 @@ static fs_status run_local(const sweep_manifest *m, const ref_plan *rp, const ch
                   todo, stopped);
         return FS_ERR_INTERRUPTED;
     }
-    printf("%d task%s run, %d already complete, %d failed; fovsim merge %s gathers the metrics\n", finished,
-           finished == 1 ? "" : "s", skipped, failed, m->out);
+    char stale_note[64] = "";
+    if (stale)
+        snprintf(stale_note, sizeof stale_note, " (%d of them stale: another configuration)", stale);
+    printf("%d task%s run%s, %d already complete, %d failed; fovsim merge %s gathers the metrics\n", finished,
+           finished == 1 ? "" : "s", stale_note, skipped, failed, m->out);
     return failed ? FS_ERR_INCOMPLETE : FS_OK;
 }
 
@@ -1075,7 +1243,7 @@ static void sweep_help(void)
            "chunks), each task one fovsim compare of the manifest's modes into DIR/tasks/<task>/. The same\n"
            "task list runs three ways; a completed task is skipped, so running it again resumes it. Then\n"
            "`fovsim merge DIR` gathers the metrics. Manifest format and cluster use: docs/cluster.md.\n\n"
-           "  --list              the tasks, their state (todo, incomplete, done) and commands (default)\n"
+           "  --list              the tasks, their state (todo, incomplete, done, stale) and commands (default)\n"
            "  --local N           run the tasks here, N at a time (each with its share of the cores)\n"
            "  --jobs-file FILE    one shell command per task, for GNU parallel or any farm\n"
            "  --slurm             write DIR/references.sbatch and DIR/sweep.sbatch, Slurm array jobs of the\n"
@@ -1103,8 +1271,8 @@ static void sweep_help(void)
 typedef enum sweep_action { ACT_LIST, ACT_LOCAL, ACT_JOBS, ACT_SLURM, ACT_TASK, ACT_REFERENCE } sweep_action;
 
 /* --slurm: the scripts (DIR/references*.sbatch, DIR/sweep*.sbatch), then with --submit the jobs. */
-static fs_status slurm_action(const sweep_manifest *m, const ref_plan *rp, const char *exe, const char *job_name,
-                              int max_array, bool submit_it, bool wait)
+static fs_status slurm_action(const sweep_manifest *m, const ref_plan *rp, sweep_ident *id, const char *exe,
+                              const char *job_name, int max_array, bool submit_it, bool wait)
 {
     slurm_plan sp = {0};
     slurm_job_name(m, job_name, &sp);
@@ -1124,7 +1292,7 @@ static fs_status slurm_action(const sweep_manifest *m, const ref_plan *rp, const
             printf("submit them with --submit (the reference jobs first, the tasks after them: docs/cluster.md)\n");
     }
     if (st == FS_OK && submit_it)
-        st = submit(m, rp, &sp, wait);
+        st = submit(m, rp, &sp, id, wait);
     free(sp.parts);
     return st;
 }
@@ -1224,16 +1392,19 @@ fs_status cmd_sweep(int argc, char **argv)
     }
     exe[n] = '\0';
     sweep_manifest m;
-    fs_status st = sweep_manifest_load(manifest, &ov, &m);
+    sweep_ident *id = sweep_ident_new();
+    fs_status st = id ? sweep_manifest_load(manifest, &ov, &m) : FS_ERR_NOMEM;
+    if (!id)
+        memset(&m, 0, sizeof m);
     if (st == FS_OK)
         st = sweep_build_tasks(&m);
     if (st == FS_OK && (act == ACT_JOBS || act == ACT_SLURM)) /* before anything is written */
         st = scripts_safe(&m, exe, act == ACT_SLURM);
     bool one = act == ACT_TASK || act == ACT_REFERENCE;
+    if (st == FS_OK && !one) /* every scene, trace and option, before anything is written */
+        st = check_tasks(&m, id);
     if (st == FS_OK && !one)
         st = sweep_manifest_write(&m);
-    if (st == FS_OK && !one)
-        st = check_tasks(&m);
     ref_plan rp = {0};
     if (st == FS_OK)
         st = ref_plan_build(&m, &rp);
@@ -1247,15 +1418,16 @@ fs_status cmd_sweep(int argc, char **argv)
     }
     if (st == FS_OK) {
         switch (act) {
-        case ACT_LIST: st = list_tasks(&m); break;
-        case ACT_TASK: st = run_task(&m, task, quiet); break;
+        case ACT_LIST: st = list_tasks(&m, id); break;
+        case ACT_TASK: st = run_task(&m, task, id, quiet); break;
         case ACT_REFERENCE: st = run_reference_task(&m, &rp, task, quiet); break;
         case ACT_JOBS: st = write_jobs(&m, &rp, exe, jobs_file); break;
-        case ACT_LOCAL: st = run_local(&m, &rp, exe, jobs, quiet); break;
-        case ACT_SLURM: st = slurm_action(&m, &rp, exe, job_name, max_array, submit_it, wait); break;
+        case ACT_LOCAL: st = run_local(&m, &rp, id, exe, jobs, quiet); break;
+        case ACT_SLURM: st = slurm_action(&m, &rp, id, exe, job_name, max_array, submit_it, wait); break;
         }
     }
     ref_plan_free(&rp);
+    sweep_ident_free(id);
     sweep_manifest_free(&m);
     return st;
 }

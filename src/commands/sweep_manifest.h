@@ -99,10 +99,34 @@ fs_status sweep_manifest_load_dir(const char *sweep_dir, sweep_manifest *m);
  * frame chunks, in that
  * nesting; with chunk_frames each scene is loaded to find its length and camera cuts. */
 fs_status sweep_build_tasks(sweep_manifest *m);
-/* A task's folder, and whether its record says it completed (compare writes it last). */
+/* A task's folder. */
 void sweep_task_dir(const sweep_manifest *m, const sweep_task *k, char *out, size_t n);
-typedef enum sweep_task_state { TASK_TODO, TASK_INCOMPLETE, TASK_DONE } sweep_task_state;
-sweep_task_state sweep_task_status(const sweep_manifest *m, const sweep_task *k);
+
+/* A task's identity is everything that changes its output: the configuration its compare records
+ * (run_record.h: modes, size, reference, options, warm-up, chunk, the scene's and trace's content
+ * hashes, the executable), less the renderer line, and its frame count. A sweep_ident keeps the
+ * loaded scene and trace between calls (one per command; tasks in their order load each once). */
+typedef struct sweep_ident sweep_ident;
+sweep_ident *sweep_ident_new(void);
+void sweep_ident_free(sweep_ident *id);
+/* Task k's configuration text as its compare would record it (malloc'd) and its frame count.
+ * Loads (and so checks) the scene, the trace and the plan: one line and an error when bad. */
+fs_status sweep_task_describe(const sweep_manifest *m, const sweep_task *k, sweep_ident *id, char **config,
+                              int *frames);
+
+/* Whether its folder's record says it completed (compare writes it last) with the configuration
+ * the task would record now: todo (no record), incomplete (started, not finished, or no record of
+ * fovsim's), done, or stale (complete, another configuration). With any_executable the record's
+ * executable is left out of the comparison (merge compares the tasks' with each other instead).
+ * Errors only when the task cannot be described. */
+typedef enum sweep_task_state { TASK_TODO, TASK_INCOMPLETE, TASK_DONE, TASK_STALE } sweep_task_state;
+typedef struct sweep_task_check {
+    sweep_task_state state;
+    char why[600]; /* stale: the first setting that differs (run_record_difference) */
+    char exe[160]; /* done or stale: the record's "fovsim" line, the executable that wrote it */
+} sweep_task_check;
+fs_status sweep_task_status(const sweep_manifest *m, const sweep_task *k, sweep_ident *id, bool any_executable,
+                            sweep_task_check *c);
 
 /* Task k's options of fovsim compare (the scene first), each string malloc'd, NULL-terminated;
  * returns their count, or -1 (no memory, or more than cap - 3). The CLI's table parses them

@@ -74,9 +74,17 @@ static uint64_t scene_settings_hash(const scene *sc)
     return h;
 }
 
-/* FNV-1a of the running executable: a rebuilt fovsim may draw other pixels under the same version. */
+/* FNV-1a of the running executable: a rebuilt fovsim may draw other pixels under the same version.
+ * Hashed once per process (a sweep describes thousands of tasks); /proc/self/exe is the running
+ * file even when a rebuild has replaced it on disk. */
 static bool executable_hash(uint64_t *out)
 {
+    static uint64_t cached;
+    static bool have;
+    if (have) {
+        *out = cached;
+        return true;
+    }
     FILE *f = fopen("/proc/self/exe", "rb");
     if (!f)
         return false;
@@ -87,7 +95,8 @@ static bool executable_hash(uint64_t *out)
         h = hash_bytes(h, buf, n);
     bool ok = !ferror(f);
     fclose(f);
-    *out = h;
+    *out = cached = h;
+    have = ok;
     return ok;
 }
 
@@ -110,18 +119,34 @@ static const char *or_default(const char *s)
     return s ? s : "default";
 }
 
+fs_status run_record_hashes_of(const session *s, run_record_hashes *h)
+{
+    if (!executable_hash(&h->exe)) {
+        log_error("/proc/self/exe: cannot read the executable to record which fovsim wrote the output: %s",
+                  strerror(errno));
+        return FS_ERR_IO;
+    }
+    h->scene_content = scene_content_hash(&s->sc);
+    h->scene_settings = scene_settings_hash(&s->sc);
+    h->gaze = s->gaze.count > 0 ? gaze_hash(&s->gaze) : 0;
+    return FS_OK;
+}
+
 fs_status run_record_describe(const run_desc *d, const session *s, char **out)
+{
+    *out = NULL;
+    run_record_hashes h;
+    fs_status st = run_record_hashes_of(s, &h);
+    return st == FS_OK ? run_record_describe_hashed(d, s, &h, out) : st;
+}
+
+fs_status run_record_describe_hashed(const run_desc *d, const session *s, const run_record_hashes *h, char **out)
 {
     *out = NULL;
     static const char *const k_cmd[] = {[CMD_RENDER] = "render", [CMD_REFERENCE] = "reference",
                                         [CMD_COMPARE] = "compare", [CMD_DEMO] = "demo"};
     static const char *const k_compress[] = {"zip", "none", "piz"};
-    uint64_t exe;
-    if (!executable_hash(&exe)) {
-        log_error("/proc/self/exe: cannot read the executable to record which fovsim wrote the output: %s",
-                  strerror(errno));
-        return FS_ERR_IO;
-    }
+    const uint64_t exe = h->exe;
     sbuf t = {0};
     const bool is_ref = d->cmd == CMD_REFERENCE, has_ref = is_ref || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO;
     sb_printf(&t, "command: %s\n", (size_t)d->cmd < sizeof k_cmd / sizeof k_cmd[0] && k_cmd[d->cmd] ? k_cmd[d->cmd] : "?");
@@ -129,10 +154,10 @@ fs_status run_record_describe(const run_desc *d, const session *s, char **out)
     sb_printf(&t, "fovsim: %s, executable %016" PRIx64 "\n", FOVSIM_VERSION, exe);
     sb_printf(&t, "renderer: %s\n", gl_device_renderer());
     sb_printf(&t, "scene: %s, content %016" PRIx64 ", settings %016" PRIx64 "\n", s->sc.path,
-        scene_content_hash(&s->sc), scene_settings_hash(&s->sc));
+        h->scene_content, h->scene_settings);
     if (s->gaze.count > 0)
         sb_printf(&t, "gaze: %s, format %d, eye %d, samples %d, content %016" PRIx64 "\n", s->gaze.path,
-            (int)d->gaze_format, (int)d->eye, s->gaze.count, gaze_hash(&s->gaze));
+            (int)d->gaze_format, (int)d->eye, s->gaze.count, h->gaze);
     else
         sb_printf(&t, "gaze: centre fixation\n");
     sb_printf(&t, "size: %dx%d\n", s->pl.width, s->pl.height);
@@ -229,9 +254,21 @@ static fs_status write_record(const run_folder *f, bool complete)
 /* The earlier record's configuration part into *out (malloc'd; NULL when there is none). */
 static fs_status read_record(const run_folder *f, char **out)
 {
+    return run_record_read(f->dir, out, NULL, NULL);
+}
+
+/* The value of `key` in a configuration text, into out ("" when absent). */
+static void value_of(const char *config, const char *key, char *out, size_t cap);
+
+fs_status run_record_read(const char *dir, char **out, int *frames, bool *complete)
+{
     *out = NULL;
+    if (frames)
+        *frames = -1;
+    if (complete)
+        *complete = false;
     char path[1200];
-    record_path(f, path, sizeof path);
+    snprintf(path, sizeof path, "%s/%s", dir, RUN_RECORD_FILE);
     struct stat sb;
     if (lstat(path, &sb) != 0)
         return errno == ENOENT ? FS_OK : (log_error("%s: cannot read: %s", path, strerror(errno)), FS_ERR_IO);
@@ -254,14 +291,21 @@ static fs_status read_record(const run_folder *f, char **out)
     char *body = buf[0] == '#' ? strchr(buf, '\n') : buf;
     body = body ? body + (buf[0] == '#') : buf + n;
     char *sep = strstr(body, "\n" SEPARATOR);
-    if (sep)
+    if (sep) { /* the state part: "frames: N", "complete: yes" */
+        char v[32];
+        value_of(sep + 1 + strlen(SEPARATOR), "frames", v, sizeof v);
+        if (frames && v[0])
+            *frames = atoi(v);
+        value_of(sep + 1 + strlen(SEPARATOR), "complete", v, sizeof v);
+        if (complete)
+            *complete = !strcmp(v, "yes");
         sep[1] = '\0';
+    }
     memmove(buf, body, strlen(body) + 1);
     *out = buf;
     return FS_OK;
 }
 
-/* The value of `key` in a configuration text, into out ("" when absent). */
 static void value_of(const char *config, const char *key, char *out, size_t cap)
 {
     size_t kl = strlen(key);
@@ -274,8 +318,8 @@ static void value_of(const char *config, const char *key, char *out, size_t cap)
         }
 }
 
-/* The first line of `a` that `b` lacks, as its key and both values, for the refusal message. */
-static void first_difference(const char *a, const char *b, char *out, size_t cap)
+/* The first key of `a` whose value in `b` differs, into out; false when there is none. */
+static bool differing_key(const char *a, const char *b, bool a_is_now, char *out, size_t cap)
 {
     for (const char *l = a; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
         int len = (int)strcspn(l, "\n"), kl = (int)strcspn(l, ":");
@@ -284,11 +328,19 @@ static void first_difference(const char *a, const char *b, char *out, size_t cap
         value_of(a, key, va, sizeof va);
         value_of(b, key, vb, sizeof vb);
         if (strcmp(va, vb) != 0) {
-            snprintf(out, cap, "%s: '%s' now, '%s' there", key, va, vb[0] ? vb : "(none)");
-            return;
+            const char *now = a_is_now ? va : vb, *there = a_is_now ? vb : va;
+            snprintf(out, cap, "%s: '%s' now, '%s' there", key, now[0] ? now : "(none)", there[0] ? there : "(none)");
+            return true;
         }
     }
-    snprintf(out, cap, "a setting this fovsim does not record");
+    return false;
+}
+
+void run_record_difference(const char *a, const char *b, char *out, size_t cap)
+{
+    /* Both ways: a line only the earlier record has (a chunk's warm-up, say) is a difference too. */
+    if (!differing_key(a, b, true, out, cap) && !differing_key(b, a, false, out, cap))
+        snprintf(out, cap, "a setting this fovsim does not record");
 }
 
 /* >>frames */
@@ -532,7 +584,7 @@ fs_status run_folder_open(run_folder *f, const char *dir, const run_desc *d, con
         value_of(prior, "name", prior_name, sizeof prior_name);
     if (!d->replace && prior && !same) {
         char why[600];
-        first_difference(config, prior, why, sizeof why);
+        run_record_difference(config, prior, why, sizeof why);
         log_error("%s: holds the output of another configuration (%s); --replace replaces it, --out chooses another "
                   "folder", dir, why);
         st = FS_ERR_USAGE;

@@ -21,6 +21,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "cli/cli.h"
 #include "session/session.h"
@@ -38,6 +39,21 @@
 /* The configuration text of a run (the part of the record above "---"), malloc'd into *out.
  * FS_ERR_IO when the executable cannot be read to hash it (never in practice: /proc/self/exe). */
 fs_status run_record_describe(const run_desc *d, const session *s, char **out);
+/* The slow parts of a description (the executable's hash, read once per process, and the scene's
+ * and the gaze trace's content), computed once for many runs of one scene and trace: a sweep
+ * describes each of its tasks with run_record_describe_hashed (sweep.c, "the state of a task"). */
+typedef struct run_record_hashes {
+    uint64_t exe, scene_content, scene_settings, gaze;
+} run_record_hashes;
+fs_status run_record_hashes_of(const session *s, run_record_hashes *h);
+fs_status run_record_describe_hashed(const run_desc *d, const session *s, const run_record_hashes *h, char **out);
+/* DIR's record: its configuration part into *config (malloc'd; NULL when DIR has no record), its
+ * frame count (-1 when absent) and whether it says complete (either may be NULL). FS_ERR_IO with
+ * one line when it cannot be read or is not fovsim's record (a FIFO, a folder, too long). */
+fs_status run_record_read(const char *dir, char **config, int *frames, bool *complete);
+/* The first setting in which configuration texts `now` and `there` differ, as
+ * "key: 'value now' now, 'value there' there", into out. */
+void run_record_difference(const char *now, const char *there, char *out, size_t cap);
 
 typedef struct run_folder {
     char dir[1024];
