@@ -53,7 +53,14 @@ check "merge of 2000 tasks exits 0" test $? -eq 0
 check "  all rows merged" test "$(tail -n +2 s/metrics.csv | wc -l)" -ge 2000
 KB=$(awk -F': ' '/Maximum resident set size/ {print $2}' time.txt)
 echo "merge of 2000 tasks ($(du -sm s/tasks | cut -f1) MB of task folders): peak RSS ${KB} kB" >&2
-check "  peak RSS under 40 MB (was ${KB} kB)" test "${KB:-999999}" -lt 40960
+# Under AddressSanitizer (CI's second run) the shadow memory and the quarantine of freed blocks
+# (256 MB by default) are the process's too: 153 MB measured, whatever merge holds. The bound is the
+# normal build's; the sanitizer run checks the rest.
+if ldd "$BIN" 2>/dev/null | grep -q libasan; then
+  echo "  peak RSS not judged: $BIN is built with AddressSanitizer" >&2
+else
+  check "  peak RSS under 40 MB (was ${KB} kB)" test "${KB:-999999}" -lt 40960
+fi
 
 # ---- missing tasks: the first 20 and a count; --list-missing: all
 rm -rf s/tasks/*.f00[12][0-9][0-9]-*
