@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/log.h"
 #include "output/gnuplot.h"
@@ -270,6 +271,16 @@ fs_status latency_study_write(const char *out, const char *scene, const char *ri
     free(b.p);
     if (st != FS_OK)
         return st;
+    int measured = 0;
+    for (int i = 0; i < n; i++)
+        measured += rows[i].post.frames > 0;
+    if (measured == 0) { /* nothing to plot: gnuplot refuses a plot without a point */
+        snprintf(path, sizeof path, "%s/latency.png", out);
+        unlink(path); /* an earlier study's plot would not be this one's */
+        printf("no saccade landed in the measured frames, so there is no post-saccade error to compare (a trace "
+               "with saccades, or more frames); latency.csv in %s/, no latency.png\n", out);
+        return FS_OK;
+    }
     if (!gnuplot_available()) {
         printf("latency.csv in %s/; latency.png needs gnuplot (not on PATH)\n", out);
         return FS_OK;

@@ -93,6 +93,16 @@ k0 = 'data-k="modes.1.post_saccade.by_frame_after_landing.0.flip">%.15g</td>' % 
 assert k0 in html, k0
 EOF
 
+# A trace without saccades: nothing to compare after them, said; latency.csv without a plot.
+printf 't,x,y\n0,0.4,0.5\n1,0.4,0.5\n' >"$T/still.csv"
+mkdir -p "$T/still" && touch "$T/still/latency.png"
+"$BIN" compare forest --gaze "$T/still.csv" --gaze-latency 0,50 --width 64 --height 36 --frames 3 --supersample 1 \
+  --samples 2 --taa off --out "$T/still" >"$T/still.txt" 2>&1
+check "no saccade: exit 0" test $? -eq 0
+check "  says so" grep -q "^no saccade landed in the measured frames" "$T/still.txt"
+check "  latency.csv with 0 post-saccade frames, no (stale) latency.png" \
+  bash -c "test ! -e '$T/still/latency.png' && awk -F, 'NR > 1 && \$3 != 0 {bad = 1} END {exit bad}' '$T/still/latency.csv'"
+
 expect_exit "a latency named twice" 2 "$BIN" compare forest --gaze-latency 0,20,20
 expect_exit "a list outside compare" 2 "$BIN" render forest --gaze-latency 0,20
 expect_exit "an empty item" 2 "$BIN" compare forest --gaze-latency 0,,20
