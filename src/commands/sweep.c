@@ -131,7 +131,15 @@ static fs_status task_desc(const sweep_manifest *m, const sweep_task *k, char **
      * at every task would fill a cluster's disk: none unless the manifest's options ask. */
     if (st == FS_OK && !d->compare.previews_set)
         st = cli_apply_option(d, "--previews", "0");
-    return st == FS_OK ? cli_finish(d) : st;
+    if (st == FS_OK)
+        st = cli_finish(d);
+    /* A latency study writes a folder per latency, not the task's: a sweep's latencies are its axis. */
+    if (st == FS_OK && d->gaze_latency_count > 1) {
+        log_error("options: --gaze-latency with a list is a latency study of its own; in a sweep give the latencies "
+                  "as the \"gaze_latency\" axis (docs/latency.md)");
+        st = FS_ERR_USAGE;
+    }
+    return st;
 }
 
 /* Tracker combination e in a task's name (".lat-50.loss-full", the axes given only, so names

@@ -53,5 +53,8 @@ expect_exit "an unknown loss policy -> 2" 2 "$BIN" sweep bad2.json --list
 check "  names gaze_loss[1]" grep -q 'bad2.json: gaze_loss\[1\]: expected "hold", "centre" or "full"' "$T/err.txt"
 printf '{"scenes": ["fence"], "gaze_seed": 1.5}' >bad3.json
 expect_exit "a fractional seed -> 2" 2 "$BIN" sweep bad3.json --list
+printf '{"scenes": ["fence"], "options": ["--gaze-latency", "0,20"]}' >bad4.json
+expect_exit "a latency list in options -> 2" 2 "$BIN" sweep bad4.json --list --out bad4
+check "  points at the gaze_latency axis, nothing written" bash -c "grep -q 'the \"gaze_latency\" axis' '$T/err.txt' && test ! -e bad4"
 
 summary
