@@ -5,10 +5,13 @@
                                       seen by the camera at (0, 0, 1) looking at the origin with hfov
                                       90 on a W x H display (focal length W/2 pixels); their window
                                       positions (origin bottom-left) go to TRIS.json.
-  count TRIS.json W H RW RH           prints "covered shaded": the pixels whose centres the triangles
-                                      cover (summed over triangles) and the distinct (triangle, coarse
-                                      pixel) pairs with a covered pixel, coarse pixels RW x RH aligned
-                                      from the display's top-left corner (as common/vrs_shade.glsl).
+  count TRIS.json W H RW RH           prints "covered shaded split": the pixels whose centres the
+                                      triangles cover (summed over triangles), the distinct (triangle,
+                                      coarse pixel) pairs with a covered pixel, coarse pixels RW x RH
+                                      aligned from the display's top-left corner (as
+                                      common/vrs_shade.glsl), and how many of those pairs have covered
+                                      pixels on both sides of a boundary of llvmpipe's 64-row tiles
+                                      (only where H is not a multiple of RH).
 
 Vertices lie on a 1/64-pixel grid (exact in float and on llvmpipe's 1/256 grid, so the rasteriser
 sees the same triangles), and no pixel centre lies on an edge (generated again if one does), so
@@ -78,12 +81,17 @@ def make(out, tris_path, w, h, n, seed):
 
 
 def count(tris_path, w, h, rw, rh):
-    covered = shaded = 0
+    covered = shaded = split = 0
     for t in json.load(open(tris_path)):
         px = covered_pixels([tuple(v) for v in t], w, h)
         covered += len(px)
-        shaded += len({(x // rw, (h - 1 - y) // rh) for x, y in px})
-    print(covered, shaded)
+        cells = {(x // rw, (h - 1 - y) // rh) for x, y in px}
+        shaded += len(cells)
+        # Coarse pixels the triangle covers on both sides of a boundary between llvmpipe's 64-row
+        # tiles (rows counted from the window's bottom): the GPU count may count these twice.
+        parts = {(x // rw, (h - 1 - y) // rh, y // 64) for x, y in px}
+        split += len(parts) - len(cells)
+    print(covered, shaded, split)
 
 
 if __name__ == "__main__":
