@@ -211,9 +211,6 @@ fs_status bench_build_configs(bench_run *b)
         if (cf->layout == BENCH_RINGS_LOD)
             po.ring_lod = b->s.pl.ring_lod_spec;
         st = plan_build(&b->s.sc, &po, &cf->pl);
-        if (st == FS_OK && cf->pl.vrs && cf->pl.height % 4 != 0)
-            log_warn("bench: a display %d rows high (not a multiple of 4): VRS's coarse-shading invocations are an "
-                     "upper bound (docs/benchmarks.md \"VRS: coarse-shading invocations\")", cf->pl.height);
         if (st == FS_OK)
             cf->r = renderer_create(&(renderer_desc){.scene = &b->s.sc, .plan = &cf->pl, .timers = true,
                                                      .count_fragments = !cf->stages_only}, &st);

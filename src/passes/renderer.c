@@ -161,6 +161,9 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         glCreateBuffers(1, &r->count_buf);
         glNamedBufferStorage(r->count_buf, sizeof(GLuint) * COUNT_WORDS, NULL, GL_DYNAMIC_STORAGE_BIT);
     }
+    if (st == FS_OK && desc->count_fragments && r->pl.vrs && r->height % 4 != 0)
+        log_warn("a display %d rows high (not a multiple of 4): VRS's coarse-shading invocations are an upper bound "
+                 "(docs/benchmarks.md \"VRS: coarse-shading invocations\")", r->height);
     if (st == FS_OK && desc->count_fragments && r->pl.vrs) {
         glCreateBuffers(1, &r->count_keys_buf);
         glNamedBufferStorage(r->count_keys_buf, sizeof(GLuint) * (size_t)r->width * (size_t)r->height, NULL,
