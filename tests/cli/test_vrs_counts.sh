@@ -3,7 +3,8 @@
 # coarse-shading invocations equal a brute-force CPU count of the distinct (triangle, coarse pixel)
 # pairs with a covered pixel, on random triangles of 0.5 to 12 pixels on a 64 x 62 and a 96 x 92
 # display (the coarse pixels align from the top, not from the window's bottom row), at each rate shape;
-# covered fragments equal the CPU's covered pixels; the VRS stage's fs_invocations is the count.
+# covered fragments equal the CPU's covered pixels; the VRS stage's fs_invocations (bench's and
+# compare's) is the count.
 # Counts only, never times.
 set -u
 BIN=${FOVSIM_BIN:?set by CMake}
@@ -44,6 +45,15 @@ for d in 64x62:80 96x92:160; do
 done
 read -r cov shd split <<<"$($CPU count "$T/tris.json" 96 92 4 4)"
 check "the CPU count can tell the rates apart (4x4: $shd of $cov)" test "$shd" -lt "$cov"
+
+# compare prices VRS the same way: its summary's fs_invocations_median is the coarse count
+"$BIN" compare "$T/scene.json" --foveation vrs --vrs '*:2x2' --frames 1 --out "$T/cmp" --quiet >/dev/null 2>"$T/err.txt" ||
+  cat "$T/err.txt" >&2
+read -r cov shd split <<<"$($CPU count "$T/tris.json" 96 92 2 2)"
+check "compare, 2x2: every mode's fs_invocations_median is the CPU's count ($shd)" $PY -c "
+import json, sys
+m = json.load(open(sys.argv[1]))['modes']
+sys.exit(not m or any(x['fs_invocations_median'] != int(sys.argv[2]) for x in m))" "$T/cmp/summary.json" "$shd"
 
 # A height not a multiple of the rate's: coarse pixels straddle the 64-row tiles' boundaries and
 # the count is a bound, at most the pairs split by a boundary above the exact count.
