@@ -99,6 +99,34 @@ shade_in pixel_shade_in()
 // rest of a 2x2 quad or a 4x4 llvmpipe block) are not covered and do not count.
 layout(std430, binding = COUNT_FRAGMENTS_BINDING) buffer fragment_counts { uint u_covered[]; };
 uniform uint u_count_slot;
+#ifdef VRS
+layout(std430, binding = COUNT_COARSE_KEYS_BINDING) buffer coarse_keys { uint u_coarse_key[]; };
+flat in uint g_count_key; // this primitive's, unique in the frame (forward_vrs.geom)
+#endif
+
+// Counts this fragment: covered, and shaded when it is the first of its primitive in its coarse
+// pixel (VRS rate `rate`; without VRS every covered fragment is shaded). The first: the exchange
+// finds another key in the coarse pixel's cell. Exact as long as the rasteriser hands over a
+// primitive's fragments of one coarse pixel without another primitive's between them: llvmpipe
+// draws each 64x64 tile's primitives in order, one at a time, and a coarse pixel (aligned from
+// the top-left, like the tiles) never straddles two tiles; tests/cli/test_vrs_counts.sh checks
+// the count against a brute-force CPU rasterisation.
+void count_fragment(uint rate)
+{
+    if (gl_HelperInvocation)
+        return;
+    atomicAdd(u_covered[u_count_slot], 1u);
+    bool shades = true;
+#ifdef VRS
+    ivec2 origin;
+    vec2 centre;
+    vrs_coarse_pixel(ivec2(gl_FragCoord.xy), rate, int(u_vrs_viewport.y), origin, centre);
+    uint cell = uint(origin.y) * uint(u_vrs_viewport.x) + uint(origin.x);
+    shades = atomicExchange(u_coarse_key[cell], g_count_key) != g_count_key;
+#endif
+    if (shades)
+        atomicAdd(u_covered[COUNT_SHADED_OFFSET + u_count_slot], 1u);
+}
 #endif
 
 layout(location = 0) out vec4 o_color;
@@ -118,8 +146,11 @@ void main()
 #endif
 #ifdef COUNT_FRAGMENTS
     // Before the alpha test: every fragment the primitive covers counts, kept or discarded.
-    if (!gl_HelperInvocation)
-        atomicAdd(u_covered[u_count_slot], 1u);
+#ifdef VRS
+    count_fragment(vrs_rate);
+#else
+    count_fragment(0u);
+#endif
 #endif
 #ifdef VRS
     shade_in s = vrs_shade_in(vrs_rate);

@@ -49,12 +49,25 @@ flat out vec4 g_tri_color[3];
 flat out vec3 g_tri_normal[3];
 flat out vec3 g_tri_obj[3];
 flat out vec2 g_tri_zw[3];   // clip z and w (the stochastic test hashes the coarse centre's depth)
+#ifdef COUNT_FRAGMENTS
+// The counting variant: each primitive's key, unique in the frame (count_fragment in forward.frag).
+// Clipping comes after this stage, so the pieces of a clipped triangle share their key and count
+// once per coarse pixel, as the one primitive a GPU shades.
+layout(std430, binding = COUNT_FRAGMENTS_BINDING) buffer fragment_counts { uint u_covered[]; };
+flat out uint g_count_key;
+#endif
 
 void main()
 {
     vec3 c0 = gl_in[0].gl_Position.xyw, c1 = gl_in[1].gl_Position.xyw, c2 = gl_in[2].gl_Position.xyw;
     vec3 e0 = cross(c1, c2), e1 = cross(c2, c0), e2 = cross(c0, c1);
+#ifdef COUNT_FRAGMENTS
+    uint key = atomicAdd(u_covered[COUNT_KEY_SEQUENCE], 1u) + 1u; // 0: a cell no primitive shaded yet
+#endif
     for (int i = 0; i < 3; i++) {
+#ifdef COUNT_FRAGMENTS
+        g_count_key = key;
+#endif
         g_tri_edge[0] = e0;
         g_tri_edge[1] = e1;
         g_tri_edge[2] = e2;

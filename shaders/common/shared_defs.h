@@ -159,5 +159,14 @@
  * (define COUNT_FRAGMENTS; bench draws it in a frame of its own, never in a timed one) adds 1 per
  * covered fragment to slot u_count_slot (ring * pass count + pass) of this shader storage buffer. */
 #define COUNT_FRAGMENTS_BINDING 1
+/* ... and 1 per fragment-shader invocation a GPU would run to slot COUNT_SHADED_OFFSET + u_count_slot:
+ * per covered fragment, or under VRS per primitive and coarse pixel with a covered pixel (docs/
+ * benchmarks.md "VRS: coarse-shading invocations"). Word COUNT_KEY_SEQUENCE hands each primitive
+ * of the VRS twin its key (forward_vrs.geom); COUNT_COARSE_KEYS_BINDING holds, per display pixel
+ * that is a coarse pixel's top-left corner, the key of the primitive that last shaded there. */
+#define COUNT_SHADED_OFFSET 128
+#define COUNT_KEY_SEQUENCE 256
+#define COUNT_WORDS 257
+#define COUNT_COARSE_KEYS_BINDING 2
 
 #endif

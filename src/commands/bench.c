@@ -71,15 +71,15 @@ static void draw_timed(renderer *r, const frame_record *fr, proc_stats *pd, doub
 }
 
 /* Frame k's per-stage times (sync: the synced draw's wall clock; rs: the GL timers) and work
- * counts (rs's statistics, cs's covered fragments), and the frame's totals. */
+ * counts (rs's statistics, cs's covered and shaded fragments), and the frame's totals. */
 static void bench_record(bench_config *c, const renderer_stats *rs, const renderer_stats *sync,
                          const renderer_stats *cs, int k, int n)
 {
     const long long *stage_counts[BENCH_COUNTS] = {rs->pass_vs_invocations, rs->pass_primitives, rs->pass_fs_invocations,
                                                    rs->pass_clipped, cs->pass_covered, rs->pass_bytes_read,
-                                                   rs->pass_bytes_written};
+                                                   rs->pass_bytes_written, cs->pass_shaded};
     const long long frame_counts[BENCH_COUNTS] = {rs->vs_invocations, rs->primitives, rs->fragments, rs->clipped,
-                                                  cs->covered, rs->bytes_read, rs->bytes_written};
+                                                  cs->covered, rs->bytes_read, rs->bytes_written, cs->shaded};
     for (int p = 0; p < rs->pass_count; p++) {
         size_t at = (size_t)p * (size_t)n + (size_t)k;
         c->stage_wall[at] = sync->pass_wall_ms[p];
@@ -129,6 +129,7 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
         for (int i = 0; i < MAX_FOV_RINGS; i++)
             for (int p = 0; p < PLAN_MAX_PASSES; p++)
                 c->ring_pass_covered[i][p] += (double)cs.ring_pass_covered[i][p];
+        renderer_stats_take_shaded(&rs, &cs); /* VRS: what a GPU would shade, not llvmpipe's count */
     }
     c->wall[k] = (t1 - t0) * 1e3;
     c->cpu[k] = pd.cpu_ms;
@@ -171,7 +172,7 @@ static void bench_list_configs(bench_run *b)
     b->lod = pl->rings && pl->ring_lod;
     if (!b->lod && (pl->ring_lod || pl->ring_lod_why[0]))
         log_warn("bench: ring LOD not measured (%s)", pl->ring_lod ? "no rings" : pl->ring_lod_why);
-    b->nlayouts = b->lod ? 3 : pl->rings ? 2 : 1;
+    b->nlayouts = b->lod ? 3 : pl->rings || pl->vrs ? 2 : 1; /* foveated: by rings or by VRS */
     for (int lay = 0; lay < b->nlayouts; lay++)
         for (int m = 0; m < nmodes + (want_msaa ? 1 : 0); m++) {
             bench_config *c = &b->cfg[b->ncfg++];
@@ -183,8 +184,8 @@ static void bench_list_configs(bench_run *b)
             c->height = d->height;
             c->taa = b->s.pl.taa;
             c->rings = b->s.pl.layout;
-            snprintf(c->name, sizeof c->name, "%s%s, %s", alpha_mode_name(c->mode), c->msaa_only ? "+MSAA" : "",
-                     k_layout_names[lay]);
+            snprintf(c->name, sizeof c->name, "%s%s, %s%s", alpha_mode_name(c->mode), c->msaa_only ? "+MSAA" : "",
+                     k_layout_names[lay], c->foveated && pl->vrs ? " (VRS)" : "");
         }
     b->per_layout = b->ncfg / b->nlayouts;
 }
@@ -201,7 +202,12 @@ fs_status bench_build_configs(bench_run *b)
                            .taa_controls = b->s.pl.taa_controls, .no_ring_cull = d->no_ring_cull,
                            .composite_per_pixel = d->composite_per_pixel};
         if (cf->foveated)
-            po.layout = cf->rings;
+            po.layout = b->s.pl.vrs ? b->s.pl.vrs_rings : cf->rings;
+        if (cf->foveated && b->s.pl.vrs) { /* VRS foveation: one full-resolution pass, coarse tiles */
+            po.vrs = true;
+            po.vrs_spec = b->s.pl.vrs_spec;
+            po.vrs_tile = b->s.pl.vrs_tile;
+        }
         if (cf->layout == BENCH_RINGS_LOD)
             po.ring_lod = b->s.pl.ring_lod_spec;
         st = plan_build(&b->s.sc, &po, &cf->pl);

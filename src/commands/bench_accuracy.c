@@ -399,6 +399,7 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
         st = renderer_draw(mr->r, &fr);
         cs = renderer_last_stats(mr->r);
         renderer_set_counting(mr->r, false);
+        renderer_stats_take_shaded(&rs, &cs); /* VRS: what a GPU would shade, not llvmpipe's count */
     }
     const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,
                                        (double)rs.primitives, (double)rs.fragments, (double)rs.clipped,

@@ -14,7 +14,7 @@
  * asks for ring LOD and its plan compiles it) the same rings with it. */
 enum { BENCH_FULL, BENCH_RINGS, BENCH_RINGS_LOD, BENCH_LAYOUTS };
 
-#define BENCH_COUNTS_MAX 7 /* work counts per stage (BENCH_COUNTS) */
+#define BENCH_COUNTS_MAX 8 /* work counts per stage (BENCH_COUNTS) */
 
 /* One measured configuration of the bench (full resolution, or the run's ring layout). */
 typedef struct bench_config {
@@ -46,7 +46,7 @@ typedef struct bench_config {
  * text. The first four are the timed frame's pipeline statistics; covered fragments come from a
  * frame of their own drawn with the counting variant (renderer_set_counting); bytes from the
  * targets' footprints (passes/pass_bytes.h). */
-enum { COUNT_VS, COUNT_PRIMS, COUNT_FS, COUNT_CLIPPED, COUNT_COVERED, COUNT_READ, COUNT_WRITTEN, BENCH_COUNTS };
+enum { COUNT_VS, COUNT_PRIMS, COUNT_FS, COUNT_CLIPPED, COUNT_COVERED, COUNT_READ, COUNT_WRITTEN, COUNT_SHADED, BENCH_COUNTS };
 _Static_assert(BENCH_COUNTS == BENCH_COUNTS_MAX, "BENCH_COUNTS_MAX sizes the count arrays");
 
 typedef struct summary {

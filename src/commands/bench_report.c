@@ -17,11 +17,11 @@
 
 static const char *const k_count_keys[BENCH_COUNTS] = {"vs_invocations", "primitives", "fs_invocations",
                                                        "clipped_primitives", "covered_fragments", "bytes_read",
-                                                       "bytes_written"};
+                                                       "bytes_written", "shaded_fragments"};
 static const char *const k_count_names[BENCH_COUNTS] = {"vertex shader invocations", "primitives submitted",
                                                         "fragment shader invocations", "primitives after clipping",
                                                         "covered fragments", "bytes read (footprints)",
-                                                        "bytes written (footprints)"};
+                                                        "bytes written (footprints)", "shaded fragments"};
 
 enum { BENCH_REPORT_CAP = 1 << 20 };
 
@@ -282,7 +282,7 @@ static void bench_report_text(bench_run *b, const char *cpu_name)
         "| configuration | stage |", bench_invocation_unit());
     for (int q = 0; q < BENCH_COUNTS; q++)
         OUT(" %s |", k_count_names[q]);
-    OUT(" invocations / covered |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    OUT(" invocations / covered |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int c = 0; c < b->ncfg; c++) {
         for (int p = 0; p <= b->cfg[c].names.pass_count; p++) {
             bool frame = p == b->cfg[c].names.pass_count;

@@ -426,7 +426,8 @@ static fs_status compare_build_modes(cmp_run *c)
         dm.alpha = mr->mode;
         st = session_build_plan(&dm, &c->s.sc, &mr->pl);
         if (st == FS_OK)
-            mr->r = renderer_create(&(renderer_desc){.scene = &c->s.sc, .plan = &mr->pl, .timers = true}, &st);
+            mr->r = renderer_create(&(renderer_desc){.scene = &c->s.sc, .plan = &mr->pl, .timers = true,
+                                                     .count_fragments = mr->pl.vrs}, &st);
         if (st == FS_OK && !(mr->frame_ms = calloc((size_t)c->frames, sizeof(double))))
             st = FS_ERR_NOMEM;
         if (st == FS_OK && !(c->work[m] = calloc((size_t)c->frames * CMP_WORK, sizeof(double))))
@@ -670,11 +671,11 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
     temporal_next(&c->te, &f->fr);
 }
 
-/* Mode m's counts of frame i (its statistics: the queries are done once the frame is finished),
- * and the frame time the cost model predicts from them. */
-static void compare_count(cmp_run *c, int m, int i)
+/* Mode m's counts of frame i (rs: its statistics), and the frame time the cost model predicts
+ * from them. */
+static void compare_count(cmp_run *c, int m, int i, const renderer_stats *rs_in)
 {
-    renderer_stats rs = renderer_last_stats(c->runs[m].r);
+    renderer_stats rs = *rs_in;
     double *w = c->work[m] + (size_t)i * CMP_WORK;
     w[CMP_PRIMS] = (double)rs.primitives;
     w[CMP_FS] = (double)rs.fragments;
@@ -746,6 +747,20 @@ static fs_status compare_join(cmp_run *c)
     return FS_OK;
 }
 
+/* VRS: the frame again with the counting variant (once read back: it overwrites the targets, not
+ * TAA's state), so that rs's fragment-shader invocations are the coarse-shading invocations a GPU
+ * would run (docs/benchmarks.md "VRS: coarse-shading invocations"), not llvmpipe's emulation's. */
+static fs_status count_vrs_shading(renderer *r, const frame_record *fr, renderer_stats *rs)
+{
+    renderer_set_counting(r, true);
+    fs_status st = renderer_draw(r, fr);
+    renderer_stats cs = renderer_last_stats(r);
+    renderer_set_counting(r, false);
+    if (st == FS_OK)
+        renderer_stats_take_shaded(rs, &cs);
+    return st;
+}
+
 /* Every mode's draw of frame i, timed; only that for the TAA history before first - 1. */
 static fs_status compare_draw_modes(cmp_run *c, const cmp_frame *f)
 {
@@ -761,9 +776,12 @@ static fs_status compare_draw_modes(cmp_run *c, const cmp_frame *f)
         st = renderer_draw(mr->r, &f->fr);
         renderer_finish(mr->r);
         mr->frame_ms[f->i] = (time_now() - a) * 1e3;
-        compare_count(c, m, f->i);
+        renderer_stats rs = renderer_last_stats(mr->r); /* the queries are done: the frame is finished */
         if (st == FS_OK)
             st = renderer_read(mr->r, &mr->img);
+        if (st == FS_OK && mr->pl.vrs)
+            st = count_vrs_shading(mr->r, &f->fr, &rs);
+        compare_count(c, m, f->i, &rs);
     }
     return st;
 }

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "common/shared_defs.h"
 #include "core/log.h"
 #include "gl/gl_device.h"
 #include "gl/gl_program.h"
@@ -118,6 +119,19 @@ static void name_stages(renderer *r)
     snprintf(r->stage_names[r->stage_count++], sizeof r->stage_names[0], "composite");
 }
 
+/* Plan pass i's VRS twin (none for a pass without one) and, with `counting`, its counting variant. */
+static fs_status vrs_programs_create(renderer *r, int i, bool counting)
+{
+    plan_pass twin, counted;
+    if (!plan_pass_vrs(&r->pl.passes[i], &twin))
+        return FS_OK;
+    fs_status st = program_create(&twin, &r->vrs_programs[i]);
+    if (st == FS_OK && counting)
+        st = plan_pass_counting(&twin, &counted) ? program_create(&counted, &r->count_vrs_programs[i])
+                                                 : FS_ERR_INTERNAL;
+    return st;
+}
+
 renderer *renderer_create(const renderer_desc *desc, fs_status *status)
 {
     FS_ASSERT(desc && desc->scene && desc->plan && gl_device_is_valid());
@@ -141,14 +155,18 @@ renderer *renderer_create(const renderer_desc *desc, fs_status *status)
         st = plan_pass_counting(&r->pl.passes[i], &counting) ? program_create(&counting, &r->count_programs[i])
                                                               : FS_ERR_INTERNAL;
     }
-    for (int i = 0; i < r->pl.pass_count && st == FS_OK && r->pl.vrs; i++) {
-        plan_pass twin;
-        if (plan_pass_vrs(&r->pl.passes[i], &twin))
-            st = program_create(&twin, &r->vrs_programs[i]);
-    }
+    for (int i = 0; i < r->pl.pass_count && st == FS_OK && r->pl.vrs; i++)
+        st = vrs_programs_create(r, i, desc->count_fragments);
     if (st == FS_OK && desc->count_fragments) {
         glCreateBuffers(1, &r->count_buf);
-        glNamedBufferStorage(r->count_buf, sizeof(GLuint) * MAX_FOV_RINGS * PLAN_MAX_PASSES, NULL,
+        glNamedBufferStorage(r->count_buf, sizeof(GLuint) * COUNT_WORDS, NULL, GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (st == FS_OK && desc->count_fragments && r->pl.vrs && r->height % 4 != 0)
+        log_warn("a display %d rows high (not a multiple of 4): VRS's coarse-shading invocations are an upper bound "
+                 "(docs/benchmarks.md \"VRS: coarse-shading invocations\")", r->height);
+    if (st == FS_OK && desc->count_fragments && r->pl.vrs) {
+        glCreateBuffers(1, &r->count_keys_buf);
+        glNamedBufferStorage(r->count_keys_buf, sizeof(GLuint) * (size_t)r->width * (size_t)r->height, NULL,
                              GL_DYNAMIC_STORAGE_BIT);
     }
     if (st == FS_OK && r->pl.composite)
@@ -272,7 +290,10 @@ void renderer_destroy(renderer *r)
     glDeleteTextures(1, &r->vrs_tex);
     free(r->vrs_rates);
     free(r->vrs_rects);
-    for (int i = 0; i < r->pl.pass_count; i++)
+    for (int i = 0; i < r->pl.pass_count; i++) {
         glDeleteProgram(r->vrs_programs[i].id);
+        glDeleteProgram(r->count_vrs_programs[i].id);
+    }
+    glDeleteBuffers(1, &r->count_keys_buf);
     free(r);
 }

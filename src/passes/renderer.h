@@ -64,6 +64,11 @@ typedef struct renderer_stats {
     long long pass_covered[RENDERER_STATS_MAX];
     bool pass_geometry[RENDERER_STATS_MAX]; /* the stage draws the scene (forward passes), not a full-screen pass */
     long long ring_pass_covered[MAX_FOV_RINGS][PLAN_MAX_PASSES];
+    /* Fragment-shader invocations a GPU would run, from the same counting frame, -1 = not counted:
+     * covered fragments, but under VRS (`vrs`) one per primitive and coarse pixel with a covered
+     * pixel (docs/benchmarks.md "VRS: coarse-shading invocations"). `shaded`: their sum. */
+    long long pass_shaded[RENDERER_STATS_MAX], shaded;
+    bool vrs;
     /* Bytes each stage read and wrote, from its targets' footprints (passes/pass_bytes.h), -1 = not
      * modelled (the exact reference's list passes). Rings off: the forward passes' on the first. */
     long long pass_bytes_read[RENDERER_STATS_MAX], pass_bytes_written[RENDERER_STATS_MAX];
@@ -97,6 +102,12 @@ void renderer_set_pass_sync(renderer *r, bool on);
  * state (history, previous frame) as it was, so it may be drawn between two frames of a sequence
  * (after reading the first back: it overwrites the targets). */
 void renderer_set_counting(renderer *r, bool on);
+/* A VRS frame's (counted->vrs) fragment-shader invocations are what a GPU would shade: each scene
+ * stage's pipeline statistic in *timed (on llvmpipe: every pixel of the blocks the emulation
+ * shades, twice drawn) becomes the counting frame's pass_shaded, and `fragments` their sum with
+ * the other stages'. Other frames: unchanged. docs/benchmarks.md "VRS: coarse-shading invocations"
+ * says why the two units differ and which count compares rings with VRS. */
+void renderer_stats_take_shaded(renderer_stats *timed, const renderer_stats *counted);
 /* Blocks until the GPU has finished all submitted work (glFinish), for wall-clock timing. */
 void renderer_finish(renderer *r);
 /* The exact reference's fragment lists (plan.reference_lists, abuffer.h). The store holds a fixed

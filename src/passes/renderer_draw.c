@@ -436,7 +436,7 @@ static void draw_pass(renderer *r, const gpu_program *pg, const plan_pass *ps, c
 static void draw_pass_vrs(renderer *r, const gpu_program *pg, int i, const frame_record *fr)
 {
     const plan_pass *ps = &r->pl.passes[i];
-    const gpu_program *twin = &r->vrs_programs[i];
+    const gpu_program *twin = r->counting ? &r->count_vrs_programs[i] : &r->vrs_programs[i];
     if (!twin->id) { /* a pass without a twin (none shades colour under VRS) draws it all */
         draw_pass(r, pg, ps, fr);
         return;
@@ -452,6 +452,8 @@ static void draw_pass_vrs(renderer *r, const gpu_program *pg, int i, const frame
     glUseProgram(twin->id);
     set_frame_uniforms(r, twin, fr, 0);
     renderer_vrs_uniforms(r, twin);
+    if (r->counting) /* VRS draws one ring: the pass's slot */
+        glProgramUniform1ui(twin->id, twin->u_count_slot, (GLuint)i);
     draw_pass(r, twin, ps, fr);
 }
 
@@ -538,6 +540,10 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         const GLuint zero = 0;
         glClearNamedBufferData(r->count_buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, COUNT_FRAGMENTS_BINDING, r->count_buf);
+        if (r->count_keys_buf) { /* no primitive has shaded a coarse pixel yet (keys start at 1) */
+            glClearNamedBufferData(r->count_keys_buf, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, COUNT_COARSE_KEYS_BINDING, r->count_keys_buf);
+        }
     }
     for (int k = 0; k < r->stage_count; k++) {
         r->fullscreen_px[k] = -1;

@@ -151,7 +151,11 @@ struct renderer {
     /* >>counting: renderer_desc.count_fragments builds count_programs (COUNT_FRAGMENTS, one per
      * plan pass) and count_buf (one counter per ring and pass); renderer_set_counting picks them. */
     gpu_program count_programs[PLAN_MAX_PASSES];
-    GLuint count_buf;
+    GLuint count_buf;                      /* COUNT_WORDS words (common/shared_defs.h) */
+    /* VRS: the twins' counting variants (id 0: none) and the coarse pixels' keys, one word per
+     * display pixel (COUNT_COARSE_KEYS_BINDING) */
+    gpu_program count_vrs_programs[PLAN_MAX_PASSES];
+    GLuint count_keys_buf;
     bool counting, counted;                /* draw with them / the last frame was drawn with them */
     long long fullscreen_px[RENDERER_MAX_STAGES]; /* pixels each full-screen stage drew, last frame */
     pass_bytes stage_bytes[RENDERER_MAX_STAGES];  /* each stage's footprint bytes, last frame (-1: not modelled) */

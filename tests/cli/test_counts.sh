@@ -82,6 +82,6 @@ sys.exit(abs(j['covered_fragment_ideal_speedup'] - 256 / 272) > 1e-4)" "$T/cull_
 # ---- the text report: the counts' columns and the covered-fragment ideal
 "$BIN" bench "$T/small.json" --frames 2 --warmup 0 --rings "20:1:0,*:1/4:0" --taa off >"$T/text.md" 2>"$T/err.txt"
 check "text: work table has primitives after clipping, covered fragments and their ratio" \
-  grep -q "| primitives after clipping | covered fragments | bytes read (footprints) | bytes written (footprints) | invocations / covered |" "$T/text.md"
+  grep -q "| primitives after clipping | covered fragments | bytes read (footprints) | bytes written (footprints) | shaded fragments | invocations / covered |" "$T/text.md"
 check "text: the covered-fragment ideal beside the pixel ideal" grep -q '^covered-fragment ideal 1.00x' "$T/text.md"
 summary
