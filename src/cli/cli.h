@@ -48,6 +48,9 @@ typedef enum acc_cost_kind { ACC_COST_TIME = 0, ACC_COST_MODEL, ACC_COST_WORK } 
 
 /* The commands that take --foveation vrs (the others refuse it: VRS_NOT_BUILT). */
 #define CMD_TAKES_VRS(c) ((c) == CMD_PLAN || (c) == CMD_RENDER || (c) == CMD_COMPARE)
+/* The runs that take it: those commands, and bench --accuracy (its vrs rows; plain bench's timing
+ * does not draw VRS). */
+#define RUN_TAKES_VRS(d) (CMD_TAKES_VRS((d)->cmd) || ((d)->cmd == CMD_BENCH && (d)->bench.accuracy))
 
 typedef struct run_desc {
     command cmd;

@@ -36,11 +36,11 @@ check "the scene's foveation, vrs and vrs_tile print what the options do" diff "
 # ---- the commands that do not draw VRS yet refuse it in one line, exit 2 (render and compare draw
 # it: test_vrs_shade.sh)
 expect_exit "bench --foveation vrs refuses" 2 "$BIN" bench forest --foveation vrs --frames 1
-check "  ... saying which commands draw it" grep -q 'VRS is drawn by render and compare (issue 33 part 2); this command does not draw it yet' "$T/err.txt"
+check "  ... saying which commands draw it" grep -q 'VRS is drawn by render, compare, bench --accuracy and a sweep manifest.s .rings.: .vrs.; this command does not draw it' "$T/err.txt"
 expect_exit "demo --foveation vrs refuses" 2 "$BIN" demo --foveation vrs --frames 1 --out "$T/d"
 check "  ... and writes nothing" test ! -e "$T/d"
 expect_exit "a scene with \"foveation\": \"vrs\" refuses to bench" 2 "$BIN" bench "$T/forest_vrs.json" --frames 1
-check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS is drawn by render and compare' "$T/err.txt"
+check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS is drawn by render, compare, bench --accuracy' "$T/err.txt"
 check "--rings on the command line chooses rings over the scene's \"foveation\": \"vrs\"" \
   bash -c "'$BIN' plan '$T/forest_vrs.json' --rings aggressive >'$T/over.txt' && grep -q '^rings      aggressive' '$T/over.txt' && ! grep -q '^vrs' '$T/over.txt'"
 
