@@ -25,7 +25,7 @@
 
 /* The accuracy-vs-time matrix (docs/design.md "Outputs"; docs/benchmarks.md): alpha modes x foveation
  * off / default / aggressive (and default+lod, the default rings with ring LOD, when the run asks
- * for it) x TAA off / on, every configuration drawn over the same consecutive
+ * for it) / vrs x TAA off / on, every configuration drawn over the same consecutive
  * frames (TAA needs a real sequence), timings interleaved per frame so all see the same machine
  * state, accuracy measured after the warm-up against the reference in the default rings. */
 
