@@ -291,7 +291,7 @@ fs_status cli_finish(run_desc *d)
         REFUSE("--foveation off and --rings %s: give one of them (--foveation off is --rings off)", d->rings);
     if ((d->vrs || d->vrs_tile) && (d->foveation == FOVEATION_RINGS || d->foveation == FOVEATION_OFF))
         REFUSE("--vrs and --vrs-tile shape VRS foveation: not with --foveation %s", foveation_kind_name(d->foveation));
-    if (d->foveation == FOVEATION_VRS && !CMD_TAKES_VRS(d))
+    if (d->foveation == FOVEATION_VRS && !RUN_TAKES_VRS(d))
         REFUSE("fovsim %s --foveation vrs: %s", c, VRS_NOT_BUILT);
     if (d->quiet && d->verbose)
         REFUSE("--quiet and --verbose: give one of them, not both");

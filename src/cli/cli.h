@@ -46,11 +46,12 @@ typedef enum acc_error_kind { ACC_ERROR_FLIP = 0, ACC_ERROR_ALPHA_RMSE, ACC_ERRO
 /* bench --accuracy --cost: the x axis of the accuracy-vs-cost plot (docs/benchmarks.md "Cost model"). */
 typedef enum acc_cost_kind { ACC_COST_TIME = 0, ACC_COST_MODEL, ACC_COST_WORK } acc_cost_kind;
 
-/* The runs that take --foveation vrs (the others refuse it: VRS_NOT_BUILT): plain bench does (its
- * work counts price VRS's coarse shading), bench --accuracy and --calibrate not yet. */
-#define CMD_TAKES_VRS(d)                                                                                          \
+/* The runs that take --foveation vrs (the others refuse it: VRS_NOT_BUILT): plan, render, compare,
+ * plain bench (its work counts price VRS's coarse shading) and bench --accuracy (its vrs rows); not
+ * bench --calibrate. */
+#define RUN_TAKES_VRS(d)                                                                                          \
     ((d)->cmd == CMD_PLAN || (d)->cmd == CMD_RENDER || (d)->cmd == CMD_COMPARE ||                                 \
-     ((d)->cmd == CMD_BENCH && !(d)->bench.accuracy && !(d)->bench.calibrate))
+     ((d)->cmd == CMD_BENCH && !(d)->bench.calibrate))
 
 typedef struct run_desc {
     command cmd;

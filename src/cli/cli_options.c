@@ -354,7 +354,7 @@ const cli_option k_cli_options[] = {
      "rings), off, or innermost first\nOUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5", FIELD(rings), .set = set_rings, .flags = OPT_RECORDED},
     {"--foveation", ARG_CHOICE, CMDS_DRAWING, "rings|vrs|off",
      "how to foveate: rings (default; --rings), vrs (variable-rate shading:\none pass at full resolution, a shading rate "
-     "per tile, coarse shading\nemulated; render, compare and plan take it) or off (--rings off)", FIELD(foveation),
+     "per tile, coarse shading\nemulated; render, compare, plan and bench --accuracy take it) or\noff (--rings off)", FIELD(foveation),
      .choices = k_foveation, .flags = OPT_RECORDED},
     {"--vrs", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
      "VRS rate map: auto (acuity model, default) or innermost first\nOUTER:RATE,... with * for the last, rates 1x1, "

@@ -221,8 +221,8 @@ static void parse_gaze(mparse *p)
     }
 }
 
-/* modes, compared together in every task; ring layouts and TAA settings: the task's compare
- * checks each ring value */
+/* modes, compared together in every task; ring layouts ("vrs": VRS foveation, docs/cluster.md) and
+ * TAA settings: the task's compare checks each ring value */
 static void parse_modes_rings_taa(mparse *p)
 {
     sweep_manifest *m = p->m;
@@ -729,7 +729,10 @@ int sweep_task_options(const sweep_manifest *m, const sweep_task *k, char **argv
     }
     ARG("--modes");
     ARG("%s", m->modes);
-    if (strcmp(m->rings[k->rings], "default") != 0) {
+    if (strcmp(m->rings[k->rings], "vrs") == 0) { /* VRS foveation, beside the ring layouts */
+        ARG("--foveation");
+        ARG("vrs");
+    } else if (strcmp(m->rings[k->rings], "default") != 0) {
         ARG("--rings");
         ARG("%s", m->rings[k->rings]);
     }

@@ -33,10 +33,12 @@ const char *foveation_kind_name(foveation_kind k);
 /* "rings", "vrs" or "off" (exactly); false otherwise. */
 bool foveation_kind_parse(const char *text, foveation_kind *out);
 
-/* What the drawing commands that do not draw VRS yet say when asked for it (render and compare draw
- * it, plan shows the map; bench, sweep, demo and view come with issue 33's parts 3 and 4). */
-#define VRS_NOT_BUILT                                                                                              \
-    "VRS is drawn by render, compare and plain bench (issue 33 parts 2 and 3); this command does not draw it yet"
+/* What the drawing commands that do not draw VRS say when asked for it (render, compare, bench and
+ * bench --accuracy draw it, sweeps through their tasks' compare, plan shows the map; bench
+ * --calibrate, demo, reference and view do not). */
+#define VRS_NOT_BUILT                                                                                                  \
+    "VRS is drawn by render, compare, bench (and --accuracy) and a sweep manifest's \"rings\": \"vrs\"; this "      \
+    "command does not draw it"
 
 /* A shading rate: the coarse pixel's width and height in display pixels as log2 each, packed as
  * (log2 width) << 2 | (log2 height), the encoding of D3D12's shading-rate images, so a shader reads

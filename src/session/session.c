@@ -137,7 +137,7 @@ fs_status session_plan_options(const run_desc *d, const scene *sc, plan_options 
                                            .nan_check = d->taa.nan},
                           .composite_per_pixel = d->composite_per_pixel, .no_ring_cull = d->no_ring_cull};
     if (session_foveation(d, sc) == FOVEATION_VRS) {
-        if (!CMD_TAKES_VRS(d)) { /* the CLI's refused in cli_finish */
+        if (!RUN_TAKES_VRS(d)) { /* the CLI's refused in cli_finish */
             log_error("%s: \"foveation\": \"vrs\": %s", sc->path, VRS_NOT_BUILT);
             return FS_ERR_USAGE;
         }

@@ -66,7 +66,7 @@ check "accuracy.csv: predicted_ms last, finite and positive on every row" python
 import csv, math
 rows = list(csv.reader(open('$T/acc/accuracy.csv')))
 assert rows[0][-1] == 'predicted_ms' and rows[0][3] == 'frame_ms_median', rows[0]
-assert len(rows) == 13, len(rows)
+assert len(rows) == 17, len(rows)  # header, 2 modes x 4 layouts x 2 TAA
 for r in rows[1:]:
     p = float(r[-1])
     assert math.isfinite(p) and p > 0, r

@@ -199,7 +199,7 @@ check "render --export-fvvdp: exit 2, one line, nothing written" bash -c "[ $rc 
 "$BIN" bench fence --accuracy --modes traditional,hashed --width 96 --height 54 --frames 3 --warmup 1 "${REF[@]}" \
   --out "$T/acc" --quiet >"$T/acc.txt" 2>&1; rc=$?
 check "bench --accuracy exits 0" test $rc -eq 0
-check "accuracy.csv: 2 modes x 3 layouts x 2 TAA rows" bash -c "[ \$(tail -n +2 '$T/acc/accuracy.csv' | wc -l) -eq 12 ]"
+check "accuracy.csv: 2 modes x 4 layouts (off, default, aggressive, vrs) x 2 TAA rows" bash -c "[ \$(tail -n +2 '$T/acc/accuracy.csv' | wc -l) -eq 16 ]"
 check "accuracy.md table with speedups and the Pareto mark" bash -c "grep -q '| traditional' '$T/acc/accuracy.md' && grep -q ' \\* |' '$T/acc/accuracy.md'"
 check "accuracy.png is a PNG" bash -c "head -c 8 '$T/acc/accuracy.png' | od -c | grep -q 'P   N   G'"
 check "accuracy-fragments.png is a PNG" bash -c "head -c 8 '$T/acc/accuracy-fragments.png' | od -c | grep -q 'P   N   G'"
@@ -208,7 +208,7 @@ check "accuracy-fragments.png is a PNG" bash -c "head -c 8 '$T/acc/accuracy-frag
 check "accuracy.csv: CPU, fault and work columns" python3 -c "
 import csv
 rows = list(csv.DictReader(open('$T/acc/accuracy.csv')))
-assert len(rows) == 12, len(rows)
+assert len(rows) == 16, len(rows)
 for r in rows:
     assert float(r['cpu_ms_median']) >= 0, r
     for k in ('minor_faults_median', 'vs_invocations_median', 'primitives_median', 'fs_invocations_median'):
@@ -218,7 +218,8 @@ for r in rows:
     # work counts (docs/benchmarks.md 'Work counts'): every configuration covers fragments (counted
     # in the counting frame, which must see the last pass's atomics) and touches its targets
     for k in ('clipped_primitives_median', 'covered_fragments_median', 'bytes_read_median', 'bytes_written_median'):
-        assert int(r[k]) > 0, (k, r)
+        # VRS: covered fragments unknown (-1) until its coarse shading is counted (test_vrs_accuracy.sh)
+        assert int(r[k]) > 0 or (r['rings'] == 'vrs' and k == 'covered_fragments_median' and r[k] == '-1'), (k, r)
 assert any(r['pareto_fragments'] == '1' for r in rows)
 key = lambda r: (r['mode'], r['rings'])
 off = {key(r): int(r['fs_invocations_median']) for r in rows if r['taa'] == 'off'}
@@ -233,12 +234,12 @@ assert all(off[k] < on[k] for k in off), (off, on)  # TAA adds a full-screen res
 "$BIN" bench forest --accuracy --modes traditional,hashed --width 128 --height 72 --frames 2 --warmup 1 "${REF[@]}" \
   --rings 21.719414:1:0,34.564426:1/4:0,*:1/8:0 --ring-lod simplify:1,1/4,1/16 --out "$T/acc_lod" --quiet >"$T/acc_lod.txt" 2>&1; rc=$?
 check "bench --accuracy --ring-lod exits 0" test $rc -eq 0
-check "accuracy.csv with ring LOD: 2 modes x 4 layouts x 2 TAA, sane values" python3 -c "
+check "accuracy.csv with ring LOD: 2 modes x 5 layouts x 2 TAA, sane values" python3 -c "
 import csv, math
 rows = list(csv.DictReader(open('$T/acc_lod/accuracy.csv')))
-assert len(rows) == 16, len(rows)
+assert len(rows) == 20, len(rows)
 for m in ('traditional', 'hashed'):
-    assert [(r['rings'], r['taa']) for r in rows if r['mode'] == m] == [(l, t) for l in ('off', 'default', 'default+lod', 'aggressive') for t in ('off', 'on')]
+    assert [(r['rings'], r['taa']) for r in rows if r['mode'] == m] == [(l, t) for l in ('off', 'default', 'default+lod', 'aggressive', 'vrs') for t in ('off', 'on')]
 for r in rows:
     for k in ('rmse', 'flip', 'temporal_error', 'alpha_rmse', 'coverage_ratio_ring0', 'coverage_ratio_ring2'):
         assert math.isfinite(float(r[k])) and float(r[k]) >= 0, (k, r)

@@ -116,6 +116,6 @@ browse "$T/a" accuracy
 check "accuracy page: the script ran without an error or console message" page_ok accuracy
 check "accuracy page: the plot, its Pareto front, lower is better" \
   bash -c "grep -q 'id=\"accuracy\"' '$T/accuracy.dom' && grep -q 'Pareto front' '$T/accuracy.dom' && grep -q 'lower is better' '$T/accuracy.dom'"
-check "accuracy page: accuracy.csv's rows" test "$(grep -c 'data-k="accuracy\.[0-9]*\.mode"' "$T/accuracy.dom")" -eq 12
+check "accuracy page: accuracy.csv's rows" test "$(grep -c 'data-k="accuracy\.[0-9]*\.mode"' "$T/accuracy.dom")" -eq 16
 check "accuracy page: a screenshot ($T/accuracy.png)" is_png "$T/accuracy.png"
 summary

@@ -34,14 +34,13 @@ grep -v '^scene ' "$T/explicit.txt" >"$T/explicit_noscene.txt"
 check "the scene's foveation, vrs and vrs_tile print what the options do" diff "$T/key.txt" "$T/explicit_noscene.txt"
 
 # ---- the commands that do not draw VRS yet refuse it in one line, exit 2 (render and compare draw
-# it: test_vrs_shade.sh; plain bench: test_vrs_counts.sh)
-expect_exit "bench --accuracy --foveation vrs refuses" 2 "$BIN" bench forest --accuracy --foveation vrs --frames 1
-check "  ... saying which commands draw it" grep -q 'VRS is drawn by render, compare and plain bench (issue 33 parts 2 and 3); this command does not draw it yet' "$T/err.txt"
+# it: test_vrs_shade.sh; plain bench: test_vrs_counts.sh; bench --accuracy: test_vrs_accuracy.sh)
 expect_exit "bench --calibrate --foveation vrs refuses" 2 "$BIN" bench forest --calibrate --foveation vrs --frames 1
+check "  ... saying which commands draw it" grep -q 'VRS is drawn by render, compare, bench (and --accuracy) and a sweep manifest.s .rings.: .vrs.; this command does not draw it' "$T/err.txt"
 expect_exit "demo --foveation vrs refuses" 2 "$BIN" demo --foveation vrs --frames 1 --out "$T/d"
 check "  ... and writes nothing" test ! -e "$T/d"
-expect_exit "a scene with \"foveation\": \"vrs\" refuses to bench --accuracy" 2 "$BIN" bench "$T/forest_vrs.json" --accuracy --frames 1
-check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS is drawn by render, compare and plain bench' "$T/err.txt"
+expect_exit "a scene with \"foveation\": \"vrs\" refuses to bench --calibrate" 2 "$BIN" bench "$T/forest_vrs.json" --calibrate --frames 1
+check "  ... naming the scene's key" grep -q 'forest_vrs.json: "foveation": "vrs": VRS is drawn by render, compare, bench' "$T/err.txt"
 check "--rings on the command line chooses rings over the scene's \"foveation\": \"vrs\"" \
   bash -c "'$BIN' plan '$T/forest_vrs.json' --rings aggressive >'$T/over.txt' && grep -q '^rings      aggressive' '$T/over.txt' && ! grep -q '^vrs' '$T/over.txt'"
 
