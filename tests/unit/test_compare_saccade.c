@@ -45,21 +45,43 @@ static session *session_with(const gaze_trace *t)
     return s;
 }
 
+/* The trace of saccades(land, second), a session holding it and the study at fps. */
+typedef struct fixture {
+    gaze_trace t;
+    session *s;
+    saccade_study ss;
+} fixture;
+
+static bool fixture_begin(fixture *fx, double land, double second, float fps)
+{
+    memset(fx, 0, sizeof *fx);
+    if (!saccades(&fx->t, land, second))
+        return false;
+    fx->s = session_with(&fx->t);
+    return saccade_study_begin(&fx->ss, fx->s, fps) == FS_OK;
+}
+
+static void fixture_end(fixture *fx)
+{
+    saccade_study_end(&fx->ss);
+    free(fx->s);
+    gaze_free(&fx->t);
+}
+
 TEST(post_saccade_frames)
 {
-    gaze_trace t;
-    CHECK(saccades(&t, 0.633, 1.2));
-    session *s = session_with(&t);
-    saccade_study ss;
-    CHECK(saccade_study_begin(&ss, s, 24.0f) == FS_OK);
-    CHECK(ss.on && ss.frames_after == 4); /* ceil(150 ms * 24 fps) */
-    CHECK(ss.ev.saccade_count == 2);
-    double land = ss.ev.saccade_count ? ss.ev.saccades[0].end : 0.0;
+    fixture fx;
+    CHECK(fixture_begin(&fx, 0.633, 1.2, 24.0f));
+    const saccade_study *ss = &fx.ss;
+    const gaze_trace *t = &fx.t;
+    CHECK(ss->on && ss->frames_after == 4); /* ceil(150 ms * 24 fps) */
+    CHECK(ss->ev.saccade_count == 2);
+    double land = ss->ev.saccade_count ? ss->ev.saccades[0].end : 0.0;
     CHECK(land > 0.6 && land < 0.66);
     int first = (int)ceil(land * 24.0 - 1e-6), last_post = -1;
     for (int i = 0; i < 28; i++) { /* up to 1.125 s: before the second saccade */
         float time = (float)i / 24.0f;
-        saccade_frame f = saccade_study_frame(&ss, &t, time);
+        saccade_frame f = saccade_study_frame(ss, t, time);
         bool in_saccade = f.event == GAZE_EVENT_SACCADE;
         bool want = !in_saccade && i >= first && time - land < 0.150;
         CHECK((f.post >= 0) == want);
@@ -75,60 +97,49 @@ TEST(post_saccade_frames)
     while ((float)(want_last + 1) / 24.0f - land < 0.150)
         want_last++;
     CHECK(last_post == want_last && last_post >= first + 2); /* 3 or 4 frames within 150 ms at 24 fps */
-    saccade_study_end(&ss);
-    free(s);
-    gaze_free(&t);
+    fixture_end(&fx);
 }
 
 /* A saccade that starts within 150 ms of the last landing ends that landing's frames. */
 TEST(next_saccade_ends_the_window)
 {
-    gaze_trace t;
-    CHECK(saccades(&t, 0.5, 0.56));
-    session *s = session_with(&t);
-    saccade_study ss;
-    CHECK(saccade_study_begin(&ss, s, 100.0f) == FS_OK);
+    fixture fx;
+    CHECK(fixture_begin(&fx, 0.5, 0.56, 100.0f));
     int post = 0, in_second = 0;
     for (int i = 0; i < 100; i++) {
         float time = (float)i / 100.0f;
-        saccade_frame f = saccade_study_frame(&ss, &t, time);
+        saccade_frame f = saccade_study_frame(&fx.ss, &fx.t, time);
         post += f.post >= 0 && f.saccade == 0;
         in_second += f.event == GAZE_EVENT_SACCADE && time > 0.55 && f.post >= 0;
     }
     CHECK(post >= 3 && post <= 7); /* 0.5 .. ~0.56 s at 100 fps */
     CHECK(in_second == 0);
-    saccade_study_end(&ss);
-    free(s);
-    gaze_free(&t);
+    fixture_end(&fx);
 }
 
 TEST(sums_and_results)
 {
-    gaze_trace t;
-    CHECK(saccades(&t, 0.633, 1.2));
-    session *s = session_with(&t);
-    saccade_study ss;
-    CHECK(saccade_study_begin(&ss, s, 24.0f) == FS_OK);
+    fixture fx;
+    CHECK(fixture_begin(&fx, 0.633, 1.2, 24.0f));
+    saccade_study *ss = &fx.ss;
     saccade_frame f0 = {GAZE_EVENT_FIXATION, 0, 0, 30.0}, f1 = {GAZE_EVENT_FIXATION, 1, 0, 71.0};
     ring_metrics a = {.pixels = 100, .coverage = 0.5, .ref_coverage = 1.0, .rmse = 0.2, .flip = 0.4};
     ring_metrics b = {.pixels = 300, .coverage = 1.0, .ref_coverage = 1.0, .rmse = 0.1, .flip = 0.2};
-    saccade_study_add(&ss, 1, "hashed", 16, 0.667f, &f0, &a);
-    saccade_study_add(&ss, 1, "hashed", 17, 0.708f, &f1, &b);
+    saccade_study_add(ss, 1, "hashed", 16, 0.667f, &f0, &a);
+    saccade_study_add(ss, 1, "hashed", 17, 0.708f, &f1, &b);
     saccade_frame none = {GAZE_EVENT_FIXATION, -1, -1, 0.0};
-    saccade_study_add(&ss, 1, "hashed", 18, 0.75f, &none, &b); /* not post-saccade: ignored */
-    post_result all = saccade_study_result(&ss, 1, -1), k0 = saccade_study_result(&ss, 1, 0);
+    saccade_study_add(ss, 1, "hashed", 18, 0.75f, &none, &b); /* not post-saccade: ignored */
+    post_result all = saccade_study_result(ss, 1, -1), k0 = saccade_study_result(ss, 1, 0);
     CHECK(all.frames == 2 && fabs(all.rmse - 0.15) < 1e-12 && fabs(all.flip - 0.3) < 1e-12);
     CHECK(fabs(all.coverage_ratio - (50.0 + 300.0) / 400.0) < 1e-12); /* ratio of sums, not mean of ratios */
     CHECK(k0.frames == 1 && fabs(k0.coverage_ratio - 0.5) < 1e-12);
-    CHECK(saccade_study_result(&ss, 0, -1).frames == 0 && saccade_study_result(&ss, 0, -1).rmse == -1.0);
-    CHECK(ss.csv.p && strstr(ss.csv.p, "\n16,0.666999996,hashed,0,") != NULL);
-    CHECK(ss.csv.p && !strstr(ss.csv.p, "\n18,"));
-    saccade_study_count(&ss, &f0);
-    saccade_study_count(&ss, &f1);
-    CHECK(ss.landings == 1 && ss.event_frames[GAZE_EVENT_FIXATION] == 2);
-    saccade_study_end(&ss);
-    free(s);
-    gaze_free(&t);
+    CHECK(saccade_study_result(ss, 0, -1).frames == 0 && saccade_study_result(ss, 0, -1).rmse == -1.0);
+    CHECK(ss->csv.p && strstr(ss->csv.p, "\n16,0.666999996,hashed,0,") != NULL);
+    CHECK(ss->csv.p && !strstr(ss->csv.p, "\n18,"));
+    saccade_study_count(ss, &f0);
+    saccade_study_count(ss, &f1);
+    CHECK(ss->landings == 1 && ss->event_frames[GAZE_EVENT_FIXATION] == 2);
+    fixture_end(&fx);
 }
 
 /* Without a trace: nothing classified, every frame a fixation, nothing written. */
