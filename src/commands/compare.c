@@ -192,8 +192,11 @@ static void report_table(const report_desc *r, const double *med, double (*wmed)
 {
     const session *s = r->s;
     int nm = r->mode_count, nr = r->layout->count;
-    printf("\ncompared %d modes over %d frames (%dx%d, rings %s, TAA %s) in %.1f s; frames in %s/\n", nm, r->frames,
-           s->pl.width, s->pl.height, rings, s->pl.taa ? "on" : "off", r->seconds, r->out);
+    char fov[256];
+    plan_foveation_format(&s->pl, fov, sizeof fov); /* under VRS: its map, not the one full-resolution ring */
+    printf("\ncompared %d modes over %d frames (%dx%d, %s%s, TAA %s) in %.1f s; frames in %s/\n", nm, r->frames,
+           s->pl.width, s->pl.height, s->pl.vrs ? "" : "rings ", s->pl.vrs ? fov : rings, s->pl.taa ? "on" : "off",
+           r->seconds, r->out);
     printf("reference: %s, %d of %d frames from the cache, estimated error median %.5f\n", reference_describe(r->ref),
            r->ref_cached, r->frames, stats_quantile(r->ref_err, r->frames, 0.5));
     printf("measured in rings %s (eccentricity from each frame's gaze); coverage: the ratio of the coverage summed "
@@ -255,6 +258,11 @@ static fs_status report_json(const report_desc *r, const double *med, double (*w
             s->pl.width, s->pl.height, r->frames);
     fprintf(f, "  \"rings\": \"%s\",\n  \"measurement_rings\": \"%s\",\n  \"taa\": %s,\n  \"gaze\": \"%s\",\n", rings,
             mrings, s->pl.taa ? "true" : "false", s->gaze.count ? s->gaze.path : "centre");
+    if (s->pl.vrs) { /* absent with rings: summaries read as before */
+        char fov[256];
+        plan_foveation_format(&s->pl, fov, sizeof fov);
+        fprintf(f, "  \"foveation\": \"%s\",\n", fov);
+    }
     if (!gaze_tracker_is_ideal(&s->tracker)) { /* absent without one: summaries read as before */
         char tr[160];
         gaze_tracker_format(&s->tracker, tr, sizeof tr);
@@ -911,7 +919,7 @@ static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
                                               .post = saccade_study_result(&c->ss, m, -1), .frame_ms_median = med[m]};
     if (st == FS_OK && lr) {
         snprintf(lr->scene, sizeof lr->scene, "%s", c->s.sc.path);
-        fov_layout_format(&c->s.pl.layout, lr->rings, sizeof lr->rings);
+        plan_foveation_format(&c->s.pl, lr->rings, sizeof lr->rings); /* under VRS: its map */
     }
     if (st == FS_OK)
         st = run_folder_complete(&c->fo);

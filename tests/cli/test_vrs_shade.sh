@@ -101,5 +101,7 @@ check "2x2: level 1, the checkerboard's mean, everywhere (within 1 %)" \
 # ---- compare draws VRS too
 "$BIN" compare forest --foveation vrs --frames 2 --width 160 --height 90 --out "$T/cmp" >"$T/cmp.txt" 2>&1
 check "compare --foveation vrs runs and writes its summary" test -s "$T/cmp/summary.json"
+check "  its table and summary.json name the rate map, not only the one full-resolution ring" bash -c \
+  "grep -q '(160x90, vrs auto, 16 px tiles, TAA on)' '$T/cmp.txt' && grep -q '\"foveation\": \"vrs auto, 16 px tiles\"' '$T/cmp/summary.json'"
 
 summary
