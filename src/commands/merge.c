@@ -359,10 +359,6 @@ static fs_status plot(const char *dir, const points *ps, int skip)
     return st;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    return stats_cmp_double(a, b);
-}
 
 /* A task's tracker columns ("50,default,0.5,hold,"), or "" for a sweep without tracker axes. */
 static void tracker_columns(const sweep_manifest *m, int e, char *out, size_t n)
@@ -436,7 +432,7 @@ static void flush_points(const sweep_manifest *m, points *ps, FILE *acc)
         int t = c % m->ntaa, r = (c /= m->ntaa) % m->nrings, g = (c /= m->nrings) % m->ngaze, s = c / m->ngaze;
         char tc[256], sc[128], gz[128];
         tracker_columns(m, e, tc, sizeof tc);
-        qsort(p->ms, (size_t)p->n, sizeof *p->ms, cmp_double);
+        qsort(p->ms, (size_t)p->n, sizeof *p->ms, stats_cmp_double);
         short_of(m->scenes[s], sc, sizeof sc);
         short_of(m->gaze[g], gz, sizeof gz);
         /* The whole display: texels are display pixels (metrics_coverage_ratio_rests, block 1). */

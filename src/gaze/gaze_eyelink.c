@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "core/grow.h"
+#include "core/stats.h"
 
 /* >>blocks */
 
@@ -151,12 +152,6 @@ static double distance_px(double res, double u2)
     return disc >= 0 ? 0.5 * (k + sqrt(disc)) : NAN;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double p = *(const double *)a, q = *(const double *)b;
-    return (p > q) - (p < q);
-}
-
 /* Median of the finite values of v[0..n) (sorted in place); NaN if none. */
 static double median(double *v, int n)
 {
@@ -166,8 +161,8 @@ static double median(double *v, int n)
             v[m++] = v[i];
     if (!m)
         return NAN;
-    qsort(v, (size_t)m, sizeof *v, cmp_double);
-    return m % 2 ? v[m / 2] : 0.5 * (v[m / 2 - 1] + v[m / 2]);
+    qsort(v, (size_t)m, sizeof *v, stats_cmp_double);
+    return stats_quantile(v, m, 0.5);
 }
 
 /* One estimate of D along an axis from r (axis 0 = x): a sample's offset, or for a block average

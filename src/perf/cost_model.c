@@ -10,6 +10,7 @@
 
 #include "core/file_read.h"
 #include "core/log.h"
+#include "core/stats.h"
 #include "core/strbuf.h"
 #include "output/out_path.h"
 
@@ -170,20 +171,6 @@ bool cost_fit_class(const cost_sample *s, int n, int k, double coef[COST_TERMS],
     return ok;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* The q-quantile of sorted v[0..n), linear between ranks. */
-static double quantile(const double *v, int n, double q)
-{
-    double at = q * (n - 1);
-    int i = (int)at;
-    return i + 1 < n ? v[i] + (at - i) * (v[i + 1] - v[i]) : v[n - 1];
-}
-
 cost_error cost_errors(const cost_sample *s, int n, int k, const double coef[COST_TERMS])
 {
     cost_error e = {0, -1.0, -1.0, -1.0};
@@ -194,9 +181,9 @@ cost_error cost_errors(const cost_sample *s, int n, int k, const double coef[COS
         if (s[i].cls == k && s[i].ms > 0.0)
             v[e.n++] = fabs(cost_predict(coef, s[i].x) - s[i].ms) / s[i].ms;
     if (e.n > 0) {
-        qsort(v, (size_t)e.n, sizeof *v, cmp_double);
-        e.median = quantile(v, e.n, 0.5);
-        e.p90 = quantile(v, e.n, 0.9);
+        qsort(v, (size_t)e.n, sizeof *v, stats_cmp_double);
+        e.median = stats_quantile(v, e.n, 0.5);
+        e.p90 = stats_quantile(v, e.n, 0.9);
         e.max = v[e.n - 1];
     }
     free(v);

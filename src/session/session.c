@@ -299,23 +299,6 @@ void session_frame_attrs(exr_image *img, const session *s, const frame_record *f
 }
 
 
-/* >>statistics */
-int stats_cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Quantile of a sorted array (linear interpolation). */
-double stats_quantile(const double *v, int n, double q)
-{
-    if (n == 0)
-        return 0;
-    double pos = q * (n - 1);
-    int i = (int)pos;
-    return i + 1 < n ? v[i] + (v[i + 1] - v[i]) * (pos - i) : v[n - 1];
-}
-
 /* >>reference */
 
 /* The reference cache of a run: --cache, else the default; NULL with --no-cache. */

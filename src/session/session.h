@@ -8,6 +8,7 @@
 
 #include "cli/cli.h"
 #include "core/progress.h"
+#include "core/stats.h" /* stats_cmp_double, stats_quantile: the commands' summaries */
 #include "gaze/gaze.h"
 #include "output/exr_write.h"
 #include "passes/plan.h"
@@ -74,11 +75,5 @@ typedef struct ref_progress {
 } ref_progress;
 /* The run's reference (--supersample, --samples, cache) at the plan's size; passes report to rp. */
 reference *session_reference(const run_desc *d, const session *s, ref_progress *rp, fs_status *st);
-
-/* >>statistics */
-
-int stats_cmp_double(const void *a, const void *b);
-/* Quantile of a sorted array (linear interpolation); 0 for n == 0. */
-double stats_quantile(const double *v, int n, double q);
 
 #endif
