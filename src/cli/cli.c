@@ -287,9 +287,17 @@ fs_status cli_finish(run_desc *d)
                "with it; plain bench does neither");
     if (d->bench.cost == ACC_COST_MODEL && !d->bench.cost_model)
         REFUSE("--cost model: give the model with --cost-model FILE");
-    if (d->foveation == FOVEATION_OFF && d->rings && d->rings_layout.kind != FOV_LAYOUT_OFF)
+    if (d->foveation_count > 1 && d->cmd != CMD_COMPARE)
+        REFUSE("--foveation: a list of foveations is a foveation study, which fovsim compare runs; fovsim %s takes one",
+               c);
+    if (d->foveation_count > 1 && d->gaze_latency_count > 1)
+        REFUSE("--foveation and --gaze-latency: a study of one of them at a time (give one foveation or one latency)");
+    if (d->foveation == FOVEATION_OFF && d->foveation_count == 1 && d->rings && d->rings_layout.kind != FOV_LAYOUT_OFF)
         REFUSE("--foveation off and --rings %s: give one of them (--foveation off is --rings off)", d->rings);
-    if ((d->vrs || d->vrs_tile) && (d->foveation == FOVEATION_RINGS || d->foveation == FOVEATION_OFF))
+    bool listed_vrs = d->foveation == FOVEATION_VRS;
+    for (int i = 0; i < d->foveation_count; i++)
+        listed_vrs |= d->foveations[i] == FOVEATION_VRS;
+    if ((d->vrs || d->vrs_tile) && d->foveation != FOVEATION_UNSET && !listed_vrs)
         REFUSE("--vrs and --vrs-tile shape VRS foveation: not with --foveation %s", foveation_kind_name(d->foveation));
     if (d->foveation == FOVEATION_VRS && !RUN_TAKES_VRS(d))
         REFUSE("fovsim %s --foveation vrs: %s", c, VRS_NOT_BUILT);

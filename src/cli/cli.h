@@ -72,6 +72,9 @@ typedef struct run_desc {
     const char *rings;       /* --rings auto|off|SPEC; NULL = the scene's, else auto */
     fov_layout rings_layout; /* --rings parsed (FOV_LAYOUT_AUTO: resolved against the display per scene) */
     foveation_kind foveation; /* --foveation rings|vrs|off; UNSET = the scene's, else rings (off is --rings off) */
+    foveation_kind foveations[3]; /* --foveation rings,vrs,...: compare's foveation study (foveation_count
+                                     > 1); the first is also `foveation` */
+    int foveation_count;
     const char *vrs;         /* --vrs auto|SPEC; NULL = the scene's, else auto */
     vrs_spec vrs_spec;       /* --vrs parsed */
     int vrs_tile;            /* --vrs-tile 8|16|32; 0 = the scene's, else VRS_TILE_DEFAULT */

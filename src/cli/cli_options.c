@@ -160,6 +160,38 @@ static bool set_gaze_latency(const cli_option *o, run_desc *d, const char *v)
     return true;
 }
 
+/* --foveation KIND, or for compare a list of distinct kinds (a foveation study: each drawn into a
+ * folder of its own, the modes side by side across them; docs/foveation.md). The first is the run's. */
+static bool set_foveation(const cli_option *o, run_desc *d, const char *v)
+{
+    d->foveation_count = 0;
+    for (const char *p = v;; p++) {
+        size_t n = strcspn(p, ",");
+        char item[16];
+        foveation_kind k = FOVEATION_UNSET;
+        if (n > 0 && n < sizeof item) {
+            memcpy(item, p, n);
+            item[n] = '\0';
+        }
+        if (n == 0 || n >= sizeof item || !foveation_kind_parse(item, &k) || k == FOVEATION_UNSET) {
+            log_error("%s: expected rings, vrs or off, or for compare a list of them separated by commas, got '%s'",
+                      o->name, v);
+            return false;
+        }
+        for (int i = 0; i < d->foveation_count; i++)
+            if (d->foveations[i] == k) {
+                log_error("%s: '%s' given twice in '%s'", o->name, item, v);
+                return false;
+            }
+        d->foveations[d->foveation_count++] = k;
+        p += n;
+        if (!*p)
+            break;
+    }
+    d->foveation = d->foveations[0];
+    return true;
+}
+
 static bool set_gaze_screen(const cli_option *o, run_desc *d, const char *v)
 {
     char err[256];
@@ -246,8 +278,6 @@ static const cli_choice k_error[] = {{"flip", ACC_ERROR_FLIP}, {"alpha_rmse", AC
                                      {"rmse", ACC_ERROR_RMSE}, {"temporal_error", ACC_ERROR_TEMPORAL}, {NULL, 0}};
 static const cli_choice k_cost[] = {{"time", ACC_COST_TIME}, {"model", ACC_COST_MODEL}, {"work", ACC_COST_WORK},
                                     {NULL, 0}};
-static const cli_choice k_foveation[] = {{"rings", FOVEATION_RINGS}, {"vrs", FOVEATION_VRS}, {"off", FOVEATION_OFF},
-                                         {NULL, 0}};
 static const cli_choice k_vrs_tile[] = {{"8", 8}, {"16", 16}, {"32", 32}, {NULL, 0}};
 static const cli_choice k_format[] = {{"text", 0}, {"json", 1}, {NULL, 0}};
 
@@ -352,10 +382,11 @@ const cli_option k_cli_options[] = {
     {"--rings", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
      "foveation rings: auto (acuity model, default), aggressive (twice the MAR\nslope, +0.5 mip bias in reduced "
      "rings), off, or innermost first\nOUTER:SCALE:MIPBIAS,... with * for the last, e.g. 10:1:0,25:1/2:0,*:1/4:0.5", FIELD(rings), .set = set_rings, .flags = OPT_RECORDED},
-    {"--foveation", ARG_CHOICE, CMDS_DRAWING, "rings|vrs|off",
+    {"--foveation", ARG_CUSTOM, CMDS_DRAWING, "rings|vrs|off",
      "how to foveate: rings (default; --rings), vrs (variable-rate shading:\none pass at full resolution, a shading rate "
-     "per tile, coarse shading\nemulated; render, compare, plan and bench --accuracy take it) or\noff (--rings off)", FIELD(foveation),
-     .choices = k_foveation, .flags = OPT_RECORDED},
+     "per tile, coarse shading\nemulated; render, compare, plan and bench --accuracy take it) or\noff (--rings off); "
+     "compare takes a list, e.g. rings,vrs,off: the modes\nunder each side by side (foveation.csv)", FIELD(foveation),
+     .set = set_foveation, .flags = OPT_RECORDED},
     {"--vrs", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
      "VRS rate map: auto (acuity model, default) or innermost first\nOUTER:RATE,... with * for the last, rates 1x1, "
      "1x2, 2x1, 2x2, 2x4, 4x2,\n4x4, e.g. 10:1x1,25:2x2,*:4x4", FIELD(vrs), .set = set_vrs, .flags = OPT_RECORDED},

@@ -47,12 +47,27 @@ static const int k_band_slot[ACC_LAYOUTS] = {0, 1, 1, 2, 0};
  * time (ms) and minor page faults of the draw, then its pipeline statistics (-1 = unknown); the
  * work counts of docs/benchmarks.md "Work counts" (ACC_CLIPPED on) are the CSV's last columns:
  * primitives after clipping, covered fragments (a counting frame drawn after the measured one is
- * read back) and the footprint bytes. */
-enum { ACC_CPU, ACC_FAULTS, ACC_VS, ACC_PRIMS, ACC_FS, ACC_CLIPPED, ACC_COVERED, ACC_READ, ACC_WRITTEN, ACC_COUNTS };
+ * read back) and the footprint bytes; then, after predicted_ms (added later, so the columns
+ * before keep their places), shaded fragments: the fragment-shader invocations a GPU would run,
+ * the covered fragments, but under VRS one per primitive and coarse pixel with a covered pixel
+ * (docs/benchmarks.md "VRS: coarse-shading invocations"). The work axis is that last one. */
+enum {
+    ACC_CPU,
+    ACC_FAULTS,
+    ACC_VS,
+    ACC_PRIMS,
+    ACC_FS,
+    ACC_CLIPPED,
+    ACC_COVERED,
+    ACC_READ,
+    ACC_WRITTEN,
+    ACC_SHADED,
+    ACC_COUNTS
+};
 static const char *const k_acc_count_columns[ACC_COUNTS] = {
     "cpu_ms_median",         "minor_faults_median",       "vs_invocations_median",    "primitives_median",
     "fs_invocations_median", "clipped_primitives_median", "covered_fragments_median", "bytes_read_median",
-    "bytes_written_median"};
+    "bytes_written_median",  "shaded_fragments_median"};
 
 typedef struct acc_config {
     mode_run run;   /* renderer, images and sums (frame_ms: measured frames only) */
@@ -412,12 +427,10 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
         renderer_set_counting(mr->r, false);
         renderer_stats_take_shaded(&rs, &cs); /* VRS: what a GPU would shade, not llvmpipe's count */
     }
-    /* VRS: the counting variant does not count what the coarse-shading twins cover (issue 33 part 3
-     * makes VRS's counts exact): unknown (-1) rather than a count of its 1x1 tiles only. */
-    double covered = cf->layout == ACC_VRS ? -1.0 : (double)cs.covered;
     const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,
                                        (double)rs.primitives, (double)rs.fragments, (double)rs.clipped,
-                                       covered, (double)rs.bytes_read, (double)rs.bytes_written};
+                                       (double)cs.covered, (double)rs.bytes_read, (double)rs.bytes_written,
+                                       (double)cs.shaded};
     for (int q = 0; q < ACC_COUNTS; q++)
         cf->counts[q][i - warm] = counts[q];
     cf->pred[i - warm] = cost_predictor_frame_ms(&a->cp, &rs, alpha_mode_name(mr->mode));
@@ -545,7 +558,7 @@ static fs_status acc_summarise(acc_run *a)
 }
 
 /* The median predicted frame time per configuration (-1 when a frame's is unknown), the x value
- * of accuracy.png per --cost (time; model: predicted ms; work: covered fragments per display
+ * of accuracy.png per --cost (time; model: predicted ms; work: shaded fragments per display
  * pixel; INFINITY when unknown) and the Pareto front on it, of the known ones. */
 static fs_status acc_cost_axis(acc_run *a)
 {
@@ -560,7 +573,7 @@ static fs_status acc_cost_axis(acc_run *a)
         qsort(cf->pred, (size_t)n, sizeof *cf->pred, stats_cmp_double);
         cf->pred_med = cf->pred[0] < 0 ? -1.0 : stats_quantile(cf->pred, n, 0.5);
         double x = a->d->bench.cost == ACC_COST_MODEL  ? cf->pred_med
-                   : a->d->bench.cost == ACC_COST_WORK ? cf->count_med[ACC_COVERED] / px
+                   : a->d->bench.cost == ACC_COST_WORK ? cf->count_med[ACC_SHADED] / px
                                                        : cf->med;
         a->cx[c] = x >= 0 ? x : INFINITY;
     }
@@ -589,9 +602,9 @@ static void acc_csv_header(acc_run *a)
     CSV(",flip");
     for (int k = 0; k < rings; k++)
         CSV(",flip_ring%d", k);
-    for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
+    for (int q = ACC_CLIPPED; q < ACC_SHADED; q++)
         CSV(",%s", k_acc_count_columns[q]);
-    CSV(",predicted_ms\n");
+    CSV(",predicted_ms,%s\n", k_acc_count_columns[ACC_SHADED]);
 }
 
 /* accuracy.md's heading, what was measured how, and the table's header. */
@@ -617,26 +630,29 @@ static void acc_md_header(acc_run *a)
     char vrs[160];
     vrs_spec_format(&a->vrs_spec, vrs, sizeof vrs);
     MD("- vrs: one full-resolution pass, coarse shading at the rate map %s, %d px tiles, for each frame's gaze; "
-       "measured in the default rings like off; its frag./px is what llvmpipe's emulation shades, every covered "
-       "pixel, not a GPU's coarse-pixel invocations (docs/foveation.md)\n", vrs, a->vrs_tile);
+       "measured in the default rings like off; its frag./px and shaded/px are a GPU's coarse-shading "
+       "invocations (one per primitive and coarse pixel with a covered pixel), not what llvmpipe's emulation "
+       "runs (docs/foveation.md)\n", vrs, a->vrs_tile);
     MD("- reference: %s\n", reference_describe(a->rf));
     MD("- speedup: median frame time of traditional, full resolution, TAA off / this one's; * = on the "
        "Pareto front of (time, %s) (--error)\n", k_error_names[d->bench.error]);
     MD("- CPU ms: process CPU time of the draw, all threads; frag./px: fragment-shader invocations per display "
-       "pixel (GL_ARB_pipeline_statistics_query; medians per frame)\n");
+       "pixel (GL_ARB_pipeline_statistics_query; medians per frame); shaded/px: the invocations a GPU would run "
+       "per display pixel, from a counting frame: covered fragments, under VRS coarse-shading invocations "
+       "(docs/benchmarks.md \"Work counts\"; the work axis)\n");
     MD("- cov. ring K: the mode's coverage summed over the frames / the reference's (n/a where the reference "
        "holds under %g ring texels of coverage)\n", METRICS_MIN_REF_TEXELS);
     if (a->cp.on)
         MD("- predicted ms: the frame time the cost model %s predicts from each frame's per-stage counts "
            "(median per frame; docs/benchmarks.md \"Cost model\")\n", d->bench.cost_model);
     MD("\n");
-    MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px |",
+    MD("| mode | rings | TAA | frame ms (p10-p90) | speedup | RMSE | %s | temporal err. | CPU ms | frag./px | shaded/px |",
        d->bench.error == ACC_ERROR_RMSE ? "PSNR" : k_error_names[d->bench.error]);
     for (int k = 0; k < a->ml.count; k++)
         MD(" cov. ring %d |", k);
     if (a->cp.on)
         MD(" predicted ms |");
-    MD("\n|---|---|---|---|---|---|---|---|---|---|");
+    MD("\n|---|---|---|---|---|---|---|---|---|---|---|");
     for (int k = 0; k < a->ml.count + (a->cp.on ? 1 : 0); k++)
         MD("---|");
     MD("\n");
@@ -660,10 +676,12 @@ static void acc_row(acc_run *a, int c)
     MD("| %s%s | %s | %s | %.2f (%.2f-%.2f) | %.2fx | %.4f | %.4f | %.4f | %.2f |", alpha_mode_name(mr->mode),
        a->front[c] ? " *" : "", k_layout_names[cf->layout], cf->taa ? "on" : "off", cf->med, cf->p10, cf->p90, sp,
        rmse, a->d->bench.error == ACC_ERROR_RMSE ? psnr : a->ey[c], fl, cm[ACC_CPU]);
-    if (cm[ACC_FS] >= 0)
-        MD(" %.2f |", cm[ACC_FS] / ((double)a->s.pl.width * a->s.pl.height));
-    else
-        MD(" n/a |");
+    const int per_px[2] = {ACC_FS, ACC_SHADED}; /* frag./px, shaded/px */
+    for (int j = 0; j < 2; j++)
+        if (cm[per_px[j]] >= 0)
+            MD(" %.2f |", cm[per_px[j]] / ((double)a->s.pl.width * a->s.pl.height));
+        else
+            MD(" n/a |");
     for (int k = 0; k < a->ml.count; k++) {
         /* The ratio of the coverage summed over frames, -1 (n/a) where the reference holds
          * too little in the ring (measure_coverage_ratio). The texels are the measurement
@@ -679,9 +697,9 @@ static void acc_row(acc_run *a, int c)
         CSV(",%.6f", measure_mean_or(mr->alpha_rmse_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
     for (int k = 0; k <= a->ml.count; k++)
         CSV(",%.6f", measure_mean_or(mr->flip_sum[k == 0 ? all : k - 1], mr->err_n[k == 0 ? all : k - 1], 0.0));
-    for (int q = ACC_CLIPPED; q < ACC_COUNTS; q++)
+    for (int q = ACC_CLIPPED; q < ACC_SHADED; q++)
         CSV(",%.0f", cm[q]);
-    CSV(",%.4f\n", cf->pred_med);
+    CSV(",%.4f,%.0f\n", cf->pred_med, cm[ACC_SHADED]);
     if (a->cp.on && cf->pred_med >= 0)
         MD(" %.2f |", cf->pred_med);
     else if (a->cp.on)
@@ -715,17 +733,17 @@ static fs_status acc_plot_cost(acc_run *a, int y_col)
     const run_desc *d = a->d;
     char title[1000], x_expr[64], xlabel[300];
     int rings = a->ml.count;
-    if (d->bench.cost == ACC_COST_MODEL) { /* predicted_ms, the last column; -1 (unknown) not drawn */
+    if (d->bench.cost == ACC_COST_MODEL) { /* predicted_ms; -1 (unknown) not drawn */
         snprintf(title, sizeof title, "accuracy vs predicted time: %s %dx%d (cost model of %s)", s->sc.path,
                  s->pl.width, s->pl.height, a->cp.model.renderer);
         snprintf(x_expr, sizeof x_expr, "($%d >= 0 ? $%d : NaN)", 24 + 3 * rings, 24 + 3 * rings);
         snprintf(xlabel, sizeof xlabel, "frame time predicted by the cost model, median (ms; lower is better)");
-    } else if (d->bench.cost == ACC_COST_WORK) { /* covered_fragments_median per display pixel */
+    } else if (d->bench.cost == ACC_COST_WORK) { /* shaded_fragments_median (after predicted_ms) per pixel */
         snprintf(title, sizeof title, "accuracy vs work: %s %dx%d", s->sc.path, s->pl.width, s->pl.height);
-        snprintf(x_expr, sizeof x_expr, "($%d >= 0 ? $%d/%d.0 : NaN)", 21 + 3 * rings, 21 + 3 * rings,
+        snprintf(x_expr, sizeof x_expr, "($%d >= 0 ? $%d/%d.0 : NaN)", 25 + 3 * rings, 25 + 3 * rings,
                  s->pl.width * s->pl.height);
-        snprintf(xlabel, sizeof xlabel, "covered fragments per display pixel, median per frame (device-independent "
-                                        "work; lower is better)");
+        snprintf(xlabel, sizeof xlabel, "shaded fragments per display pixel (covered; VRS: coarse invocations), "
+                                        "median per frame (device-independent work; lower is better)");
     } else {
         snprintf(title, sizeof title, "accuracy vs time: %s %dx%d (%s)", s->sc.path, s->pl.width, s->pl.height,
                  gl_device_renderer());

@@ -2,6 +2,7 @@
  * jitter and seeds, measured against the reference per frame and ring, written as two-part EXR
  * frames (a grid to look at, layers to analyse), a metrics CSV, a JSON summary and a table. */
 #include "commands/commands.h"
+#include "commands/compare_foveation.h"
 #include "commands/compare_grid.h"
 #include "commands/compare_saccade.h"
 
@@ -150,10 +151,13 @@ static void frame_attrs(exr_image *img, const session *s, const frame_record *fr
 
 /* What compare counts per mode and frame besides the frame time, from the renderer's statistics
  * (docs/benchmarks.md "Work counts"): primitives submitted, fragment-shader invocations and bytes
- * read + written (footprints), -1 = unknown; and the frame time --cost-model predicts (-1: none). */
-enum { CMP_PRIMS, CMP_FS, CMP_BYTES, CMP_PREDICTED, CMP_WORK };
+ * read + written (footprints), -1 = unknown; the frame time --cost-model predicts (-1: none); and,
+ * from a counting frame (under VRS, and in a foveation study for every run), the invocations a
+ * GPU would shade: covered fragments, under VRS coarse-shading invocations (-1: not counted, and
+ * then absent from summary.json). */
+enum { CMP_PRIMS, CMP_FS, CMP_BYTES, CMP_PREDICTED, CMP_SHADED, CMP_WORK };
 static const char *const k_work_keys[CMP_WORK] = {"primitives_median", "fs_invocations_median", "bytes_median",
-                                                  "predicted_frame_ms_median"};
+                                                  "predicted_frame_ms_median", "shaded_fragments_median"};
 
 typedef struct report_desc {
     const session *s;
@@ -173,6 +177,7 @@ typedef struct report_desc {
     bool have_cm;             /* --cost-model given: the table shows the predicted time */
     const saccade_study *ss;  /* the gaze events and the post-saccade foveal error */
     double *med_out;          /* per mode: the median frame time, set here (NULL: not wanted) */
+    double *shaded_out;       /* per mode: the median CMP_SHADED, -1 unknown, set here (NULL: not wanted) */
 } report_desc;
 
 static void ring_label(const fov_layout *l, int k, char *buf, size_t n)
@@ -281,7 +286,8 @@ static fs_status report_json(const report_desc *r, const double *med, double (*w
         if (r->jod && isfinite(r->jod[m]))
             fprintf(f, "\"fvvdp_jod\": %.6f, ", r->jod[m]);
         for (int q = 0; q < CMP_WORK; q++)
-            fprintf(f, q == CMP_PREDICTED ? "\"%s\": %.4f, " : "\"%s\": %.0f, ", k_work_keys[q], wmed[m][q]);
+            if (q != CMP_SHADED || wmed[m][q] >= 0)
+                fprintf(f, q == CMP_PREDICTED ? "\"%s\": %.4f, " : "\"%s\": %.0f, ", k_work_keys[q], wmed[m][q]);
         saccade_study_json_mode(r->ss, f, m);
         fprintf(f, "\"rings\": [");
         for (int k = 0; k <= nr; k++) {
@@ -333,6 +339,8 @@ static fs_status report(const report_desc *r)
     }
     for (int m = 0; m < nm && r->med_out; m++)
         r->med_out[m] = med[m];
+    for (int m = 0; m < nm && r->shaded_out; m++)
+        r->shaded_out[m] = wmed[m][CMP_SHADED];
     qsort(r->ref_err, (size_t)r->frames, sizeof *r->ref_err, stats_cmp_double);
     char rings[256], mrings[256];
     fov_layout_format(&s->pl.layout, rings, sizeof rings);
@@ -351,6 +359,12 @@ typedef struct compare_opts {
     const char *default_out;
     bool demo;
     latency_run *study; /* a latency study's run: what it measured is set here */
+    /* A foveation study's run (compare --foveation rings,vrs): every run counts what a GPU would
+     * shade (CMP_SHADED), and all are measured in the same rings: the first run's, which it sets
+     * here (count 0 until then). */
+    bool count_shaded;
+    fov_layout *measure;
+    foveation_run *fstudy; /* what it measured is set here */
 } compare_opts;
 
 /* One measured (or history-end) frame as every mode sees it. */
@@ -435,7 +449,7 @@ static fs_status compare_build_modes(cmp_run *c)
         st = session_build_plan(&dm, &c->s.sc, &mr->pl);
         if (st == FS_OK)
             mr->r = renderer_create(&(renderer_desc){.scene = &c->s.sc, .plan = &mr->pl, .timers = true,
-                                                     .count_fragments = mr->pl.vrs}, &st);
+                                                     .count_fragments = mr->pl.vrs || c->co->count_shaded}, &st);
         if (st == FS_OK && !(mr->frame_ms = calloc((size_t)c->frames, sizeof(double))))
             st = FS_ERR_NOMEM;
         if (st == FS_OK && !(c->work[m] = calloc((size_t)c->frames * CMP_WORK, sizeof(double))))
@@ -494,6 +508,10 @@ static fs_status compare_begin_frames(cmp_run *c, fs_status st)
     const session *s = &c->s;
     int frames = c->frames;
     c->ml = measure_layout(&s->pl);
+    if (c->co->measure && c->co->measure->count > 0)
+        c->ml = *c->co->measure;
+    else if (c->co->measure)
+        *c->co->measure = c->ml;
     c->ref_err = st == FS_OK ? calloc((size_t)frames, sizeof(double)) : NULL;
     if (st == FS_OK && !c->ref_err)
         st = FS_ERR_NOMEM;
@@ -681,7 +699,7 @@ static void compare_next_frame(cmp_run *c, const cmp_frame *f)
 
 /* Mode m's counts of frame i (rs: its statistics), and the frame time the cost model predicts
  * from them. */
-static void compare_count(cmp_run *c, int m, int i, const renderer_stats *rs_in)
+static void compare_count(cmp_run *c, int m, int i, const renderer_stats *rs_in, long long shaded)
 {
     renderer_stats rs = *rs_in;
     double *w = c->work[m] + (size_t)i * CMP_WORK;
@@ -689,6 +707,7 @@ static void compare_count(cmp_run *c, int m, int i, const renderer_stats *rs_in)
     w[CMP_FS] = (double)rs.fragments;
     w[CMP_BYTES] = rs.bytes_read < 0 || rs.bytes_written < 0 ? -1.0 : (double)(rs.bytes_read + rs.bytes_written);
     w[CMP_PREDICTED] = cost_predictor_frame_ms(&c->cp, &rs, alpha_mode_name(c->runs[m].mode));
+    w[CMP_SHADED] = (double)shaded;
 }
 
 /* What the measurements need of frame f besides the images, on the worker: its ring mask, the
@@ -755,17 +774,20 @@ static fs_status compare_join(cmp_run *c)
     return FS_OK;
 }
 
-/* VRS: the frame again with the counting variant (once read back: it overwrites the targets, not
- * TAA's state), so that rs's fragment-shader invocations are the coarse-shading invocations a GPU
- * would run (docs/benchmarks.md "VRS: coarse-shading invocations"), not llvmpipe's emulation's. */
-static fs_status count_vrs_shading(renderer *r, const frame_record *fr, renderer_stats *rs)
+/* The frame again with the counting variant (once read back: it overwrites the targets, not TAA's
+ * state): *shaded is what a GPU would shade, and under VRS rs's fragment-shader invocations become
+ * the coarse-shading invocations a GPU would run (docs/benchmarks.md "VRS: coarse-shading
+ * invocations"), not llvmpipe's emulation's. */
+static fs_status count_shading(renderer *r, const frame_record *fr, renderer_stats *rs, long long *shaded)
 {
     renderer_set_counting(r, true);
     fs_status st = renderer_draw(r, fr);
     renderer_stats cs = renderer_last_stats(r);
     renderer_set_counting(r, false);
-    if (st == FS_OK)
+    if (st == FS_OK) {
         renderer_stats_take_shaded(rs, &cs);
+        *shaded = cs.shaded;
+    }
     return st;
 }
 
@@ -787,9 +809,10 @@ static fs_status compare_draw_modes(cmp_run *c, const cmp_frame *f)
         renderer_stats rs = renderer_last_stats(mr->r); /* the queries are done: the frame is finished */
         if (st == FS_OK)
             st = renderer_read(mr->r, &mr->img);
-        if (st == FS_OK && mr->pl.vrs)
-            st = count_vrs_shading(mr->r, &f->fr, &rs);
-        compare_count(c, m, f->i, &rs);
+        long long shaded = -1;
+        if (st == FS_OK && (mr->pl.vrs || c->co->count_shaded))
+            st = count_shading(mr->r, &f->fr, &rs, &shaded);
+        compare_count(c, m, f->i, &rs, shaded);
     }
     return st;
 }
@@ -895,11 +918,32 @@ static fs_status compare_run_fvvdp(cmp_run *c, double *jod, bool *have)
     return st;
 }
 
+/* A foveation study's run: each mode's figures, as the table shows them (fr->name is the study's). */
+static void foveation_result(const cmp_run *c, const double *med, const double *shaded, foveation_run *fr)
+{
+    const fov_layout *blocks = c->s.pl.rings ? &c->ml : NULL;
+    double px = (double)c->s.pl.width * c->s.pl.height;
+    plan_foveation_format(&c->s.pl, fr->desc, sizeof fr->desc);
+    fr->count = c->nm;
+    for (int m = 0; m < c->nm; m++) {
+        const mode_run *mr = &c->runs[m];
+        foveation_row *r = &fr->rows[m];
+        r->mode = mr->mode;
+        for (int k = 0; k <= c->ml.count; k++) {
+            r->coverage[k] = measure_coverage_ratio(mr, k, measure_block(blocks, k));
+            r->flip[k] = measure_mean_or(mr->flip_sum[k], mr->err_n[k], -1.0);
+            r->temporal[k] = measure_mean_or(mr->te_sum[k], mr->te_n[k], -1.0);
+        }
+        r->shaded_per_px = shaded[m] < 0 ? -1.0 : shaded[m] / px;
+        r->frame_ms_median = med[m];
+    }
+}
+
 /* The table and summary.json, the run folder's record, and the closing line. */
 static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
 {
     const run_desc *d = c->d;
-    double jod[ALPHA_MODE_COUNT + 1], med[ALPHA_MODE_COUNT];
+    double jod[ALPHA_MODE_COUNT + 1], med[ALPHA_MODE_COUNT], shaded[ALPHA_MODE_COUNT];
     bool have_jod = false;
     fs_status fvvdp_st = FS_OK; /* a failed FovVideoVDP run: the run's own results are still written */
     if (st == FS_OK && d->compare.run_fvvdp)
@@ -910,7 +954,7 @@ static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
                                    .ref = c->rf, .ref_err = c->ref_err + c->first, .ref_cached = c->ref_cached,
                                    .out = c->out, .json_path = c->json_path, .seconds = seconds,
                                    .jod = have_jod ? jod : NULL, .work = c->work, .have_cm = c->cp.on,
-                                   .ss = &c->ss, .med_out = med});
+                                   .ss = &c->ss, .med_out = med, .shaded_out = shaded});
     if (st == FS_OK)
         st = saccade_study_write(&c->ss, c->out);
     latency_run *lr = c->co->study;
@@ -921,6 +965,8 @@ static fs_status compare_report(cmp_run *c, fs_status st, double seconds)
         snprintf(lr->scene, sizeof lr->scene, "%s", c->s.sc.path);
         plan_foveation_format(&c->s.pl, lr->rings, sizeof lr->rings); /* under VRS: its map */
     }
+    if (st == FS_OK && c->co->fstudy)
+        foveation_result(c, med, shaded, c->co->fstudy);
     if (st == FS_OK)
         st = run_folder_complete(&c->fo);
     if (st == FS_OK)
@@ -1051,9 +1097,55 @@ static fs_status latency_study(const run_desc *d, const compare_opts *co)
     return st == FS_OK ? latency_study_write(out, lr.scene, lr.rings, rows, n) : st;
 }
 
+/* compare --foveation rings,vrs,...: one compare run per foveation into OUT/foveation-NAME/ (rings,
+ * vrs, off in that order, whatever the list's: the rings' run measures first, and every later run in
+ * its measurement rings), each counting what a GPU would shade; then foveation.csv and the modes
+ * side by side (docs/foveation.md "Rings or VRS for alpha-tested foliage"). The reference frames
+ * come from the cache after the first run. */
+static fs_status foveation_study(const run_desc *d, const compare_opts *co)
+{
+    const char *out = d->out_dir ? d->out_dir : co->default_out;
+    static const foveation_kind order[] = {FOVEATION_RINGS, FOVEATION_VRS, FOVEATION_OFF};
+    foveation_run runs[3];
+    memset(runs, 0, sizeof runs);
+    fov_layout ml = {0};
+    int n = 0;
+    fs_status st = FS_OK;
+    for (int o = 0; o < 3 && st == FS_OK; o++) {
+        bool listed = false;
+        for (int i = 0; i < d->foveation_count; i++)
+            listed |= d->foveations[i] == order[o];
+        if (!listed)
+            continue;
+        char sub[1200];
+        const char *name = foveation_kind_name(order[o]);
+        snprintf(sub, sizeof sub, "%s/foveation-%s", out, name);
+        run_desc dk = *d;
+        dk.out_dir = sub;
+        dk.foveation = order[o];
+        dk.foveation_count = 1;
+        if (order[o] != FOVEATION_VRS) { /* the rate map's options are VRS's run's */
+            dk.vrs = NULL;
+            dk.vrs_tile = 0;
+        }
+        printf("\n== foveation %s (%d of %d): %s/\n", name, n + 1, d->foveation_count, sub);
+        fflush(stdout);
+        compare_opts ck = *co;
+        ck.count_shaded = true;
+        ck.measure = &ml;
+        ck.fstudy = &runs[n];
+        snprintf(runs[n].name, sizeof runs[n].name, "%s", name);
+        st = compare_run(&dk, &ck);
+        n++;
+    }
+    return st == FS_OK ? foveation_study_write(out, &ml, runs, n) : st;
+}
+
 fs_status cmd_compare(const run_desc *d)
 {
     compare_opts co = {.default_out = "out/compare"};
+    if (d->foveation_count > 1)
+        return foveation_study(d, &co);
     return d->gaze_latency_count > 1 ? latency_study(d, &co) : compare_run(d, &co);
 }
 

@@ -133,6 +133,12 @@ static fs_status task_desc(const sweep_manifest *m, const sweep_task *k, char **
         st = cli_apply_option(d, "--previews", "0");
     if (st == FS_OK)
         st = cli_finish(d);
+    /* A foveation study writes a folder per foveation, not the task's: a sweep's are its "rings" axis. */
+    if (st == FS_OK && d->foveation_count > 1) {
+        log_error("options: --foveation with a list is a foveation study of its own; in a sweep give them as the "
+                  "\"rings\" axis, e.g. [\"default\", \"vrs\"] (docs/cluster.md)");
+        st = FS_ERR_USAGE;
+    }
     /* A latency study writes a folder per latency, not the task's: a sweep's latencies are its axis. */
     if (st == FS_OK && d->gaze_latency_count > 1) {
         log_error("options: --gaze-latency with a list is a latency study of its own; in a sweep give the latencies "

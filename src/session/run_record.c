@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 744, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 760, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 

@@ -62,24 +62,27 @@ edit "$T/loose.json" 'bound_held_out_p90=100'
   >"$T/acc.txt" 2>"$T/acc.err"
 rc=$?
 check "bench --accuracy --cost-model --cost model exits 0" test $rc -eq 0
-check "accuracy.csv: predicted_ms last, finite and positive on every row" python3 -c "
+check "accuracy.csv: predicted_ms (then shaded_fragments_median), finite and positive on every row" python3 -c "
 import csv, math
 rows = list(csv.reader(open('$T/acc/accuracy.csv')))
-assert rows[0][-1] == 'predicted_ms' and rows[0][3] == 'frame_ms_median', rows[0]
+assert rows[0][-2:] == ['predicted_ms', 'shaded_fragments_median'] and rows[0][3] == 'frame_ms_median', rows[0]
 assert len(rows) == 17, len(rows)  # header, 2 modes x 4 layouts x 2 TAA
 for r in rows[1:]:
-    p = float(r[-1])
+    p = float(r[-2])
     assert math.isfinite(p) and p > 0, r
 "
 check "accuracy.md: the predicted column" grep -q '| predicted ms |' "$T/acc/accuracy.md"
 check "accuracy.png plotted against the predicted time" bash -c "test -s '$T/acc/accuracy.png' && grep -q 'predicted by the cost model' '$T/acc/accuracy.gp'"
 "$BIN" bench fence --accuracy --modes traditional --width 64 --height 36 --frames 2 --warmup 1 \
   --supersample 1 --samples 2 --no-cache --cost work --out "$T/accw" --quiet >/dev/null 2>&1
-check "bench --accuracy --cost work: without a model, predicted_ms is -1, x = covered fragments" python3 -c "
+check "bench --accuracy --cost work: without a model, predicted_ms is -1, x = shaded fragments (its column)" python3 -c "
 import csv
 rows = list(csv.reader(open('$T/accw/accuracy.csv')))
-assert rows[0][-1] == 'predicted_ms' and all(float(r[-1]) == -1 for r in rows[1:]), rows
-assert 'covered fragments per display pixel' in open('$T/accw/accuracy.gp').read()
+assert rows[0][-2] == 'predicted_ms' and all(float(r[-2]) == -1 for r in rows[1:]), rows
+gp = open('$T/accw/accuracy.gp').read()
+assert 'shaded fragments per display pixel' in gp
+col = len(rows[0])  # the work axis reads the last column, shaded_fragments_median
+assert '(\$%d >= 0 ? \$%d/' % (col, col) in gp, gp
 "
 
 # ---- compare with the model

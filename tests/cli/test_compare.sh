@@ -217,9 +217,11 @@ for r in rows:
     assert r['pareto_fragments'] in ('0', '1'), r
     # work counts (docs/benchmarks.md 'Work counts'): every configuration covers fragments (counted
     # in the counting frame, which must see the last pass's atomics) and touches its targets
-    for k in ('clipped_primitives_median', 'covered_fragments_median', 'bytes_read_median', 'bytes_written_median'):
-        # VRS: covered fragments unknown (-1) until its coarse shading is counted (test_vrs_accuracy.sh)
-        assert int(r[k]) > 0 or (r['rings'] == 'vrs' and k == 'covered_fragments_median' and r[k] == '-1'), (k, r)
+    for k in ('clipped_primitives_median', 'covered_fragments_median', 'bytes_read_median', 'bytes_written_median',
+              'shaded_fragments_median'):
+        assert int(r[k]) > 0, (k, r)
+    # what a GPU shades: the covered fragments, except under VRS (test_vrs_accuracy.sh)
+    assert r['rings'] == 'vrs' or r['shaded_fragments_median'] == r['covered_fragments_median'], r
 assert any(r['pareto_fragments'] == '1' for r in rows)
 key = lambda r: (r['mode'], r['rings'])
 off = {key(r): int(r['fs_invocations_median']) for r in rows if r['taa'] == 'off'}

@@ -26,9 +26,14 @@ for m in ('traditional', 'hashed'):
         v = row[(m, 'vrs', t)]
         for k in ('rmse', 'flip', 'temporal_error', 'alpha_rmse', 'coverage_ratio_ring0', 'flip_ring0'):
             assert math.isfinite(float(v[k])) and float(v[k]) >= 0, (k, v)
-        # fragment-shader invocations: every pixel, as llvmpipe's emulation shades; covered
-        # fragments unknown until the coarse-shading twins are counted (issue 33 part 3)
-        assert int(v['fs_invocations_median']) > 0 and int(v['covered_fragments_median']) == -1, v
+        # a GPU's coarse-shading invocations (shaded fragments, the work axis; fs_invocations too,
+        # which with TAA also holds llvmpipe's own count of the full-screen resolve): one per
+        # primitive and 4x4 coarse pixel it covers, fewer than the covered pixels
+        sh, cov = int(v['shaded_fragments_median']), int(v['covered_fragments_median'])
+        assert sh > 0 and cov > sh, v
+        assert t == 'on' or int(v['fs_invocations_median']) == sh, v
+        d = row[(m, 'off', t)]  # full resolution shades every covered fragment
+        assert int(d['shaded_fragments_median']) == int(d['covered_fragments_median']), d
         # measured in the same rings as the others: the same per-ring columns are filled
         assert v.keys() == row[(m, 'default', t)].keys()
 t, r = row[('traditional', 'vrs', 'off')], row[('traditional', 'default', 'off')]
