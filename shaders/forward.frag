@@ -205,7 +205,22 @@ void main()
     // one pixel around the cutoff so alpha-to-coverage draws crisp, antialiased edges instead of
     // a soft, banded blend.
     alpha *= 1.0 + lod * ALPHA_MIPSCALE_PER_LOD;
-    alpha = clamp((alpha - u_alpha_cutoff) / max(fwidth(alpha), 1e-4) + 0.5, 0.0, 1.0);
+    float alpha_width = fwidth(alpha); // out of any branch: the quad's derivatives
+#ifdef VRS
+    // Across coarse pixels, as a GPU's derivatives under VRS: alpha one coarse pixel along x and
+    // along y (the same lookups for every fragment of the coarse pixel, so still one shade), against
+    // this one's; within a coarse pixel fwidth is 0, which would make every edge hard. The texture's
+    // alpha only (the vertex colour's is taken as constant), unclamped by --alpha-lod-max on all
+    // three lookups (docs/foveation.md).
+    if (s.coarse && u_has_base_tex) {
+        float k = u_base_color.a * s.color.a * (1.0 + lod * ALPHA_MIPSCALE_PER_LOD);
+        vec2 gx = s.duv_dx * u_mip_scale, gy = s.duv_dy * u_mip_scale;
+        float a0 = tex.a * k;
+        alpha_width = abs(textureGrad(u_base_tex, s.uv + s.duv_dx, gx, gy).a * k - a0) +
+                      abs(textureGrad(u_base_tex, s.uv + s.duv_dy, gx, gy).a * k - a0);
+    }
+#endif
+    alpha = clamp((alpha - u_alpha_cutoff) / max(alpha_width, 1e-4) + 0.5, 0.0, 1.0);
 #endif
     if (!alpha_test_at(alpha, u_alpha_cutoff, s.obj, s.dobj_dx, s.dobj_dy, lod, s.pixel, s.depth))
         discard;

@@ -98,6 +98,25 @@ render "$T/checker.json" --frames 1 --foveation vrs --vrs '*:2x2' --out "$T/chec
 check "2x2: level 1, the checkerboard's mean, everywhere (within 1 %)" \
   $CHECK flat "$T/checker_2x2/$F" "$T/checker_off/$F" 0.01
 
+# ---- --a2c-sharpen: fwidth(alpha) across coarse pixels, as a GPU's derivatives under VRS. Inside a
+# coarse pixel fwidth is 0, which made every edge hard: no pixel of partial coverage at 4x4 (before
+# the fix, 0 of 57600 on the fence at 320 x 180; at 160 x 90 the fence's mips are flat there and the
+# edges are hard either way); with the neighbours' alpha, the edges stay antialiased.
+for v in 1x1 4x4; do
+  "$BIN" render fence --alpha a2c --a2c-sharpen --foveation vrs --vrs "*:$v" --taa off --width 320 --height 180 \
+    --frames 1 --out "$T/a2c_$v" --quiet >/dev/null 2>&1
+done
+check "a2c sharpened at 4x4: partial coverage at the edges, at least a quarter as often as at 1x1" $PY -c "
+import subprocess, sys
+def partial(p):
+    out = subprocess.run(['oiiotool', '--dumpdata', '--info', p], capture_output=True, text=True, check=True).stdout
+    c = [float(l.split('):')[1].split()[4]) for l in out.splitlines() if l.strip().startswith('Pixel (')]
+    return sum(0.02 < v < 0.98 for v in c), len(c)
+full, n = partial('$T/a2c_1x1/$F')
+coarse, _ = partial('$T/a2c_4x4/$F')
+print('partial coverage: 1x1 %d, 4x4 %d of %d pixels' % (full, coarse, n))
+sys.exit(not (full > 0.05 * n and coarse >= 0.25 * full))"
+
 # ---- compare draws VRS too
 "$BIN" compare forest --foveation vrs --frames 2 --width 160 --height 90 --out "$T/cmp" >"$T/cmp.txt" 2>&1
 check "compare --foveation vrs runs and writes its summary" test -s "$T/cmp/summary.json"
