@@ -258,6 +258,8 @@ TEST(resampling)
     CHECK_NEAR(s.pos.z, 0.75, 1e-12);
     CHECK_NEAR(rot_angle_deg(s.head, pose_qaxis(up, 10 * DEG)), 0, 1e-6);
     CHECK_NEAR(rot_angle_deg(s.gaze, pose_qmul(pose_qaxis(up, 10 * DEG), e)), 0, 1e-6);
+    pose_quat neg1 = {-h1.x, -h1.y, -h1.z, -h1.w}; /* the same rotation: slerp must take the shorter arc */
+    CHECK_NEAR(rot_angle_deg(pose_slerp(h0, neg1, 0.25), pose_qaxis(up, 10 * DEG)), 0, 1e-6);
     /* into the frame without gaze: the head interpolated, the eye in the head held */
     s = pose_at(&t, POSE_LEFT, 0.15, &beyond);
     CHECK(!s.gaze_valid && s.held);
