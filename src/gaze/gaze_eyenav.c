@@ -34,6 +34,7 @@ static const char *const k_cols[NCOL] = {
 
 #define QUAT_NORM_TOL 0.05  /* the files round to 3 decimals: norms 0.9992..1.0008 */
 #define MAX_POSITION 1e6
+#define MAX_TIMESTAMP_MS 1e15 /* 30,000 years: keeps every difference of times finite */
 
 bool gaze_eyenav_header(span header)
 {
@@ -144,6 +145,9 @@ static fs_status row_checks(en_reader *r, long line, const double *v)
             return gaze_fail(r->c, line, r->idx[j] + 1, "expected a position within +-%g for column '%s', got %.15g",
                              MAX_POSITION, k_cols[j], v[j]);
     }
+    if (fabs(v[C_TS]) > MAX_TIMESTAMP_MS)
+        return gaze_fail(r->c, line, r->idx[C_TS] + 1, "expected a Timestamp within +-%g ms, got %.15g",
+                         MAX_TIMESTAMP_MS, v[C_TS]);
     if (v[C_TS] < r->last_ts)
         return gaze_fail(r->c, line, r->idx[C_TS] + 1, "expected Timestamp >= %.15g ms (line %ld), got %.15g ms (time "
                          "goes backwards)", r->last_ts, r->last_line, v[C_TS]);

@@ -300,6 +300,7 @@ TEST(bad_rows)
          "test:2:2: expected field-of-view angles in radians, FOV1 < FOV2 and FOV3 < FOV4"},
         {"0,-0.942,0.698,-0.942,0.733,1e7,2,3,0,0,0,1,1,2,3,0,0,0,1,0\n",
          "test:2:6: expected a position within +-1e+06 for column 'PositionX', got 10000000"},
+        {"L0\nR1e300\n", "test:3:20: expected a Timestamp within +-1e+15 ms, got 1e+300"},
         {"", "test:2:1: expected a row after the header, got none"},
     };
     for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) {
