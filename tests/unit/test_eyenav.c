@@ -99,20 +99,24 @@ typedef struct captured {
     int lines;
 } captured;
 
-/* Runs pose_parse (or gaze_parse with gaze) on text with stderr captured. */
-static fs_status parse_captured(const char *text, bool gaze, captured *cap)
+/* Runs pose_parse (or gaze_parse with gaze) on text, or pose_load on the file `path` when given,
+ * with stderr captured. */
+static fs_status run_captured(const char *text, const char *path, bool gaze, captured *cap)
 {
     fflush(stderr);
     FILE *tmp = tmpfile();
     int saved = dup(fileno(stderr));
     dup2(fileno(tmp), fileno(stderr));
     fs_status s;
-    if (gaze) {
+    pose_trace t;
+    if (path) {
+        s = pose_load(path, NULL, &t);
+        pose_free(&t);
+    } else if (gaze) {
         gaze_trace g;
         s = gaze_parse(text, (long)strlen(text), "test", NULL, &g);
         gaze_free(&g);
     } else {
-        pose_trace t;
         s = pose_parse(text, (long)strlen(text), "test", NULL, &t);
         pose_free(&t);
     }
@@ -317,13 +321,13 @@ TEST(bad_rows)
             p = nl + 1;
         }
         captured cap;
-        CHECK(parse_captured(text, false, &cap) == FS_ERR_GAZE);
+        CHECK(run_captured(text, NULL, false, &cap) == FS_ERR_GAZE);
         if (!strstr(cap.text, k[i].message) || cap.lines != 1)
             fprintf(stderr, "  case %zu: expected '%s', got (%d lines) %s", i, k[i].message, cap.lines, cap.text);
         CHECK(strstr(cap.text, k[i].message) != NULL && cap.lines == 1);
     }
     captured cap;
-    CHECK(parse_captured("ViewIndex,FOV1,Timestamp\n0,1,2\n", false, &cap) == FS_ERR_GAZE);
+    CHECK(run_captured("ViewIndex,FOV1,Timestamp\n0,1,2\n", NULL, false, &cap) == FS_ERR_GAZE);
     CHECK(strstr(cap.text, "test:1:1: expected an EyeNavGS header with a column 'FOV2'") != NULL);
 }
 
@@ -337,7 +341,7 @@ TEST(no_gaze_reported)
         for (int v = 0; v < 2; v++)
             put_row(&b, v, (pose_v3){0.06 * v, 0, 0}, h, h, 1, true, 20 * i + 6 * v);
     captured cap;
-    CHECK(parse_captured(b.s, false, &cap) == FS_OK);
+    CHECK(run_captured(b.s, NULL, false, &cap) == FS_OK);
     CHECK(cap.lines == 1 && strstr(cap.text, "warning: GAZE: [test] no eye tracking in this recording") != NULL);
     pose_trace t;
     log_set_quiet_errors(true);
@@ -345,7 +349,7 @@ TEST(no_gaze_reported)
     CHECK(!pose_at(&t, POSE_LEFT, 0.01, NULL).gaze_valid);
     pose_free(&t);
     log_set_quiet_errors(false);
-    CHECK(parse_captured(b.s, true, &cap) == FS_ERR_GAZE);
+    CHECK(run_captured(b.s, NULL, true, &cap) == FS_ERR_GAZE);
     CHECK(cap.lines == 1 && strstr(cap.text, "test:2:1: expected eye tracking in the EyeNavGS recording, got head pose "
                                              "only") != NULL);
 }
@@ -475,6 +479,10 @@ TEST(shared_recordings_load)
         if (s != FS_OK)
             continue;
         CHECK(t.count == k_rec[i].frames && t.has_gaze == k_rec[i].gaze);
+        captured cap; /* head pose only: one warning naming the file; else nothing */
+        CHECK(run_captured(NULL, full, false, &cap) == FS_OK);
+        bool warned = strstr(cap.text, full) && strstr(cap.text, "warning: GAZE:") && strstr(cap.text, "no eye tracking");
+        CHECK(cap.lines == (k_rec[i].gaze ? 0 : 1) && warned == !k_rec[i].gaze);
         CHECK(t.has_scene && t.scene.scale == k_rec[i].scale);
         CHECK(t.r_delay_median > 0.003 && t.r_delay_median < 0.008); /* SOURCES.md: 4-7 ms */
         gaze_trace g;
