@@ -354,6 +354,50 @@ TEST(no_gaze_reported)
                                              "only") != NULL);
 }
 
+/* Byte-flipped synthetic files: an error or a trace that keeps pose_trace.h's promises (frames
+ * >= 1, times from 0 strictly increasing, unit quaternions, both eyes at one time), never a crash
+ * (the real check is running this under valgrind or the sanitizers). */
+TEST(garbage_never_crashes)
+{
+    text_buf base;
+    synthetic(&base, 0x12);
+    static char buf[sizeof base.s];
+    unsigned seed = 777;
+    int loaded = 0;
+    log_set_quiet_errors(true);
+    for (int round = 0; round < 1500; round++) {
+        memcpy(buf, base.s, base.n);
+        for (int k = 0; k < 1 + round % 4; k++) {
+            seed = seed * 1103515245u + 12345u;
+            size_t at = (seed >> 8) % base.n;
+            static const char pool[] = "0123456789.,-\n\"e ";
+            buf[at] = round % 3 ? pool[(seed >> 20) % (sizeof pool - 1)] : (char)(seed >> 16);
+        }
+        pose_trace t;
+        if (pose_parse(buf, (long)base.n, "garbage", NULL, &t) == FS_OK) {
+            loaded++;
+            bool ok = t.count >= 1 && t.eye[0][0].t == 0;
+            for (int i = 0; i < t.count; i++) {
+                const pose_quat h = t.eye[1][i].head;
+                ok = ok && (i == 0 || t.eye[0][i].t > t.eye[0][i - 1].t) && t.eye[1][i].t == t.eye[0][i].t;
+                ok = ok && fabs(h.x * h.x + h.y * h.y + h.z * h.z + h.w * h.w - 1) < 1e-9;
+            }
+            CHECK(ok);
+            pose_state st = pose_at(&t, round & 1, 0.5 * t.duration, NULL);
+            CHECK(isfinite(st.pos.x) && isfinite(st.gaze.w));
+        } else {
+            CHECK(t.count == 0 && t.eye[0] == NULL && t.eye[1] == NULL);
+        }
+        pose_free(&t);
+        gaze_trace g;
+        if (gaze_parse(buf, (long)base.n, "garbage", &(gaze_load_desc){.eye = (gaze_eye)(round % 4)}, &g) == FS_OK)
+            CHECK(g.count >= 1 && isfinite(g.samples[g.count - 1].x));
+        gaze_free(&g);
+    }
+    log_set_quiet_errors(false);
+    CHECK(loaded > 0); /* some flips leave a valid file (a digit for a digit) */
+}
+
 /* >>scene settings, placement, view matrices */
 
 TEST(scene_settings)
@@ -608,6 +652,7 @@ int main(void)
     RUN(resampling);
     RUN(bad_rows);
     RUN(no_gaze_reported);
+    RUN(garbage_never_crashes);
     RUN(scene_settings);
     RUN(placement);
     RUN(view_matrix_matches_look_at);
