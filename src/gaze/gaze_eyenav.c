@@ -427,32 +427,34 @@ fs_status pose_load(const char *path, const pose_load_desc *desc, pose_trace *ou
 
 /* >>gaze trace */
 
-/* The chosen eye's (or both eyes' mean) gaze direction in the head; false when it has none. */
-static bool frame_dir(const pose_trace *t, int i, gaze_eye eye, pose_v3 *d)
+/* The chosen eye's (or both eyes' mean) gaze direction in the head; 0 when it has none, else the
+ * eyes used (bit 0 left, bit 1 right). */
+static int frame_dir(const pose_trace *t, int i, gaze_eye eye, pose_v3 *d)
 {
     const pose_sample *l = &t->eye[POSE_LEFT][i], *r = &t->eye[POSE_RIGHT][i];
-    bool use_l = eye != GAZE_EYE_RIGHT && l->gaze_valid, use_r = eye != GAZE_EYE_LEFT && r->gaze_valid;
-    if (eye == GAZE_EYE_AVERAGE && !(use_l && use_r))
-        return false;
+    int used = (eye != GAZE_EYE_RIGHT && l->gaze_valid) | (eye != GAZE_EYE_LEFT && r->gaze_valid) << 1;
+    if (eye == GAZE_EYE_AVERAGE && used != 3)
+        return 0;
     pose_v3 s = {0, 0, 0};
     for (int e = 0; e < 2; e++) {
-        if (!(e ? use_r : use_l))
+        if (!(used >> e & 1))
             continue;
         pose_v3 de = pose_gaze_dir(t->eye[e][i].head, t->eye[e][i].gaze);
         s = (pose_v3){s.x + de.x, s.y + de.y, s.z + de.z};
     }
     double n = sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
     *d = (pose_v3){s.x / n, s.y / n, s.z / n};
-    return n > 0 && -d->z > 1e-6; /* in front of the eye: the only directions a tangent can hold */
+    return n > 0 && -d->z > 1e-6 ? used : 0; /* in front of the eye: the only directions a tangent holds */
 }
 
-/* Normalised coordinates of a direction in the eye's FOV (the eye's image, origin top-left). */
-static void fov_xy(const pose_sample *l, const pose_sample *r, gaze_eye eye, double tx, double ty, double *x,
-                   double *y)
+/* Normalised coordinates of a direction in the field of view of the eyes used (both: the mean
+ * angles), the eye's image with origin top-left. */
+static void fov_xy(const pose_trace *t, int i, int used, double tx, double ty, double *x, double *y)
 {
+    const float *l = t->eye[POSE_LEFT][i].fov, *r = t->eye[POSE_RIGHT][i].fov;
     double f[4];
     for (int k = 0; k < 4; k++)
-        f[k] = eye == GAZE_EYE_LEFT ? l->fov[k] : eye == GAZE_EYE_RIGHT ? r->fov[k] : 0.5 * (l->fov[k] + r->fov[k]);
+        f[k] = used == 1 ? l[k] : used == 2 ? r[k] : 0.5 * ((double)l[k] + r[k]);
     double tl = tan(f[POSE_FOV_LEFT]), tr = tan(f[POSE_FOV_RIGHT]), td = tan(f[POSE_FOV_DOWN]), tu = tan(f[POSE_FOV_UP]);
     *x = (tx - tl) / (tr - tl);
     *y = (tu - ty) / (tu - td);
@@ -474,10 +476,11 @@ fs_status gaze_parse_eyenav(pctx *c, gaze_trace *out)
     for (int i = 0; i < t.count && s == FS_OK; i++) {
         const pose_sample *l = &t.eye[POSE_LEFT][i];
         pose_v3 d = {0, 0, -1};
-        bool valid = frame_dir(&t, i, c->desc.eye, &d);
+        int used = frame_dir(&t, i, c->desc.eye, &d);
+        bool valid = used != 0;
         double tx = d.x / -d.z, ty = d.y / -d.z, x = 0.5, y = 0.5;
         if (valid)
-            fov_xy(l, &t.eye[POSE_RIGHT][i], c->desc.eye, tx, ty, &x, &y);
+            fov_xy(&t, i, used, tx, ty, &x, &y);
         s = gaze_push(c, l->line, 1, (t.time_offset + l->t) * 1e3, x, y, 1, valid);
         if (s == FS_OK && valid)
             gaze_set_dir(c, tx, ty);

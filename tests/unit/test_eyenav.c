@@ -187,6 +187,10 @@ TEST(gaze_trace_directions)
             }
             CHECK_NEAR(g.dir[2 * i], dx / -dz, 1e-5);
             CHECK_NEAR(g.dir[2 * i + 1], dy / -dz, 1e-5);
+            if (eyes[k] == GAZE_EYE_LEFT) { /* normalised in the left eye's field of view */
+                CHECK_NEAR(g.samples[i].x, (dx / -dz - tan(-0.942)) / (tan(0.698) - tan(-0.942)), 1e-5);
+                CHECK_NEAR(g.samples[i].y, (tan(0.733) - dy / -dz) / (tan(0.733) - tan(-0.942)), 1e-5);
+            }
         }
         gaze_free(&g);
     }
