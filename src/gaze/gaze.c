@@ -28,6 +28,7 @@ const char *gaze_format_name(gaze_format f)
     case GAZE_FORMAT_PUPIL: return "pupil";
     case GAZE_FORMAT_EYELINK: return "eyelink";
     case GAZE_FORMAT_TOBII: return "tobii";
+    case GAZE_FORMAT_EYENAV: return "eyenav";
     }
     return "unknown";
 }
@@ -37,7 +38,7 @@ gaze_format gaze_format_parse(const char *name)
     if (!name)
         return GAZE_FORMAT_AUTO;
     static const gaze_format all[] = {GAZE_FORMAT_CSV, GAZE_FORMAT_PUPIL, GAZE_FORMAT_EYELINK,
-                                      GAZE_FORMAT_TOBII};
+                                      GAZE_FORMAT_TOBII, GAZE_FORMAT_EYENAV};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (gaze_ieq(name, strlen(name), gaze_format_name(all[i])))
             return all[i];
@@ -80,8 +81,8 @@ static fs_status detect(pctx *c, gaze_format *fmt)
     }
     char g[64];
     if (!have_first)
-        return gaze_fail(c, 1, 1, "expected a gaze trace (fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink ASC or "
-                                  "Tobii livedata.json), got an empty file");
+        return gaze_fail(c, 1, 1, "expected a gaze trace (fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink ASC, "
+                                  "Tobii livedata.json or EyeNavGS CSV), got an empty file");
     if (first.p[0] == '{' && span_has(first, "\"ts\"")) {
         *fmt = GAZE_FORMAT_TOBII;
         return FS_OK;
@@ -121,13 +122,17 @@ static fs_status detect(pctx *c, gaze_format *fmt)
             *fmt = GAZE_FORMAT_PUPIL;
             return FS_OK;
         }
+        if (gaze_eyenav_header(header)) {
+            *fmt = GAZE_FORMAT_EYENAV;
+            return FS_OK;
+        }
         if (has_col(header, "t") && has_col(header, "x") && has_col(header, "y")) {
             *fmt = GAZE_FORMAT_CSV;
             return FS_OK;
         }
     }
-    return gaze_fail(c, 1, 1, "expected a gaze trace (fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink ASC or Tobii "
-                              "livedata.json), got %s", gaze_snip(g, sizeof g, first.p, first.n));
+    return gaze_fail(c, 1, 1, "expected a gaze trace (fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink ASC, Tobii "
+                              "livedata.json or EyeNavGS CSV), got %s", gaze_snip(g, sizeof g, first.p, first.n));
 }
 
 /* >>load */
@@ -165,6 +170,7 @@ fs_status gaze_parse(const char *text, long size, const char *name, const gaze_l
         case GAZE_FORMAT_PUPIL: s = gaze_parse_pupil(&c, out); break;
         case GAZE_FORMAT_EYELINK: s = gaze_parse_eyelink(&c, out); break;
         case GAZE_FORMAT_TOBII: s = gaze_parse_tobii(&c, out); break;
+        case GAZE_FORMAT_EYENAV: s = gaze_parse_eyenav(&c, out); break;
         default:
             FS_ASSERT(!"gaze_load_desc.format out of range");
             s = gaze_fail(&c, 1, 1, "expected a known gaze format, got format number %d", (int)fmt);
@@ -182,6 +188,9 @@ fs_status gaze_parse(const char *text, long size, const char *name, const gaze_l
     }
     if (fmt == GAZE_FORMAT_EYELINK)
         log_info("GAZE: [%s] EyeLink %dx%d, eye %s", out->path, out->screen_w, out->screen_h,
+                 gaze_eye_name(c.desc.eye));
+    if (fmt == GAZE_FORMAT_EYENAV)
+        log_info("GAZE: [%s] EyeNavGS, %d frames, eye-in-head gaze of eye %s", out->path, out->count,
                  gaze_eye_name(c.desc.eye));
     return FS_OK;
 }

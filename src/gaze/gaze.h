@@ -13,6 +13,10 @@
  *   - Tobii Pro Glasses 2 livedata.json: one JSON object per line, streams interleaved and not in
  *     time order; gaze records {"ts" (us), "s" (0 = valid), "gp": [x, y]} normalised to the scene
  *     camera image, origin top-left.
+ *   - EyeNavGS CSV (Meta Quest Pro head and both eyes, pose_trace.h): ViewIndex, FOV1..4, eye
+ *     Position, head Quaternion, GazePos, GazeQ, Timestamp (ms); one L and one R row per frame.
+ *     As a gaze trace: the eye-in-head gaze as per-sample directions (dir), x, y normalised in the
+ *     eye's field of view; a recording without gaze (head pose only) fails.
  * Every trace becomes a list of samples sorted by time, re-based so the first sample is at t = 0,
  * with repeated timestamps averaged into one sample. Invalid samples (blinks, `.`, status != 0,
  * confidence below the threshold) are kept as invalid so resampling can hold the last good gaze.
@@ -44,6 +48,7 @@ typedef enum gaze_format {
     GAZE_FORMAT_PUPIL,   /* Pupil Labs gaze_positions.csv */
     GAZE_FORMAT_EYELINK, /* EyeLink ASC */
     GAZE_FORMAT_TOBII,   /* Tobii Pro Glasses 2 livedata.json */
+    GAZE_FORMAT_EYENAV,  /* EyeNavGS head and both eyes (VR headset; pose_trace.h) */
 } gaze_format;
 
 typedef enum gaze_eye {
@@ -140,7 +145,7 @@ gaze_place_desc gaze_place_merge(const gaze_place_opts *first, const gaze_place_
  * untouched. Invalid samples hold the placed gaze again. */
 void gaze_place(gaze_trace *t, const gaze_place_desc *desc, const display_desc *disp);
 
-const char *gaze_format_name(gaze_format f); /* "csv", "pupil", "eyelink", "tobii", "auto" */
+const char *gaze_format_name(gaze_format f); /* "csv", "pupil", "eyelink", "tobii", "eyenav", "auto" */
 gaze_format gaze_format_parse(const char *name); /* AUTO for unknown names */
 
 /* Loads a trace file, or a scripted trace compiled into the binary: "builtin:NAME" for

@@ -10,10 +10,7 @@
 
 /* >>fields */
 
-/* One CSV field from *pp, up to the next ',' or the end (where *pp is left). Blanks around are
- * trimmed; a field in double quotes may hold commas ("" inside stays as is). False on an
- * unterminated quote. */
-static bool csv_field(const char **pp, const char *end, span *f)
+bool gaze_csv_field(const char **pp, const char *end, span *f)
 {
     const char *p = *pp;
     while (p < end && (*p == ' ' || *p == '\t'))
@@ -68,7 +65,7 @@ int gaze_csv_header_col(span header, const char *name, int *second)
     int found = -1;
     for (int k = 0;; k++) {
         span f = {0};
-        if (!csv_field(&p, end, &f))
+        if (!gaze_csv_field(&p, end, &f))
             return found;
         if (gaze_ieq(f.p, f.n, name)) {
             if (found >= 0) {
@@ -90,7 +87,7 @@ static int header_count(span header)
     int k = 0;
     for (;;) {
         span f = {0};
-        if (!csv_field(&p, end, &f))
+        if (!gaze_csv_field(&p, end, &f))
             return -1;
         if (k < (1 << 20))
             k++;
@@ -123,7 +120,7 @@ static fs_status csv_rows(pctx *c, line_it *it, long header_line, int ncols, con
         int k = 0;
         for (;;) {
             span fld = {0};
-            if (!csv_field(&p, end, &fld))
+            if (!gaze_csv_field(&p, end, &fld))
                 return gaze_fail(c, it->no, k + 1, "expected a closing '\"' in column %d, got the end of the line",
                                  k + 1);
             for (int j = 0; j < NCOLS; j++)

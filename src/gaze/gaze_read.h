@@ -107,6 +107,7 @@ fs_status gaze_parse_csv(pctx *c, gaze_trace *out);     /* gaze_csv.c */
 fs_status gaze_parse_pupil(pctx *c, gaze_trace *out);   /* gaze_csv.c */
 fs_status gaze_parse_eyelink(pctx *c, gaze_trace *out); /* gaze_eyelink.c */
 fs_status gaze_parse_tobii(pctx *c, gaze_trace *out);   /* gaze_tobii.c */
+fs_status gaze_parse_eyenav(pctx *c, gaze_trace *out);  /* gaze_eyenav.c: the eye-in-head gaze */
 
 /* CSV headers, also used by format detection (gaze_csv.c). */
 /* The header line of a CSV file: the first line that is neither blank nor a '#' comment. */
@@ -114,5 +115,11 @@ bool gaze_csv_header(line_it *it, span *header);
 /* 0-based index of the column called `name` in a header line, -1 if none, -2 if twice (*second:
  * the index of the second one). */
 int gaze_csv_header_col(span header, const char *name, int *second);
+/* One CSV field from *pp, up to the next ',' or the end (where *pp is left). Blanks around are
+ * trimmed; a field in double quotes may hold commas ("" inside stays as is). False on an
+ * unterminated quote. */
+bool gaze_csv_field(const char **pp, const char *end, span *f);
+/* True for an EyeNavGS header (columns ViewIndex, QuaternionW, GazeQW and Timestamp; gaze_eyenav.c). */
+bool gaze_eyenav_header(span header);
 
 #endif
