@@ -123,7 +123,7 @@ static bool set_gaze_format(const cli_option *o, run_desc *d, const char *v)
     d->gaze_format = gaze_format_parse(v);
     if (d->gaze_format != GAZE_FORMAT_AUTO)
         return true;
-    log_error("--gaze-format: expected csv, pupil, eyelink or tobii, got '%s'", v);
+    log_error("--gaze-format: expected csv, pupil, eyelink, tobii or eyenav, got '%s'", v);
     return false;
 }
 
@@ -402,7 +402,7 @@ const cli_option k_cli_options[] = {
      "gaze trace: fovsim CSV, Pupil Labs gaze_positions.csv, EyeLink .asc or\nTobii livedata.json, or "
      "builtin:NAME for a scripted trace in\ngaze_paths/ (default: fixation at the display centre; the demo\nuses "
      "builtin:demo_tour)", FIELD(gaze_path)},
-    {"--gaze-format", ARG_CUSTOM, CMDS_DRAWING, "F", "csv, pupil, eyelink or tobii (default: detected from the content)",
+    {"--gaze-format", ARG_CUSTOM, CMDS_DRAWING, "F", "csv, pupil, eyelink, tobii or eyenav (default: detected from the content)",
      FIELD(gaze_format), .set = set_gaze_format, .flags = OPT_RECORDED},
     {"--eye", ARG_CHOICE, CMDS_DRAWING, "E",
      "binocular traces: left, right or average (default: average of valid eyes)", FIELD(eye), .choices = k_eye,

@@ -265,6 +265,9 @@ EYELINK_BINO = ("MSG\t1 DISPLAY_COORDS 0 0 999 999\r\n"
 EYELINK_BINO2 = ("** EYELINK\nMSG\t1 DISPLAY_COORDS 0 0 1023 767\nSTART\t10 \tLEFT\tRIGHT\tSAMPLES\n"
                  "SAMPLES\tGAZE\tLEFT\tRIGHT\tRATE\t500.00\tTRACKING\tCR\tFILTER\t2\n"
                  "10\t1.0\t2.0\t3.0\t4\t5\t6\t.....\n12\t11.0\t12.0\t3.0\t14\t15\t6\t.....\nEND\t12\n")
+# Nine lines of EyeNavGS's user101_treehill.csv (Ding et al. 2025, arXiv:2506.02380, Apache-2.0;
+# docs/gaze-formats.md "EyeNavGS"): the header and four left/right frames.
+EYENAV = "ViewIndex,FOV1,FOV2,FOV3,FOV4,PositionX,PositionY,PositionZ,QuaternionX,QuaternionY,QuaternionZ,QuaternionW,GazePosX,GazePosY,GazePosZ,GazeQX,GazeQY,GazeQZ,GazeQW,Timestamp\n0,-0.942,0.698,-0.942,0.733,-1.765,0.744,-1.562,0.175,0.032,-0.027,0.984,-1.758,0.745,-1.538,0.012,-0.007,-0.046,0.999,0\n1,-0.698,0.942,-0.942,0.733,-1.703,0.742,-1.567,0.175,0.032,-0.027,0.984,-1.694,0.742,-1.544,0.012,0.019,-0.035,0.999,4\n0,-0.942,0.698,-0.942,0.733,-1.767,0.744,-1.567,0.163,0.031,-0.026,0.986,-1.76,0.745,-1.543,-0.081,0.001,-0.042,0.996,14\n1,-0.698,0.942,-0.942,0.733,-1.705,0.742,-1.571,0.163,0.031,-0.026,0.986,-1.695,0.742,-1.549,-0.081,0.03,-0.027,0.996,17\n0,-0.942,0.698,-0.942,0.733,-1.769,0.744,-1.572,0.152,0.03,-0.025,0.988,-1.762,0.745,-1.549,-0.091,0.003,-0.039,0.995,28\n1,-0.698,0.942,-0.942,0.733,-1.707,0.741,-1.576,0.152,0.03,-0.025,0.988,-1.697,0.742,-1.554,-0.09,0.031,-0.024,0.995,31\n0,-0.942,0.698,-0.942,0.733,-1.771,0.743,-1.576,0.144,0.029,-0.024,0.989,-1.763,0.745,-1.553,-0.098,0.002,-0.038,0.995,42\n1,-0.698,0.942,-0.942,0.733,-1.709,0.741,-1.58,0.144,0.029,-0.024,0.989,-1.699,0.742,-1.558,-0.097,0.03,-0.024,0.995,45\n"
 TOBII = ('{"ts":3000,"s":0,"pts":622438,"pv":4}\n'
          '{"ts":2000,"s":0,"gidx":2,"l":5,"gp":[0.3,0.4]}\n'
          '{"ts":1500,"s":0,"gidx":1,"eye":"left","gp":[9,9]}\n'
@@ -339,6 +342,8 @@ def main():
         put("gaze", "eyelink_bino2_eye%d.asc" % eye, bytes([3 + 5 * eye]) + EYELINK_BINO2.encode())
     put("gaze", "tobii.json", b"\x04" + TOBII.encode())
     put("gaze", "auto_tobii.json", b"\x00" + TOBII.encode())
+    for eye in (0, 1, 2, 3):  # detected from its header (the selector's format is auto), each eye choice
+        put("gaze", "auto_eyenav_eye%d.csv" % eye, bytes([5 * eye]) + EYENAV.encode())
 
     for i, r in enumerate(RINGS):
         put("rings", "%02d.txt" % i, r)
