@@ -48,7 +48,7 @@ uniform float u_sparse;          // sparse-coverage slack (taa_sparse_margin), d
 #ifdef TAA_RING_CULL
 #include "common/eccentricity.glsl"
 uniform vec2 u_cull_gaze_px;     // last frame's gaze, display pixels (top-left origin)
-uniform vec2 u_cull_display_px;  // display width, height
+uniform vec2 u_cull_principal_px; // last frame's principal point, display pixels
 uniform float u_cull_focal_px;   // last frame's focal length, display pixels
 uniform float u_ring_hole_deg[TAA_RING_COUNT]; // fov_ring_hole_deg of each ring (0: no hole)
 
@@ -58,7 +58,7 @@ uniform float u_ring_hole_deg[TAA_RING_COUNT]; // fov_ring_hole_deg of each ring
 // Catmull-Rom taps around `at` (2 ring pixels) and the jitter.
 bool culled_history(vec2 at, int layer)
 {
-    return fov_angle_deg(at, u_cull_gaze_px, u_cull_display_px, u_cull_focal_px) < u_ring_hole_deg[layer];
+    return fov_angle_deg(at, u_cull_gaze_px, u_cull_principal_px, u_cull_focal_px) < u_ring_hole_deg[layer];
 }
 #endif
 

@@ -8,6 +8,7 @@
 
 uniform vec2 u_display_px;              // width, height
 uniform float u_focal_px;               // (width / 2) / tan(hfov / 2)
+uniform vec2 u_principal_px;            // principal point, display pixels (width / 2, height / 2 if centred)
 uniform vec2 u_gaze_px;                 // gaze, display pixels, top-left origin
 uniform float u_ring_outer[FOV_RING_COUNT]; // degrees; the last is large (covers everything)
 uniform float u_ring_band[FOV_RING_COUNT];  // blend band inside each border, degrees
@@ -15,7 +16,7 @@ uniform float u_ring_band[FOV_RING_COUNT];  // blend band inside each border, de
 // Angle in degrees between the view rays through display point p and the gaze.
 float fov_eccentricity_deg(vec2 p)
 {
-    return fov_angle_deg(p, u_gaze_px, u_display_px, u_focal_px);
+    return fov_angle_deg(p, u_gaze_px, u_principal_px, u_focal_px);
 }
 
 // Innermost ring whose outer radius exceeds e, and the weight of the next ring inside the blend band.

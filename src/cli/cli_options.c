@@ -88,7 +88,7 @@ static bool set_taa_sparse(const cli_option *o, run_desc *d, const char *v)
 static bool set_rings(const cli_option *o, run_desc *d, const char *v)
 {
     char err[256];
-    const display_desc any = {1280, 720, 90.0f}; /* only the named layouts read it; their rings are redone */
+    const display_desc any = {.width = 1280, .height = 720, .hfov_deg = 90.0f}; /* only the named layouts read it; their rings are redone */
     d->rings = v;
     if (fov_layout_parse(v, &any, &d->rings_layout, err, sizeof err) == FS_OK)
         return true;

@@ -101,7 +101,7 @@ static void bench_record(bench_config *c, const renderer_stats *rs, const render
 static void bench_frame(session *s, bench_config *c, int k, float t, int n)
 {
     frame_record fr = frame_record_at(&s->sc, k < 0 ? 0 : k, t, -1.0f, c->pl.width, c->pl.height);
-    display_desc dd = {c->pl.width, c->pl.height, fr.hfov_deg};
+    display_desc dd = frame_display(&fr, c->pl.width, c->pl.height);
     session_set_frame_gaze(s, &fr, &c->pl.layout, &dd, t); /* the eye tracker's gaze, as every command */
     renderer_stats rs = {0};
     proc_stats pd = {0};

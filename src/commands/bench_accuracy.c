@@ -83,7 +83,7 @@ typedef struct acc_config {
 /* The aggressive layout (fov_layout_aggressive) for the plan's display. */
 static fov_layout aggressive_layout(const plan *pl)
 {
-    display_desc dd = {pl->width, pl->height, pl->hfov_deg};
+    display_desc dd = plan_display(pl);
     return fov_layout_aggressive(&dd);
 }
 
@@ -466,7 +466,7 @@ static fs_status acc_run_frame(acc_run *a, int i)
     const run_desc *d = a->d;
     acc_frame f = {.i = i, .measured = i >= a->warm};
     f.base = session_frame(&a->s, i, (float)i / d->fps, i > 0 ? (float)(i - 1) / d->fps : -1.0f);
-    f.disp = (display_desc){a->s.pl.width, a->s.pl.height, f.base.hfov_deg};
+    f.disp = frame_display(&f.base, a->s.pl.width, a->s.pl.height);
     fs_status st = FS_OK;
     if (f.measured) {
         st = reference_frame(a->rf, &f.base, &a->ref, &f.ri);

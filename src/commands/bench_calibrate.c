@@ -52,7 +52,7 @@ static bool software_renderer(void)
  * size), or the aggressive ones. */
 static fov_layout calib_rings(const bench_run *b, int layout, int w, int h)
 {
-    display_desc dd = {w, h, b->s.pl.hfov_deg};
+    display_desc at = plan_display(&b->s.pl), dd = display_resized(&at, w, h);
     fov_layout_kind k = layout == CALIB_AGGRESSIVE ? FOV_LAYOUT_AGGRESSIVE : b->s.pl.layout.kind;
     return k == FOV_LAYOUT_AGGRESSIVE ? fov_layout_aggressive(&dd)
            : k == FOV_LAYOUT_AUTO     ? fov_layout_auto(&dd, 0.0f, 0.0f)

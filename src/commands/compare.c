@@ -823,7 +823,7 @@ static fs_status compare_prepare(cmp_run *c, cmp_frame *f)
 {
     c->ref_err[f->i] = f->ri.error;
     c->ref_cached += f->measured && f->ri.cached;
-    f->dd = (display_desc){c->s.pl.width, c->s.pl.height, f->fr.hfov_deg};
+    f->dd = frame_display(&f->fr, c->s.pl.width, c->s.pl.height);
     f->vr = measure_view(&c->ref);
     f->vpr = measure_view(&c->prev_ref);
     fs_status st = temporal_depth(&c->te, &f->fr, c->have_prev_ref);

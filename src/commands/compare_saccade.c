@@ -23,7 +23,7 @@ fs_status saccade_study_begin(saccade_study *ss, const session *s, float fps)
     if (s->gaze.count == 0)
         return FS_OK;
     /* Angles on the display the trace was placed on (the scene's field of view at the run's size). */
-    display_desc d = {s->pl.width, s->pl.height, s->sc.display.hfov_deg};
+    display_desc d = display_resized(&s->sc.display, s->pl.width, s->pl.height);
     fs_status st = gaze_events_classify(&s->gaze, &d, NULL, &ss->ev);
     ss->on = st == FS_OK;
     if (ss->on)

@@ -21,7 +21,7 @@ fov_layout measure_layout(const plan *pl)
 {
     if (pl->rings)
         return pl->layout;
-    display_desc dd = {pl->width, pl->height, pl->hfov_deg};
+    display_desc dd = plan_display(pl);
     return fov_layout_auto(&dd, FOV_ACUITY_SLOPE_DEFAULT, FOV_ACUITY_OMEGA0_DEFAULT);
 }
 
@@ -120,7 +120,7 @@ static metrics_view temporal_view(const temporal *t, int k)
 
 fs_status temporal_depth(temporal *t, const frame_record *fr, bool have_prev_ref)
 {
-    display_desc dd = {t->width, t->height, fr->hfov_deg};
+    display_desc dd = frame_display(fr, t->width, t->height);
     frame_record fp = *fr;
     fov_layout off = fov_layout_off();
     frame_record_set_gaze(&fp, &off, &dd, fr->gaze[0], fr->gaze[1]);

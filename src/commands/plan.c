@@ -14,7 +14,7 @@
  * per rate and ideal saving, beside the rings' (plan_print printed them above). */
 static void print_vrs(const run_desc *d, const scene *sc, const plan *pl)
 {
-    display_desc dd = {pl->width, pl->height, pl->hfov_deg};
+    display_desc dd = plan_display(pl);
     vrs_spec spec;
     int tile, nx, ny;
     session_vrs(d, sc, &spec, &tile);

@@ -310,7 +310,8 @@ static fs_status ident_trace(sweep_ident *id, const sweep_task *k, const run_des
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &id->gz);
     if (st == FS_OK && d->gaze_path) {
         gaze_place_desc pd = gaze_place_merge(&d->place, &id->sc.gaze_place);
-        gaze_place(&id->gz, &pd, &(display_desc){pl->width, pl->height, id->sc.display.hfov_deg});
+        display_desc at = display_resized(&id->sc.display, pl->width, pl->height);
+        gaze_place(&id->gz, &pd, &at);
     }
     session s = {.sc = id->sc, .pl = *pl, .gaze = id->gz};
     if (st == FS_OK && (st = run_record_hashes_of(&s, &id->h)) == FS_OK) {

@@ -118,6 +118,17 @@ mat4 m4_perspective_hfov(float hfov, float aspect, float n, float f)
     return r;
 }
 
+mat4 m4_perspective_offaxis(float hfov, float aspect, float cx, float cy, float n, float f)
+{
+    mat4 r = m4_perspective_hfov(hfov, aspect, n, f);
+    if (cx == 0.0f && cy == 0.0f)
+        return r; /* no -0 entries: the centred matrix stays bit-identical */
+    /* clip w = -z, so x_ndc = sx x / -z + cx needs the z column entry -cx (glFrustum's (r+l)/(r-l)). */
+    r.m[8] = -cx;
+    r.m[9] = -cy;
+    return r;
+}
+
 bool m4_invert(mat4 a, mat4 *out)
 {
     const float *m = a.m;

@@ -48,6 +48,10 @@ mat4 m4_trs(const float t[3], const float q[4], const float s[3]);
 mat4 m4_look_at(vec3 eye, vec3 target, vec3 up);
 /* OpenGL perspective projection, depth to [-1,1]; hfov in radians, aspect = width / height. */
 mat4 m4_perspective_hfov(float hfov, float aspect, float znear, float zfar);
+/* The same pinhole with its principal point off the viewport centre (glFrustum's asymmetric form):
+ * the view axis lands at NDC (cx, cy) instead of (0, 0); hfov is the field of view of a viewport of
+ * the same width centred on the principal point. cx = cy = 0 gives m4_perspective_hfov exactly. */
+mat4 m4_perspective_offaxis(float hfov, float aspect, float cx, float cy, float znear, float zfar);
 /* General inverse; returns false (and identity) for a singular matrix. */
 bool m4_invert(mat4 a, mat4 *out);
 vec3 m4_point(mat4 a, vec3 p);  /* transforms a point (w = 1) */

@@ -31,33 +31,19 @@
 #define DEG2RAD (FS_PI / 180.0)
 #define RAD2DEG (180.0 / FS_PI)
 
-/* The display as the math sees it: sanitised size and the pinhole focal length in pixels. */
-typedef struct disp {
-    double w, h, f;
-} disp;
+/* The display as the math sees it (core/display.h: sanitised size, focal length, principal point). */
+typedef display_geom disp;
 
 static disp disp_of(const display_desc *d)
 {
     FS_ASSERT(d != NULL);
-    disp r = {1280.0, 720.0, 640.0};
-    if (!d)
-        return r;
-    double hfov = d->hfov_deg;
-    if (isnan(hfov))
-        hfov = 90.0;
-    hfov = hfov < 0.001 ? 0.001 : hfov > 179.999 ? 179.999 : hfov;
-    r.w = d->width < 1 ? 1.0 : (double)d->width;
-    r.h = d->height < 1 ? 1.0 : (double)d->height;
-    r.f = 0.5 * r.w / tan(0.5 * hfov * DEG2RAD);
-    return r;
+    return display_geom_of(d);
 }
 
 /* View ray (camera space, y up, looking down -z) through display point (px, py). */
 static void view_ray(const disp *D, double px, double py, double v[3])
 {
-    v[0] = px - 0.5 * D->w;
-    v[1] = -(py - 0.5 * D->h);
-    v[2] = -D->f;
+    display_ray(D, px, py, v);
 }
 
 /* Angle in radians between two vectors, accurate for tiny and near-180-degree angles. */
@@ -70,10 +56,12 @@ static double angle_between(const double a[3], const double b[3])
     return atan2(sqrt(cx * cx + cy * cy + cz * cz), dot);
 }
 
-/* Largest eccentricity on the display seen from its centre: centre to corner. */
+/* Largest eccentricity on the display seen from its principal point: to the farthest corner
+ * (centre to corner for a centred display). */
 static double corner_ecc_deg(const disp *D)
 {
-    return atan(sqrt(0.25 * D->w * D->w + 0.25 * D->h * D->h) / D->f) * RAD2DEG;
+    double dx = fmax(D->cx, D->w - D->cx), dy = fmax(D->cy, D->h - D->cy);
+    return atan(sqrt(dx * dx + dy * dy) / D->f) * RAD2DEG;
 }
 
 static int clampi(int v, int lo, int hi)
@@ -132,15 +120,22 @@ static double block_angle_max_deg(const disp *D, int block)
     return (double)block / D->f * RAD2DEG;
 }
 
-/* Largest eccentricity between two display points: opposite corners. (The set of points within a
- * given angle of a ray meets the image plane in a convex region, so the farthest point of a
- * rectangle from any ray is a corner, and the farthest gaze on the display as well.) */
+/* Largest eccentricity between two display points: two corners. (The set of points within a given
+ * angle of a ray meets the image plane in a convex region, so the farthest point of a rectangle
+ * from any ray is a corner, and the farthest gaze on the display as well.) The main diagonal
+ * first: a centred display's other pairs are never larger. */
 static double diagonal_ecc_deg(const disp *D)
 {
-    double a[3], b[3];
-    view_ray(D, 0.0, 0.0, a);
-    view_ray(D, D->w, D->h, b);
-    return angle_between(a, b) * RAD2DEG;
+    double c[4][3];
+    for (int k = 0; k < 4; k++)
+        view_ray(D, k & 1 ? D->w : 0.0, k & 2 ? D->h : 0.0, c[k]);
+    static const int pairs[6][2] = {{0, 3}, {1, 2}, {0, 1}, {2, 3}, {0, 2}, {1, 3}};
+    double best = 0.0;
+    for (int i = 0; i < 6; i++) {
+        double a = angle_between(c[pairs[i][0]], c[pairs[i][1]]);
+        best = a > best ? a : best;
+    }
+    return best * RAD2DEG;
 }
 
 static void acuity_model(float slope, float omega0, double *m, double *w0)
@@ -529,6 +524,13 @@ float fov_focal_px(const display_desc *d)
     return (float)disp_of(d).f;
 }
 
+void fov_principal_px(const display_desc *d, float out[2])
+{
+    disp D = disp_of(d);
+    out[0] = (float)D.cx;
+    out[1] = (float)D.cy;
+}
+
 float fov_pixels_per_degree(const display_desc *d)
 {
     /* 1 / pitch(0), pitch(e) = (180/pi) cos^2(e) / f. */
@@ -591,7 +593,8 @@ static int cone_line_roots(double ua, double ub, double uz, double f, double c2,
 }
 
 typedef struct bbox2 {
-    double x0, y0, x1, y1, hx, hy;
+    double x0, y0, x1, y1;
+    double xl, xr, yb, yt; /* the display rectangle in camera-plane coordinates (y up) */
     bool any;
 } bbox2;
 
@@ -599,10 +602,10 @@ typedef struct bbox2 {
 static void bbox_add(bbox2 *b, double x, double y)
 {
     const double tol = 1e-3; /* pixels; the caller grows the box by a whole pixel anyway */
-    if (!(fabs(x) <= b->hx + tol && fabs(y) <= b->hy + tol))
+    if (!(x >= b->xl - tol && x <= b->xr + tol && y >= b->yb - tol && y <= b->yt + tol))
         return;
-    x = x < -b->hx ? -b->hx : x > b->hx ? b->hx : x;
-    y = y < -b->hy ? -b->hy : y > b->hy ? b->hy : y;
+    x = x < b->xl ? b->xl : x > b->xr ? b->xr : x;
+    y = y < b->yb ? b->yb : y > b->yt ? b->yt : y;
     if (!b->any) {
         b->x0 = b->x1 = x, b->y0 = b->y1 = y, b->any = true;
         return;
@@ -644,34 +647,36 @@ static bool cone_bbox(const disp *D, double gx, double gy, double outer_deg, dou
     double cx = -f * u[0] * u[2] / den, rx = f * s * sqrt(qx > 0 ? qx : 0) / den;
     double cy = -f * u[1] * u[2] / den, ry = f * s * sqrt(qy > 0 ? qy : 0) / den;
 
-    bbox2 b = {0, 0, 0, 0, 0.5 * D->w, 0.5 * D->h, false};
+    /* Exactly +-w/2, +-h/2 for a centred display. */
+    bbox2 b = {0, 0, 0, 0, -D->cx, D->w - D->cx, D->cy - D->h, D->cy, false};
     double t[2];
     for (int sgn = -1; sgn <= 1; sgn += 2) {
         /* Extreme points: the tangent line's double root gives the other coordinate. */
         double x = cx + sgn * rx, y = cy + sgn * ry;
         bbox_add(&b, x, -u[1] * (x * u[0] - f * u[2]) / (u[1] * u[1] - c2));
         bbox_add(&b, -u[0] * (y * u[1] - f * u[2]) / (u[0] * u[0] - c2), y);
-        /* Crossings with the display's edge lines x = +-w/2 and y = +-h/2. */
-        int n = cone_line_roots(u[1], u[0], u[2], f, c2, sgn * b.hx, t);
+        /* Crossings with the display's edge lines x = xl, xr and y = yb, yt. */
+        double ex = sgn < 0 ? b.xl : b.xr, ey = sgn < 0 ? b.yb : b.yt;
+        int n = cone_line_roots(u[1], u[0], u[2], f, c2, ex, t);
         for (int k = 0; k < n; k++)
-            bbox_add(&b, sgn * b.hx, t[k]);
-        n = cone_line_roots(u[0], u[1], u[2], f, c2, sgn * b.hy, t);
+            bbox_add(&b, ex, t[k]);
+        n = cone_line_roots(u[0], u[1], u[2], f, c2, ey, t);
         for (int k = 0; k < n; k++)
-            bbox_add(&b, t[k], sgn * b.hy);
+            bbox_add(&b, t[k], ey);
         /* Display corners inside the cone. */
         for (int sy = -1; sy <= 1; sy += 2) {
-            double p[3] = {sgn * b.hx, sy * b.hy, -f};
+            double p[3] = {ex, sy < 0 ? b.yb : b.yt, -f};
             double pu = p[0] * u[0] + p[1] * u[1] + p[2] * u[2];
             if (pu > 0.0 && pu * pu >= c2 * (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]))
                 bbox_add(&b, p[0], p[1]);
         }
     }
     if (!b.any) /* cannot happen for a gaze on the display; keep the unclipped box */
-        b = (bbox2){cx - rx, cy - ry, cx + rx, cy + ry, b.hx, b.hy, true};
-    box[0] = 0.5 * D->w + b.x0;
-    box[1] = 0.5 * D->h - b.y1; /* camera y up, display y down */
-    box[2] = 0.5 * D->w + b.x1;
-    box[3] = 0.5 * D->h - b.y0;
+        b.x0 = cx - rx, b.y0 = cy - ry, b.x1 = cx + rx, b.y1 = cy + ry, b.any = true;
+    box[0] = D->cx + b.x0;
+    box[1] = D->cy - b.y1; /* camera y up, display y down */
+    box[2] = D->cx + b.x1;
+    box[3] = D->cy - b.y0;
     return true;
 }
 

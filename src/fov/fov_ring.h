@@ -10,7 +10,8 @@
  *   - Gaze: normalised display coordinates (0..1, origin top-left) or display pixels (gaze_px =
  *     gaze * (width, height)).
  *   - Eccentricity: the angle in degrees between the view ray through a display point and the view
- *     ray through the gaze point, for a pinhole camera with the display's horizontal fov.
+ *     ray through the gaze point, for a pinhole camera with the display's focal length and principal
+ *     point (core/display.h; the display centre unless ppx, ppy say otherwise).
  *   - A ring i has block size b = 2^scale_log2: one ring pixel covers exactly b x b display pixels,
  *     and its footprint rectangle starts on a multiple of b, so ring pixels align with a sub-grid of
  *     display pixels (no half-pixel drift between rings).
@@ -130,9 +131,13 @@ void fov_layout_format(const fov_layout *l, char *buf, int size);
 
 /* >>angles */
 
-/* Focal length of the display's pinhole camera in pixels: (width / 2) / tan(hfov / 2). */
+/* Focal length of the display's pinhole camera in pixels: (width / 2) / tan(hfov / 2) (the same for
+ * an off-centre principal point: core/display.h). */
 float fov_focal_px(const display_desc *d);
-/* Display pixels per degree at the display centre. */
+/* The principal point (where the view axis meets the display, core/display.h) in display pixels,
+ * top-left origin, as the shaders take it: (width / 2 + ppx, height / 2 + ppy). */
+void fov_principal_px(const display_desc *d, float out[2]);
+/* Display pixels per degree at the principal point (the display centre unless it is off-centre). */
 float fov_pixels_per_degree(const display_desc *d);
 /* Eccentricity in degrees of display point p (pixels, top-left origin, continuous) for gaze point
  * g (pixels). Stable for p == g (0) and for any finite inputs, including points far outside the

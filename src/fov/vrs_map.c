@@ -195,18 +195,12 @@ void vrs_spec_format(const vrs_spec *s, char *buf, int size)
 
 // >>the map
 
-/* The display as the map's math sees it (fov_ring.c's sanitising). */
-typedef struct vdisp {
-    double w, h, f;
-} vdisp;
+/* The display as the map's math sees it (core/display.h, the sanitising fov_ring.c uses). */
+typedef display_geom vdisp;
 
 static vdisp vdisp_of(const display_desc *d)
 {
-    double hfov = isnan(d->hfov_deg) ? 90.0 : d->hfov_deg;
-    hfov = hfov < 0.001 ? 0.001 : hfov > 179.999 ? 179.999 : hfov;
-    vdisp v = {d->width < 1 ? 1.0 : (double)d->width, d->height < 1 ? 1.0 : (double)d->height, 0.0};
-    v.f = 0.5 * v.w / tan(0.5 * hfov * DEG2RAD);
-    return v;
+    return display_geom_of(d);
 }
 
 void vrs_tile_grid(const display_desc *d, int tile, int *tiles_x, int *tiles_y)
@@ -220,9 +214,7 @@ void vrs_tile_grid(const display_desc *d, int tile, int *tiles_x, int *tiles_y)
 /* Camera-plane point (y up, looking down -z) of display point (x, y). */
 static void plane_point(const vdisp *D, double x, double y, double p[3])
 {
-    p[0] = x - 0.5 * D->w;
-    p[1] = 0.5 * D->h - y;
-    p[2] = -D->f;
+    display_ray(D, x, y, p);
 }
 
 static double dot3(const double a[3], const double b[3])
@@ -318,8 +310,8 @@ vrs_rate vrs_tile_rate_auto(const display_desc *d, int tile, float gx, float gy,
     double mar = (m * e + w0) * DEG2RAD;
     /* The pixel-angle bounds over the whole tile, overhang included. */
     double xlo, xhi, ylo, yhi, f2 = D.f * D.f;
-    abs_range(x0 - 0.5 * D.w, x0 + tile - 0.5 * D.w, &xlo, &xhi);
-    abs_range(0.5 * D.h - y0 - tile, 0.5 * D.h - y0, &ylo, &yhi);
+    abs_range(x0 - D.cx, x0 + tile - D.cx, &xlo, &xhi);
+    abs_range(D.cy - y0 - tile, D.cy - y0, &ylo, &yhi);
     double den = f2 + xlo * xlo + ylo * ylo;
     int wl = fit_log2(sqrt(f2 + yhi * yhi) / den, mar), hl = fit_log2(sqrt(f2 + xhi * xhi) / den, mar);
     /* No 1x4 or 4x1: the longer side is at most twice the shorter. */

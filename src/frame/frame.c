@@ -2,6 +2,9 @@
 
 #include <math.h>
 
+static display_desc display_scaled(const display_desc *d, int width, int height, float hfov_deg);
+static mat4 frame_projection(const display_desc *d, float znear, float zfar);
+
 frame_record frame_record_make(const scene *sc, int index, float fps, int width, int height)
 {
     float t = fps > 0.0f ? (float)index / fps : 0.0f;
@@ -32,12 +35,35 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
     fr.znear = fmaxf(0.02f, fminf(0.1f, fr.zfar * 1e-4f));
 
     fr.view = m4_look_at(fr.camera.position, fr.camera.target, v3(0, 1, 0));
-    fr.proj = m4_perspective_hfov(fr.hfov_deg * (float)FS_PI / 180.0f, (float)width / (float)height, fr.znear, fr.zfar);
+    fr.display = display_scaled(&sc->display, width, height, fr.hfov_deg);
+    fr.proj = frame_projection(&fr.display, fr.znear, fr.zfar);
     fr.view_proj = m4_mul(fr.proj, fr.view);
     fov_layout off = fov_layout_off();
-    display_desc d = {width, height, fr.hfov_deg};
-    frame_record_set_gaze(&fr, &off, &d, 0.5f, 0.5f);
+    frame_record_set_gaze(&fr, &off, &fr.display, 0.5f, 0.5f);
     return fr;
+}
+
+/* The scene display at the frame's size, with the frame's hfov (the camera may set its own). */
+static display_desc display_scaled(const display_desc *d, int width, int height, float hfov_deg)
+{
+    display_desc r = display_resized(d, width, height);
+    r.hfov_deg = hfov_deg;
+    return r;
+}
+
+display_desc frame_display(const frame_record *fr, int width, int height)
+{
+    return display_scaled(&fr->display, width, height, fr->hfov_deg);
+}
+
+/* The display's projection: the symmetric one for a centred display (bit-identical to before the
+ * principal point existed), glFrustum's off-axis one otherwise; NDC x = 2 px / w - 1 of the
+ * principal point is 2 ppx / w, NDC y (up) is -2 ppy / h. */
+static mat4 frame_projection(const display_desc *d, float znear, float zfar)
+{
+    float hfov = d->hfov_deg * (float)FS_PI / 180.0f, aspect = (float)d->width / (float)d->height;
+    float cx = 2.0f * d->ppx / (float)d->width, cy = -2.0f * d->ppy / (float)d->height;
+    return m4_perspective_offaxis(hfov, aspect, cx, cy, znear, zfar);
 }
 
 /* Normalised gaze -> its clamped normalised, pixel and angle forms. */
@@ -50,9 +76,11 @@ static void gaze_forms(const display_desc *d, float gx, float gy, float n[2], fl
     px[0] = gx * (float)d->width;
     px[1] = gy * (float)d->height;
     fov_gaze_clamp(d, &px[0], &px[1]); /* the exact gaze the footprints use */
-    float f = fov_focal_px(d);
-    deg[0] = atanf((px[0] - 0.5f * (float)d->width) / f) * (float)(180.0 / FS_PI);
-    deg[1] = atanf((0.5f * (float)d->height - px[1]) / f) * (float)(180.0 / FS_PI);
+    /* Angles from the view axis, i.e. from the principal point (cx = 0.5 w on a centred display). */
+    display_geom g = display_geom_of(d);
+    float f = (float)g.f;
+    deg[0] = atanf((px[0] - (float)g.cx) / f) * (float)(180.0 / FS_PI);
+    deg[1] = atanf(((float)g.cy - px[1]) / f) * (float)(180.0 / FS_PI);
 }
 
 void frame_record_set_true_gaze(frame_record *fr, const display_desc *d, float gx, float gy)

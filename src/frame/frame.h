@@ -17,6 +17,8 @@ typedef struct frame_record {
     float time;         /* seconds */
     camera_state camera;
     float hfov_deg;     /* effective horizontal fov */
+    display_desc display; /* what the frame was made for: its size, hfov_deg and the scene display's
+                             principal point in its pixels (frame_display) */
     float znear, zfar;  /* world units */
     mat4 view, proj, view_proj;
     /* The gaze the frame is RENDERED around (the eye tracker's, gaze_tracker.h): the rings, their
@@ -42,6 +44,10 @@ frame_record frame_record_make(const scene *sc, int index, float fps, int width,
  * The gaze is the display centre and there is one full-resolution ring until
  * frame_record_set_gaze says otherwise. */
 frame_record frame_record_at(const scene *sc, int index, float time, float prev_time, int width, int height);
+/* The frame's display at width x height (the size it was made for, or a multiple of it such as the
+ * reference's supersampled one): hfov_deg, and the principal point scaled to that size. Every
+ * pixel <-> angle computation about the frame takes its display from here. */
+display_desc frame_display(const frame_record *fr, int width, int height);
 /* Sets the gaze (normalised, origin top-left; clamped to the display) and computes each ring's
  * footprint and cropped view-projection for layout `l` on display `d` (the frame's size). */
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy);

@@ -309,7 +309,7 @@ fs_status gaze_events_classify(const gaze_trace *t, const display_desc *d, const
         return FS_ERR_USAGE;
     if (!t || t->count <= 0 || !t->samples)
         return FS_OK;
-    display_desc disp = d ? *d : (display_desc){1280, 720, 90.0f};
+    display_desc disp = d ? *d : (display_desc){.width = 1280, .height = 720, .hfov_deg = 90.0f};
     work w = {0};
     out->event = malloc((size_t)t->count);
     fs_status s = out->event && work_alloc(&w, t->count) ? FS_OK : FS_ERR_NOMEM;

@@ -119,17 +119,20 @@ typedef struct clamp_stats {
 } clamp_stats;
 
 /* One tangent clamped to [-lim, lim], noting the trace's extent and the excess. */
-static double clamp_tan(double v, double lim, double *span, clamp_stats *cs)
+/* v clamped into [lo, hi] (the display's edges as tangents from the view axis; lo = -hi on a
+ * centred display). */
+static double clamp_tan(double v, double lo, double hi, double *span, clamp_stats *cs)
 {
     double a = atan(fabs(v)) / DEG;
     if (a > *span)
         *span = a;
-    if (fabs(v) <= lim)
+    if (v >= lo && v <= hi)
         return v;
-    double over = a - atan(lim) / DEG;
+    double lim = v < lo ? lo : hi;
+    double over = a - atan(fabs(lim)) / DEG;
     if (over > cs->over)
         cs->over = over;
-    return v < 0 ? -lim : lim;
+    return lim;
 }
 
 /* Invalid samples hold the placed gaze again (gaze_finish's rule: the last valid before, the first
@@ -187,10 +190,11 @@ void gaze_place(gaze_trace *t, const gaze_place_desc *desc, const display_desc *
     frame_geom g;
     if (!choose_geom(t, desc, &g))
         return;
-    const double hfov = disp->hfov_deg > 0.001f && disp->hfov_deg < 179.999f ? disp->hfov_deg : 90.0;
-    const double w = disp->width > 0 ? disp->width : 1, h = disp->height > 0 ? disp->height : 1;
-    const double f = 0.5 * w / tan(0.5 * hfov * DEG);
-    const double lim_x = 0.5 * w / f, lim_y = 0.5 * h / f;
+    /* The pinhole (core/display.h): tangents from the view axis, principal point (cx, cy). */
+    const display_geom dg = display_geom_of(disp);
+    const double w = dg.w, h = dg.h, f = dg.f;
+    const double ppx = dg.cx - 0.5 * w, ppy = dg.cy - 0.5 * h; /* 0 on a centred display */
+    const double x_lo = -dg.cx / f, x_hi = (w - dg.cx) / f, y_lo = (dg.cy - h) / f, y_hi = dg.cy / f;
     clamp_stats cs = {0};
     int lost = 0;
     for (int i = 0; i < t->count; i++) {
@@ -203,16 +207,17 @@ void gaze_place(gaze_trace *t, const gaze_place_desc *desc, const display_desc *
             lost++;
             continue;
         }
-        tx = clamp_tan(tx, lim_x, &cs.span_x, &cs);
-        ty = clamp_tan(ty, lim_y, &cs.span_y, &cs);
-        s->x = (float)(0.5 + f * tx / w);
-        s->y = (float)(0.5 - f * ty / h);
+        tx = clamp_tan(tx, x_lo, x_hi, &cs.span_x, &cs);
+        ty = clamp_tan(ty, y_lo, y_hi, &cs.span_y, &cs);
+        /* (cx + f tx) / w, written so that ppx = 0 keeps 0.5 + f tx / w bit for bit. */
+        s->x = (float)(0.5 + (ppx + f * tx) / w);
+        s->y = (float)(0.5 + (ppy - f * ty) / h);
     }
     t->valid_count -= lost;
     if (lost)
         log_info("GAZE: [%s] %d samples without a gaze direction are invalid", t->path, lost);
     if (cs.over > 0)
         log_warn("GAZE: [%s] trace spans ±%.1f° x ±%.1f°, the display ±%.1f° x ±%.1f°: clamped by up to %.1f°",
-                 t->path, cs.span_x, cs.span_y, atan(lim_x) / DEG, atan(lim_y) / DEG, cs.over);
+                 t->path, cs.span_x, cs.span_y, atan(fmax(-x_lo, x_hi)) / DEG, atan(fmax(-y_lo, y_hi)) / DEG, cs.over);
     refill_held(t);
 }

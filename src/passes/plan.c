@@ -157,6 +157,11 @@ static plan_pass *get_pass(plan *p, plan_pass_kind kind, alpha_mode mode)
     return ps;
 }
 
+display_desc plan_display(const plan *p)
+{
+    return (display_desc){p->width, p->height, p->hfov_deg, p->ppx, p->ppy};
+}
+
 /* Whether any two camera keys differ (position, target or fov). */
 static bool camera_moves(const camera_path *c)
 {
@@ -196,6 +201,9 @@ static void plan_settings(const scene *sc, const plan_options *o, plan *out)
     out->width = o->width > 0 ? o->width : sc->display.width;
     out->height = o->height > 0 ? o->height : sc->display.height;
     out->hfov_deg = sc->display.hfov_deg;
+    display_desc at = display_resized(&sc->display, out->width, out->height);
+    out->ppx = at.ppx;
+    out->ppy = at.ppy;
     out->global_mode = o->alpha_mode != ALPHA_MODE_DEFAULT ? o->alpha_mode
                        : sc->alpha_mode != ALPHA_MODE_DEFAULT ? sc->alpha_mode
                                                               : ALPHA_MODE_TRADITIONAL;
@@ -535,7 +543,7 @@ void plan_print(const plan *p, const scene *sc, FILE *f)
     if (p->vrs && p->pass_count > 0 && plan_pass_vrs(&p->passes[0], &v))
         fprintf(f, "  (VRS: each pass above draws the 1x1 tiles; its twin + %s [VRS 1] shades the coarser ones once per "
                    "coarse pixel and triangle)\n", v.gs);
-    display_desc dd = {p->width, p->height, p->hfov_deg};
+    display_desc dd = plan_display(p);
     if (p->rings) {
         char spec[256];
         fov_layout_format(&p->layout, spec, sizeof spec);

@@ -115,6 +115,7 @@ typedef struct plan_options {
 typedef struct plan {
     int width, height;
     float hfov_deg;
+    float ppx, ppy;             /* the scene display's principal point at width x height (core/display.h) */
     alpha_mode global_mode;     /* effective mode for MASK materials without an override */
     bool reference;             /* plan_options.reference: overrides ignored, global_mode stochastic */
     bool reference_lists;       /* plan_options.reference_lists: MASK and BLEND go to the list pass */
@@ -175,6 +176,8 @@ typedef struct plan {
 /* Builds the plan (FS_ERR_INTERNAL only if the scene needs more than PLAN_MAX_PASSES passes). */
 fs_status plan_build(const scene *sc, const plan_options *opt, plan *out);
 /* The pass of a kind (and mode for MASK), or NULL when the scene does not need it. */
+/* The display the plan draws: width x height, the scene's hfov and principal point. */
+display_desc plan_display(const plan *p);
 const plan_pass *plan_find(const plan *p, plan_pass_kind kind, alpha_mode mode);
 /* The counting variant of forward pass `ps` (docs/benchmarks.md "Work counts"): the same pass with
  * COUNT_FRAGMENTS defined, so its fragment shader counts covered fragments. False (and a logged

@@ -51,14 +51,14 @@ static const uniform_slot k_pass_uniforms[] = {
 static const uniform_slot k_taa_uniforms[] = {
     TAA(u_layer), TAA(u_size), TAA(u_prev_size), TAA(u_array_px), TAA(u_inv_view_proj), TAA(u_prev_view_proj),
     TAA(u_history_valid), TAA(u_blend), TAA(u_gamma), TAA(u_sparse), TAA(u_rect), TAA(u_prev_rect),
-    TAA(u_ring_prev_rect), TAA(u_ring_block), TAA(u_block), TAA(u_cull_gaze_px), TAA(u_cull_display_px),
+    TAA(u_ring_prev_rect), TAA(u_ring_block), TAA(u_block), TAA(u_cull_gaze_px), TAA(u_cull_principal_px),
     TAA(u_cull_focal_px), TAA(u_ring_hole_deg), TAA(u_prev_inv_view_proj), TAA(u_view_proj),
 };
 #undef TAA
 
 #define COMP(f) UNIFORM(composite_program, f)
 static const uniform_slot k_composite_uniforms[] = {
-    COMP(u_display_px), COMP(u_focal_px), COMP(u_gaze_px), COMP(u_ring_outer), COMP(u_ring_band), COMP(u_ring_rect),
+    COMP(u_display_px), COMP(u_focal_px), COMP(u_principal_px), COMP(u_gaze_px), COMP(u_ring_outer), COMP(u_ring_band), COMP(u_ring_rect),
     COMP(u_ring_block), COMP(u_array_px),
 };
 #undef COMP

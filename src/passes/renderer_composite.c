@@ -38,7 +38,7 @@ static int side_segment(int side)
  * without blending, or -1: searched per pixel. */
 static int window_rect_ring(const renderer *r, const frame_record *fr, int x0, int y0, int x1, int y1)
 {
-    display_desc d = {r->width, r->height, fr->hfov_deg};
+    display_desc d = frame_display(fr, r->width, r->height);
     return fov_tile_ring(&d, &r->pl.layout, fr->gaze_px[0], fr->gaze_px[1], x0, r->height - y1, x1, r->height - y0);
 }
 
@@ -132,8 +132,8 @@ fs_status renderer_composite_create(renderer *r)
 static void composite_uniforms(const renderer *r, const composite_program *c, const frame_record *fr)
 {
     const fov_layout *l = &r->pl.layout;
-    display_desc d = {r->width, r->height, fr->hfov_deg};
-    float outer[MAX_FOV_RINGS], band[MAX_FOV_RINGS], rect[4 * MAX_FOV_RINGS], block[MAX_FOV_RINGS];
+    display_desc d = frame_display(fr, r->width, r->height);
+    float outer[MAX_FOV_RINGS], principal[2], band[MAX_FOV_RINGS], rect[4 * MAX_FOV_RINGS], block[MAX_FOV_RINGS];
     for (int i = 0; i < l->count; i++) {
         float prev = i > 0 ? l->rings[i - 1].outer_deg : 0.0f;
         outer[i] = isinf(l->rings[i].outer_deg) ? 1e9f : l->rings[i].outer_deg;
@@ -148,6 +148,8 @@ static void composite_uniforms(const renderer *r, const composite_program *c, co
     glProgramUniform2f(c->id, c->u_display_px, (float)r->width, (float)r->height);
     glProgramUniform2f(c->id, c->u_array_px, (float)r->width, (float)r->height);
     glProgramUniform1f(c->id, c->u_focal_px, fov_focal_px(&d));
+    fov_principal_px(&d, principal);
+    glProgramUniform2f(c->id, c->u_principal_px, principal[0], principal[1]);
     glProgramUniform2f(c->id, c->u_gaze_px, fr->gaze_px[0], fr->gaze_px[1]);
     glProgramUniform1fv(c->id, c->u_ring_outer, l->count, outer);
     glProgramUniform1fv(c->id, c->u_ring_band, l->count, band);

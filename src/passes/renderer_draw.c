@@ -27,7 +27,7 @@ static float ring_lod_px(const renderer *r, const frame_record *fr, int ring)
 {
     if (!r->pl.ring_lod || !ring_lod_ring_is_per_card(&r->pl.ring_lod_spec, &r->pl.layout, ring))
         return 0.0f;
-    display_desc dd = {r->width, r->height, fr->hfov_deg};
+    display_desc dd = frame_display(fr, r->width, r->height);
     /* "simplify:area=A": sides measured in units of sqrt(A / RING_LOD_AREA_REF) ring pixels */
     float area = ring_lod_area(&r->pl.ring_lod_spec) / (float)RING_LOD_AREA_REF;
     return fov_focal_px(&dd) / exp2f((float)r->pl.layout.rings[ring].scale_log2) / sqrtf(area);
@@ -151,7 +151,7 @@ static void draw_asset(renderer *r, const gpu_program *pg, const plan_pass *ps, 
  * instances it draws. TAA treats history from the hole as invalid (taa.frag, TAA_RING_CULL). */
 static int cull_instances(renderer *r, const frame_record *fr, int ring)
 {
-    display_desc dd = {r->width, r->height, fr->hfov_deg};
+    display_desc dd = frame_display(fr, r->width, r->height);
     float hole = r->pl.ring_cull ? fov_ring_cull_deg(&dd, &r->pl.layout, ring) : 0.0f;
     float px = ring_lod_px(r, fr, ring);
     int drawn = 0;
@@ -325,7 +325,7 @@ static void taa_resolve_ring(renderer *r, const frame_record *fr, int ring)
     glProgramUniform1f(p->id, p->u_block, (float)rr->block);
     if (r->pl.ring_cull) {
         glProgramUniform2f(p->id, p->u_cull_gaze_px, r->prev_gaze_px[0], r->prev_gaze_px[1]);
-        glProgramUniform2f(p->id, p->u_cull_display_px, (float)r->width, (float)r->height);
+        glProgramUniform2f(p->id, p->u_cull_principal_px, r->prev_principal_px[0], r->prev_principal_px[1]);
         glProgramUniform1f(p->id, p->u_cull_focal_px, r->prev_focal_px);
         glProgramUniform1fv(p->id, p->u_ring_hole_deg, fr->ring_count, r->prev_hole_deg);
     }
@@ -608,10 +608,11 @@ fs_status renderer_draw(renderer *r, const frame_record *fr)
         }
         r->prev_index = fr->index;
         r->prev_time = fr->time;
-        display_desc dd = {r->width, r->height, fr->hfov_deg};
+        display_desc dd = frame_display(fr, r->width, r->height);
         r->prev_gaze_px[0] = fr->gaze_px[0];
         r->prev_gaze_px[1] = fr->gaze_px[1];
         r->prev_focal_px = fov_focal_px(&dd);
+        fov_principal_px(&dd, r->prev_principal_px);
         for (int i = 0; i < fr->ring_count; i++)
             r->prev_hole_deg[i] = r->pl.ring_cull && fov_ring_cull_deg(&dd, &r->pl.layout, i) > 0.0f
                                       ? fov_ring_hole_deg(&r->pl.layout, i)

@@ -50,7 +50,7 @@ typedef struct gpu_program {
 
 typedef struct composite_program {
     GLuint id;
-    GLint u_display_px, u_focal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
+    GLint u_display_px, u_focal_px, u_principal_px, u_gaze_px, u_ring_outer, u_ring_band, u_ring_rect, u_ring_block, u_array_px;
 } composite_program;
 
 /* A square of the composite (renderer_composite.c): window pixels [x0, x1) x [y0, y1) (row 0 at
@@ -65,7 +65,7 @@ typedef struct taa_program {
     GLuint id;
     GLint u_layer, u_size, u_prev_size, u_array_px, u_inv_view_proj, u_prev_view_proj, u_history_valid, u_blend,
         u_gamma, u_sparse, u_rect, u_prev_rect, u_block, u_ring_prev_rect, u_ring_block, u_cull_gaze_px,
-        u_cull_display_px, u_cull_focal_px, u_ring_hole_deg, u_prev_inv_view_proj, u_view_proj;
+        u_cull_principal_px, u_cull_focal_px, u_ring_hole_deg, u_prev_inv_view_proj, u_view_proj;
 } taa_program;
 
 typedef struct gpu_prim {
@@ -174,6 +174,7 @@ struct renderer {
     mat4 prev_vp[MAX_FOV_RINGS];
     fov_ring_rect prev_rect[MAX_FOV_RINGS];
     float prev_gaze_px[2], prev_focal_px;   /* plan.ring_cull: where the previous frame's holes were */
+    float prev_principal_px[2];             /* ... and its principal point (fov_principal_px) */
     float prev_hole_deg[MAX_FOV_RINGS];     /* fov_ring_hole_deg of the rings that culled, else 0 */
     mat4 draw_vp;                           /* the view-projection the ring being drawn uses */
     bool pass_sync;

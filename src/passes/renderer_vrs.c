@@ -10,7 +10,7 @@
 
 fs_status renderer_vrs_create(renderer *r)
 {
-    display_desc dd = {r->width, r->height, r->pl.hfov_deg};
+    display_desc dd = plan_display(&r->pl);
     vrs_tile_grid(&dd, r->pl.vrs_tile, &r->vrs_tiles_x, &r->vrs_tiles_y);
     size_t tiles = (size_t)r->vrs_tiles_x * (size_t)r->vrs_tiles_y;
     r->vrs_rates = malloc(tiles);
@@ -63,7 +63,7 @@ static void vrs_full_rate_rects(renderer *r)
 
 void renderer_vrs_frame(renderer *r, const frame_record *fr)
 {
-    display_desc dd = {r->width, r->height, fr->hfov_deg};
+    display_desc dd = frame_display(fr, r->width, r->height);
     size_t n = (size_t)r->vrs_tiles_x * (size_t)r->vrs_tiles_y;
     /* Tracking lost with policy full: the display at full rate, as the rings draw it then. */
     if (fr->full_res)

@@ -343,7 +343,7 @@ static fs_status accumulate(reference *rf, renderer *r, float *sum)
  * the pass number `pass` in its index (the stochastic thresholds hash it: a new one every pass). */
 static frame_record sub_sample(const reference *rf, const frame_record *fr0, int grid, int sx, int sy, int pass)
 {
-    display_desc d = {rf->width, rf->height, fr0->hfov_deg};
+    display_desc d = frame_display(fr0, rf->width, rf->height);
     frame_record fr = *fr0;
     fov_layout off = rf->pl.layout;
     frame_record_set_gaze(&fr, &off, &d, 0.5f, 0.5f);

@@ -88,8 +88,8 @@ static fs_status resolve_layout(const run_desc *d, const scene *sc, int width, i
         *out = fov_layout_off();
         return FS_OK;
     }
-    display_desc dd = {width > 0 ? width : sc->display.width, height > 0 ? height : sc->display.height,
-                       sc->display.hfov_deg};
+    display_desc dd = display_resized(&sc->display, width > 0 ? width : sc->display.width,
+                                      height > 0 ? height : sc->display.height);
     /* Both were parsed once, where they were read; only "auto" and "aggressive" depend on the
      * display. */
     const fov_layout *given = d->rings ? &d->rings_layout : sc->rings[0] ? &sc->rings_layout : NULL;
@@ -178,7 +178,8 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &s->gaze);
     if (st == FS_OK && d->gaze_path) { /* by angle on the display frames are drawn for (gaze.h) */
         gaze_place_desc pd = gaze_place_merge(&d->place, &s->sc.gaze_place);
-        gaze_place(&s->gaze, &pd, &(display_desc){s->pl.width, s->pl.height, s->sc.display.hfov_deg});
+        display_desc at = display_resized(&s->sc.display, s->pl.width, s->pl.height);
+        gaze_place(&s->gaze, &pd, &at);
     }
     if (st == FS_OK)
         st = gl_device_create(&(gl_device_desc){.gpu_index = d->gpu, .gl_debug = d->gl_debug});
@@ -241,7 +242,7 @@ void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, c
 frame_record session_frame(session *s, int index, float time, float prev_time)
 {
     frame_record fr = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
-    display_desc dd = {s->pl.width, s->pl.height, fr.hfov_deg};
+    display_desc dd = frame_display(&fr, s->pl.width, s->pl.height);
     set_frame_gaze(s, &fr, &s->pl.layout, &dd, time, true);
     return fr;
 }

@@ -164,7 +164,7 @@ static fs_status resolve_layouts(viewer *v)
     if (st != FS_OK)
         return st;
     v->layouts[LAYOUT_AUTO] = po.layout;
-    display_desc dd = {v->width, v->height, v->sc.display.hfov_deg};
+    display_desc dd = display_resized(&v->sc.display, v->width, v->height);
     v->layouts[LAYOUT_AGGRESSIVE] = fov_layout_aggressive(&dd);
     v->layouts[LAYOUT_OFF] = fov_layout_off();
     char run[256], other[256];
@@ -410,7 +410,7 @@ static void update_title(viewer *v)
 static void update_gaze(viewer *v, bool use_mouse)
 {
     if (v->gaze.count > 0) {
-        display_desc dd = {v->width, v->height, v->sc.display.hfov_deg};
+        display_desc dd = display_resized(&v->sc.display, v->width, v->height);
         gaze_delivery g = gaze_tracker_at(&v->gaze, &v->tracker, &dd, (float)v->tick / v->fps, NULL);
         gaze_point truth = gaze_at(&v->gaze, (float)v->tick / v->fps, NULL);
         v->true_gx = truth.x;
@@ -505,7 +505,7 @@ static fs_status frame(viewer *v, bool *running)
     if (v->reset_history)
         fr.cut = true; /* the renderer drops TAA history across a cut */
     v->reset_history = false;
-    display_desc dd = {v->width, v->height, fr.hfov_deg};
+    display_desc dd = frame_display(&fr, v->width, v->height);
     frame_record_set_gaze(&fr, &v->pl[0].layout, &dd, v->gx, v->gy);
     if (v->gaze.count > 0) /* captures name both */
         frame_record_set_true_gaze(&fr, &dd, v->true_gx, v->true_gy);
@@ -593,7 +593,8 @@ static fs_status setup(viewer *v, const run_desc *d)
         st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &v->gaze);
     if (st == FS_OK && d->gaze_path) { /* by angle, as session_begin places it */
         gaze_place_desc pd = gaze_place_merge(&d->place, &v->sc.gaze_place);
-        gaze_place(&v->gaze, &pd, &(display_desc){probe.width, probe.height, v->sc.display.hfov_deg});
+        display_desc at = display_resized(&v->sc.display, probe.width, probe.height);
+        gaze_place(&v->gaze, &pd, &at);
     }
     v->tracker = gaze_tracker_merge(&d->tracker, &v->sc.tracker);
     if (st == FS_OK && d->view.script)

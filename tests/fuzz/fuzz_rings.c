@@ -72,7 +72,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     /* The default display; a small one keeps the per-tile work cheap, a huge-fov one reaches the
      * 90-degree cases. */
-    static const display_desc displays[] = {{1280, 720, 90.0f}, {64, 48, 170.0f}};
+    static const display_desc displays[] = {{1280, 720, 90.0f, 0.0f, 0.0f}, {64, 48, 170.0f, 0.0f, 0.0f}};
     const display_desc *d = &displays[size % 2];
 
     fov_layout l = fov_layout_off();

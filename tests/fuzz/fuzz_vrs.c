@@ -75,7 +75,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(same_spec(&s, &back));
 
     /* Small displays keep the per-tile work cheap; the wide one reaches large eccentricities. */
-    static const display_desc displays[] = {{97, 61, 90.0f}, {64, 48, 170.0f}};
+    static const display_desc displays[] = {{97, 61, 90.0f, 0.0f, 0.0f}, {64, 48, 170.0f, 0.0f, 0.0f}};
     const display_desc *d = &displays[size % 2];
     static const int tiles[] = {8, 16, 32};
     const float w = (float)d->width, h = (float)d->height;

@@ -97,7 +97,7 @@ TEST(glsl_eccentricity_and_blend_agree_with_the_c_twins)
     scene sc;
     constant_scene(&sc);
     fov_layout l = gpu_layout("5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", W, H);
-    display_desc d = {W, H, 90.0f};
+    display_desc d = {W, H, 90.0f, 0.0f, 0.0f};
     for (int g = 0; g < NGAZE; g++) {
         exr_image img;
         gpu_fov fv = {.layout = &l, .gaze = {k_gazes[g][0], k_gazes[g][1]}, .debug_channels = true};
@@ -134,7 +134,7 @@ TEST(tiled_composite_equals_the_per_pixel_search_bit_for_bit)
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
     static const char *const specs[] = {"auto", "5:1:0,15:1/2:0,30:1/4:0,*:1/16:0", "20:1/2:0,*:1/4:0"};
-    display_desc d = {W, H, 90.0f};
+    display_desc d = {W, H, 90.0f, 0.0f, 0.0f};
     for (int s = 0; s < 3; s++) {
         fov_layout l = gpu_layout(specs[s], W, H);
         if (s == 2)
@@ -223,7 +223,7 @@ static void outer_ring_coverage(const char *builtin, float t)
     enum { W = 1280, H = 720 }; /* the scenes' display: the mip levels a user sees */
     scene sc;
     CHECK(scene_load_builtin(builtin, &sc) == FS_OK);
-    display_desc d = {W, H, sc.display.hfov_deg};
+    display_desc d = {W, H, sc.display.hfov_deg, 0.0f, 0.0f};
     fov_layout l = fov_layout_auto(&d, 0, 0);
     exr_image full, fov;
     gpu_fov fv = {.layout = &l, .gaze = {0.5f, 0.5f}, .debug_channels = true};

@@ -75,7 +75,7 @@ static void run_case(const golden_case *gc)
     fov_layout l = fov_layout_off();
     if (gc->rings) {
         char err[256];
-        display_desc d = {gc->w, gc->h, sc.display.hfov_deg};
+        display_desc d = {gc->w, gc->h, sc.display.hfov_deg, 0.0f, 0.0f};
         CHECK(fov_layout_parse(gc->rings, &d, &l, err, sizeof err) == FS_OK);
     }
     gpu_fov fv = {.layout = &l, .gaze = {gc->gaze[0], gc->gaze[1]}};

@@ -31,7 +31,7 @@ static bool seq_begin(seq *q, const scene *sc, alpha_mode mode, int w, int h, co
 static fs_status seq_frame(seq *q, const scene *sc, int index, float t, float prev_t, float gx, float gy, exr_image *img)
 {
     frame_record fr = frame_record_at(sc, index, t, prev_t, q->pl.width, q->pl.height);
-    display_desc dd = {q->pl.width, q->pl.height, fr.hfov_deg};
+    display_desc dd = {q->pl.width, q->pl.height, fr.hfov_deg, 0.0f, 0.0f};
     frame_record_set_gaze(&fr, &q->pl.layout, &dd, gx, gy);
     fs_status st = renderer_draw(q->r, &fr);
     return st == FS_OK && img ? renderer_read(q->r, img) : st;
@@ -81,7 +81,7 @@ static void still_forest(scene *sc, float t, const char *rings, int w, int h, di
 {
     CHECK(scene_load_builtin("forest", sc) == FS_OK);
     still_camera(sc, t);
-    *d = (display_desc){w, h, sc->display.hfov_deg};
+    *d = (display_desc){w, h, sc->display.hfov_deg, 0.0f, 0.0f};
     char err[128];
     CHECK(fov_layout_parse(rings, d, l, err, sizeof err) == FS_OK);
 }
@@ -140,7 +140,7 @@ TEST(nan_and_inf_never_enter_history)
     enum { W = 160, H = 90, N = 6 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    display_desc d = {W, H, sc.display.hfov_deg};
+    display_desc d = {W, H, sc.display.hfov_deg, 0.0f, 0.0f};
     fov_layout l;
     char err[128];
     CHECK(fov_layout_parse("10:1:0,*:1/4:0", &d, &l, err, sizeof err) == FS_OK);
@@ -194,7 +194,7 @@ TEST(camera_cut_and_saccade_history)
     enum { W = 192, H = 108 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    display_desc d = {W, H, sc.display.hfov_deg};
+    display_desc d = {W, H, sc.display.hfov_deg, 0.0f, 0.0f};
     fov_layout l;
     char err[128];
     CHECK(fov_layout_parse("8:1:0,20:1/2:0,*:1/4:0", &d, &l, err, sizeof err) == FS_OK);
@@ -437,7 +437,7 @@ TEST(fovea_stays_sharp_in_pursuit_and_motion_leaves_no_ghosts)
     enum { W = 320, H = 180, N = 24 };
     scene sc;
     CHECK(scene_load_builtin("forest", &sc) == FS_OK);
-    display_desc d = {W, H, sc.display.hfov_deg};
+    display_desc d = {W, H, sc.display.hfov_deg, 0.0f, 0.0f};
     fov_layout l;
     char err[128];
     CHECK(fov_layout_parse("10:1:0,25:1/2:0,*:1/4:0", &d, &l, err, sizeof err) == FS_OK);

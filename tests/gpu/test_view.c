@@ -148,7 +148,7 @@ static void check_overlay(const char *path, float gx, float gy)
     fprintf(stderr, "%s: marker at (%d, %d), gaze pixel (%d, %d)\n", path, cx, cy, ex, ey);
     CHECK(centres == 1 && cx == ex && cy == ey);
     const exr_attr *hfov = exr_image_attr(&img, "fovsim:hfov_deg");
-    display_desc d = {W, H, hfov ? hfov->f[0] : 90.0f};
+    display_desc d = {W, H, hfov ? hfov->f[0] : 90.0f, 0.0f, 0.0f};
     const float *r = exr_image_channel(&img, "R"), *g = exr_image_channel(&img, "G"), *b = exr_image_channel(&img, "B");
     int border = 0, off = 0;
     double px_deg = 1.0 / (double)fov_pixels_per_degree(&d); /* at the centre; larger nowhere on screen */

@@ -16,7 +16,7 @@
 #define PI 3.14159265358979323846
 #define EYELINK_DIR "gaze/eyelink_asc_eyelinker/"
 
-static const display_desc k_disp = {1280, 720, 90.0f};
+static const display_desc k_disp = {1280, 720, 90.0f, 0.0f, 0.0f};
 
 /* >>synthetic traces */
 
@@ -509,7 +509,7 @@ static agreement eyelink_agreement(const char *file, gaze_eye eye_sel, char eye)
         return a;
     /* 1024 px at ev.res px/deg at the centre: focal length res * 180 / pi px */
     double hfov = 2.0 * atan(512.0 / (ev.res * 180.0 / PI)) * 180.0 / PI;
-    display_desc d = {t.screen_w, t.screen_h, (float)hfov};
+    display_desc d = {t.screen_w, t.screen_h, (float)hfov, 0.0f, 0.0f};
     gaze_events e;
     CHECK(gaze_events_classify(&t, &d, NULL, &e) == FS_OK);
     int k = 0;

@@ -15,7 +15,7 @@
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 
-static const display_desc k_d90 = {1280, 720, 90.0f}, k_d110 = {1920, 1080, 110.0f};
+static const display_desc k_d90 = {1280, 720, 90.0f, 0.0f, 0.0f}, k_d110 = {1920, 1080, 110.0f, 0.0f, 0.0f};
 
 /* The angles of a placed sample on display d: frame_record's gaze_deg convention. */
 static double deg_x(const display_desc *d, double x)

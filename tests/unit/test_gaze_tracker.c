@@ -14,7 +14,7 @@
 #include "gaze/gaze_tracker.h"
 #include "test.h"
 
-static const display_desc k_disp = {1280, 720, 90.0f};
+static const display_desc k_disp = {1280, 720, 90.0f, 0.0f, 0.0f};
 
 /* A fovsim CSV trace from rows "t,x,y,confidence" appended by the callers. */
 typedef struct csv {

@@ -75,7 +75,7 @@ static bool all_finite(const ring_metrics *m)
 /* A one-ring mask ("off" layout) of w x h: every pixel in ring 0. */
 static ring_mask whole_mask(int w, int h)
 {
-    display_desc d = {w, h, 90.0f};
+    display_desc d = {w, h, 90.0f, 0.0f, 0.0f};
     fov_layout off = fov_layout_off();
     ring_mask m;
     CHECK(ring_mask_build(&d, &off, 0.5f * (float)w, 0.5f * (float)h, &m) == FS_OK);
@@ -105,7 +105,7 @@ static double ecc_ref(const display_desc *d, double gx, double gy, double px, do
  * around pi r^2 = 9849); the lattice count lands much closer, hence also 1 %. */
 TEST(ring_mask_centre_circle)
 {
-    display_desc d = {1280, 720, 90.0f};
+    display_desc d = {1280, 720, 90.0f, 0.0f, 0.0f};
     fov_layout l = parse_layout("5:1:0,*:0.5:0", &d);
     ring_mask m;
     CHECK(ring_mask_build(&d, &l, 640.0f, 360.0f, &m) == FS_OK);
@@ -133,7 +133,7 @@ TEST(ring_mask_centre_circle)
  * border (1e-3 deg) may disagree. */
 TEST(ring_mask_corner_matches_independent_eccentricity)
 {
-    display_desc d = {320, 180, 90.0f};
+    display_desc d = {320, 180, 90.0f, 0.0f, 0.0f};
     fov_layout l = parse_layout("10:1:0,25:0.5:0,*:0.25:0", &d);
     static const float gazes[][2] = {{0.0f, 0.0f}, {320.0f, 180.0f}, {0.0f, 180.0f}, {100.5f, 3.25f}};
     for (size_t k = 0; k < sizeof gazes / sizeof gazes[0]; k++) {
@@ -162,7 +162,7 @@ TEST(ring_mask_corner_matches_independent_eccentricity)
 /* Gaze outside the display is clamped first (the composite's gaze); a NaN gaze is the centre. */
 TEST(ring_mask_gaze_outside_clamps)
 {
-    display_desc d = {160, 90, 90.0f};
+    display_desc d = {160, 90, 90.0f, 0.0f, 0.0f};
     fov_layout l = parse_layout("10:1:0,*:0.5:0", &d);
     ring_mask out, edge, nan_gaze, centre;
     CHECK(ring_mask_build(&d, &l, -500.0f, 2000.0f, &out) == FS_OK);
@@ -181,7 +181,7 @@ TEST(ring_mask_gaze_outside_clamps)
 
 TEST(ring_mask_bad_input)
 {
-    display_desc d = {0, 90, 90.0f};
+    display_desc d = {0, 90, 90.0f, 0.0f, 0.0f};
     fov_layout l = fov_layout_off();
     ring_mask m;
     CHECK(ring_mask_build(&d, &l, 0.0f, 0.0f, &m) == FS_ERR_USAGE);
@@ -241,7 +241,7 @@ TEST(rmse_psnr_known_values)
  * of the rings' MSE. */
 TEST(error_per_ring)
 {
-    display_desc d = {64, 36, 90.0f};
+    display_desc d = {64, 36, 90.0f, 0.0f, 0.0f};
     fov_layout l = parse_layout("10:1:0,*:0.5:0", &d);
     ring_mask m;
     CHECK(ring_mask_build(&d, &l, 32.0f, 18.0f, &m) == FS_OK);
@@ -345,7 +345,7 @@ TEST(non_finite_inputs)
     CHECK_NEAR(o[0].change, (0.5 + (65504.0 - 0.5) + 0.0) / 3.0, 1e-9);
 
     /* Everything broken at once, in a larger frame with rings. */
-    display_desc d = {16, 9, 90.0f};
+    display_desc d = {16, 9, 90.0f, 0.0f, 0.0f};
     fov_layout l = parse_layout("20:1:0,*:0.5:0", &d);
     ring_mask rm;
     CHECK(ring_mask_build(&d, &l, 8.0f, 4.5f, &rm) == FS_OK);
@@ -369,7 +369,7 @@ TEST(non_finite_inputs)
  * and reports pixels 0 with the neutral values. */
 TEST(one_pixel_and_empty_ring)
 {
-    display_desc d = {1, 1, 90.0f};
+    display_desc d = {1, 1, 90.0f, 0.0f, 0.0f};
     fov_layout l = parse_layout("5:1:0,*:0.5:0", &d);
     ring_mask m;
     CHECK(ring_mask_build(&d, &l, 0.5f, 0.5f, &m) == FS_OK);
@@ -390,7 +390,7 @@ TEST(one_pixel_and_empty_ring)
     ring_mask_free(&m);
 
     /* A ring too small to hold any pixel centre: gaze on a pixel corner, radius 0.01 deg. */
-    display_desc d2 = {64, 36, 90.0f};
+    display_desc d2 = {64, 36, 90.0f, 0.0f, 0.0f};
     fov_layout tiny = parse_layout("0.01:1:0,*:0.5:0", &d2);
     CHECK(ring_mask_build(&d2, &tiny, 0.0f, 0.0f, &m) == FS_OK);
     CHECK(count_ring(&m, 0) == 0 && count_ring(&m, 1) == 64 * 36);

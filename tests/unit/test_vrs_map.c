@@ -19,7 +19,7 @@ typedef struct tdisp {
 
 static tdisp tdisp_make(int w, int h, float hfov)
 {
-    tdisp t = {{w, h, hfov}, 0.5 * w / tan(0.5 * hfov * FS_PI / 180.0)};
+    tdisp t = {{w, h, hfov, 0.0f, 0.0f}, 0.5 * w / tan(0.5 * hfov * FS_PI / 180.0)};
     return t;
 }
 
@@ -166,7 +166,7 @@ TEST(gaze_tile_is_full_rate)
     const vrs_spec autos = {.is_auto = true};
     uint64_t seed = 1;
     for (int i = 0; i < 3; i++) {
-        display_desc d = {1280, 720, fovs[i]};
+        display_desc d = {1280, 720, fovs[i], 0.0f, 0.0f};
         int nx, ny;
         vrs_tile_grid(&d, 16, &nx, &ny);
         vrs_rate *rates = malloc((size_t)nx * ny);
@@ -193,7 +193,7 @@ static bool no_nearer_centre(int a, int b, int tile, double half)
 TEST(rates_coarsen_outwards)
 {
     const vrs_spec autos = {.is_auto = true};
-    display_desc d = {1280, 720, 90.0f};
+    display_desc d = {1280, 720, 90.0f, 0.0f, 0.0f};
     int nx, ny;
     vrs_tile_grid(&d, 16, &nx, &ny);
     vrs_rate *rates = malloc((size_t)nx * ny);
@@ -233,7 +233,7 @@ TEST(rates_coarsen_outwards)
 TEST(centre_map_has_every_kind_of_rate)
 {
     const vrs_spec autos = {.is_auto = true};
-    display_desc d = {1280, 720, 90.0f};
+    display_desc d = {1280, 720, 90.0f, 0.0f, 0.0f};
     int nx, ny;
     vrs_tile_grid(&d, 16, &nx, &ny);
     CHECK(nx == 80 && ny == 45);
@@ -358,7 +358,7 @@ TEST(explicit_map_follows_the_bands)
 
 TEST(statistics)
 {
-    display_desc d = {97, 61, 90.0f}; /* partial tiles at the right and bottom */
+    display_desc d = {97, 61, 90.0f, 0.0f, 0.0f}; /* partial tiles at the right and bottom */
     int nx, ny;
     vrs_tile_grid(&d, 16, &nx, &ny);
     CHECK(nx == 7 && ny == 4);
@@ -372,7 +372,7 @@ TEST(statistics)
     CHECK(st.pixels[vrs_rate_index(VRS_4X4)] == 97 * 61);
 
     /* A 32x16 display of two tiles, 1x1 and 2x4: 256 + 256 / 8 of 512 pixels shaded. */
-    display_desc two = {32, 16, 90.0f};
+    display_desc two = {32, 16, 90.0f, 0.0f, 0.0f};
     vrs_rate r2[2] = {VRS_1X1, VRS_2X4};
     st = vrs_map_stats(&two, 16, r2);
     CHECK_NEAR(st.shaded, 288.0, 1e-12);
@@ -380,7 +380,7 @@ TEST(statistics)
     CHECK(st.share[0] == 0.5 && st.share[vrs_rate_index(VRS_2X4)] == 0.5);
 
     /* An auto map's shares sum to 1 and its pixels to the display's. */
-    display_desc big = {1280, 720, 90.0f};
+    display_desc big = {1280, 720, 90.0f, 0.0f, 0.0f};
     vrs_rate *m = malloc(80 * 45);
     const vrs_spec autos = {.is_auto = true};
     vrs_map_fill(&big, &autos, 16, 300.0f, 500.0f, m);

@@ -165,7 +165,7 @@ TEST(a_frozen_image_scores_worse_than_the_method_it_froze)
     static shot prev, cur;
     render(&prev, 0.0f);
     render(&cur, 0.5f);
-    display_desc d = {W, H, 60.0f};
+    display_desc d = {W, H, 60.0f, 0.0f, 0.0f};
     fov_layout off = fov_layout_off();
     ring_mask m;
     CHECK(ring_mask_build(&d, &off, W / 2.0f, H / 2.0f, &m) == FS_OK);
@@ -215,7 +215,7 @@ TEST(an_unchanged_frame_scores_exactly_0_under_a_still_camera)
         s.g[i] = 1.0f - s.r[i];
         s.cov[i] = (float)((state >> 4) & 1u);
     }
-    display_desc d = {W, H, 60.0f};
+    display_desc d = {W, H, 60.0f, 0.0f, 0.0f};
     fov_layout off = fov_layout_off();
     ring_mask m;
     CHECK(ring_mask_build(&d, &off, W / 2.0f, H / 2.0f, &m) == FS_OK);
