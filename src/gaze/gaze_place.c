@@ -118,9 +118,8 @@ typedef struct clamp_stats {
     double over;           /* largest angle past the display's edge, degrees */
 } clamp_stats;
 
-/* One tangent clamped to [-lim, lim], noting the trace's extent and the excess. */
-/* v clamped into [lo, hi] (the display's edges as tangents from the view axis; lo = -hi on a
- * centred display). */
+/* One tangent clamped to [lo, hi] (the display's edges as tangents from the view axis; lo = -hi on
+ * a centred display), noting the trace's extent and the excess. */
 static double clamp_tan(double v, double lo, double hi, double *span, clamp_stats *cs)
 {
     double a = atan(fabs(v)) / DEG;

@@ -68,7 +68,7 @@ static inline fs_status gpu_render_fov(const scene *sc, alpha_mode mode, int w, 
     if (!r)
         return st;
     frame_record fr = frame_record_at(sc, fv ? fv->frame : 0, t, -1.0f, w, h);
-    display_desc dd = {w, h, fr.hfov_deg, 0.0f, 0.0f};
+    display_desc dd = frame_display(&fr, w, h); /* the scene display's principal point */
     frame_record_set_gaze(&fr, &pl.layout, &dd, fv ? fv->gaze[0] : 0.5f, fv ? fv->gaze[1] : 0.5f);
     st = renderer_draw(r, &fr);
     if (st == FS_OK)
