@@ -6,7 +6,10 @@
  *
  * Decisions where the header is silent (documented here, tested in tests/unit/test_fov_ring.c):
  *   - Degenerate displays: width and height below 1 are taken as 1; a horizontal fov that is not a
- *     number is taken as 90 degrees, and one outside (0, 180) is clamped to [0.001, 179.999].
+ *     number is taken as 90 degrees, and one outside (0, 180) is clamped to [0.001, 179.999]; a
+ *     non-finite principal point offset is taken as 0 (core/display.c, which every layer shares).
+ *   - The principal point (core/display.h) is where view rays start from: eccentricities, cone
+ *     sections and block angles measure from it; the fallback gaze stays the display centre.
  *   - A gaze with a NaN or infinite coordinate is taken as the display centre (both coordinates),
  *     in fov_eccentricity_deg as well as in the footprints. A non-finite display point p gives NaN.
  *   - fov_composite_weight: a negative eccentricity counts as 0 and NaN as +infinity (the last,

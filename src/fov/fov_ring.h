@@ -75,8 +75,8 @@ fov_layout fov_layout_off(void);
  * MAR at the ring's inner edge, for either pitch and any gaze (fov_layout_acuity_margin >= 1).
  * The innermost ring is full resolution unless 2^k-pixel blocks already resolve MAR at the
  * centre (e_k = 0: the empty rings [0, 0) are skipped, so a very fine display starts coarser);
- * rings whose inner edge lies beyond the display's largest eccentricity from its centre (centre
- * to corner) are dropped; scales stop at MAX_FOV_SCALE_LOG2. slope/omega0 <= 0 mean the
+ * rings whose inner edge lies beyond the display's largest eccentricity from its principal point
+ * (to the farthest corner; centre to corner on a centred display) are dropped; scales stop at MAX_FOV_SCALE_LOG2. slope/omega0 <= 0 mean the
  * defaults. */
 fov_layout fov_layout_auto(const display_desc *d, float slope, float omega0);
 /* The "aggressive" layout (bench --accuracy's third layout, the viewer's L key, --rings aggressive):

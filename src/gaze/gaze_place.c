@@ -189,7 +189,9 @@ void gaze_place(gaze_trace *t, const gaze_place_desc *desc, const display_desc *
     frame_geom g;
     if (!choose_geom(t, desc, &g))
         return;
-    /* The pinhole (core/display.h): tangents from the view axis, principal point (cx, cy). */
+    /* The pinhole (core/display.h): tangents from the view axis, principal point (cx, cy). Its
+     * sanitising is fov_ring's (a field of view outside (0, 180) clamped, NaN 90), so a trace is
+     * placed on the display the rings measure. */
     const display_geom dg = display_geom_of(disp);
     const double w = dg.w, h = dg.h, f = dg.f;
     const double ppx = dg.cx - 0.5 * w, ppy = dg.cy - 0.5 * h; /* 0 on a centred display */
