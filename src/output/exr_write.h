@@ -136,7 +136,7 @@ void exr_image_free(exr_image *img);
 void exr_image_move(exr_image *dst, exr_image *src);
 
 /* >>views: two eyes in one file, OpenEXR's multi-view convention ("Storing Multi-View Images in
- * OpenEXR Files", single-part scheme; docs/compare.md "Two eyes: multi-view EXR").
+ * OpenEXR Files", single-part scheme; docs/output.md "Two eyes: multi-view EXR").
  *
  * A `multiView` stringvector attribute lists the views; the first is the default view. A channel
  * whose name has no '.' belongs to the default view; otherwise the view is the name's
