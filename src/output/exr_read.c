@@ -51,7 +51,8 @@ static bool copy_string_vector(exr_image *out, const exr_attribute_t *a)
 {
     const exr_attr_string_vector_t *sv = a->stringvector;
     int n = sv ? sv->n_strings : 0;
-    if (n < 0 || n > EXR_MAX_VECTOR_STRINGS || out->attr_count >= EXR_MAX_ATTRS ||
+    if (n < 0 || n > EXR_MAX_VECTOR_STRINGS || (n > 0 && !sv->strings) ||
+        out->attr_count >= EXR_MAX_ATTRS ||
         strlen(a->name) >= sizeof out->attrs[0].name)
         return false;
     char buf[EXR_MAX_VECTOR_STRINGS][sizeof out->attrs[0].s];
@@ -61,7 +62,9 @@ static bool copy_string_vector(exr_image *out, const exr_attribute_t *a)
         const exr_attr_string_t *str = &sv->strings[k];
         int32_t len = str->length;
         total += len < 0 ? 0 : (size_t)len + 1;
-        if (len < 0 || total > sizeof buf[k] || (len > 0 && !str->str))
+        /* A NUL inside a string would split it in exr_attr's packed form. */
+        if (len < 0 || total > sizeof buf[k] || (len > 0 && !str->str) ||
+            (len > 0 && memchr(str->str, '\0', (size_t)len)))
             return false;
         if (len > 0)
             memcpy(buf[k], str->str, (size_t)len);
