@@ -202,25 +202,49 @@ static const char *check_view_image(const exr_image *img, const exr_image *first
     return NULL;
 }
 
-/* Copies view k's channels into out under their multi-view names. */
-static fs_status join_channels(exr_image *out, const exr_image *img, const char *view, bool dflt)
+/* Why the channels of `images` cannot all go into one image under their multi-view names, or
+ * NULL. Checked before anything is copied or moved, so that a move never stops halfway. */
+static const char *check_channels(const exr_image *const *images, const char *const *views,
+                                  int count)
+{
+    int total = 0;
+    for (int k = 0; k < count; k++) {
+        total += images[k]->channel_count;
+        for (int c = 0; c < images[k]->channel_count; c++) {
+            char name[sizeof images[k]->channel_names[0]];
+            if (!exr_view_channel_name(images[k]->channel_names[c], views[k], k == 0, name,
+                                       sizeof name))
+                return "a channel's multi-view name is longer than 63 characters";
+        }
+    }
+    return total > EXR_MAX_CHANNELS ? "more than EXR_MAX_CHANNELS channels in all" : NULL;
+}
+
+/* Puts view k's channels into out under their multi-view names (check_channels passed): copies
+ * of the planes, or with `take` the planes themselves, img left without channels. */
+static fs_status join_channels(exr_image *out, exr_image *img, const char *view, bool dflt,
+                               bool take)
 {
     const size_t px = (size_t)img->width * (size_t)img->height;
     for (int c = 0; c < img->channel_count; c++) {
         char name[sizeof out->channel_names[0]];
-        if (!exr_view_channel_name(img->channel_names[c], view, dflt, name, sizeof name)) {
-            log_error("EXR views: channel '%s' of view '%s' makes a name longer than %zu characters",
-                      img->channel_names[c], view, sizeof name - 1);
-            return FS_ERR_INTERNAL;
+        exr_view_channel_name(img->channel_names[c], view, dflt, name, sizeof name);
+        if (take) { /* names are unique: each view's are, and the view in them differs */
+            int d = out->channel_count++;
+            memcpy(out->channel_names[d], name, sizeof name);
+            out->planes[d] = img->planes[c];
+            img->planes[c] = NULL;
+            continue;
         }
         float *dst = exr_image_add_channel(out, name);
         if (!dst) {
-            log_error("EXR views: cannot add channel '%s' (more than EXR_MAX_CHANNELS = %d in "
-                      "all, or out of memory)", name, EXR_MAX_CHANNELS);
-            return out->channel_count >= EXR_MAX_CHANNELS ? FS_ERR_INTERNAL : FS_ERR_NOMEM;
+            log_error("EXR views: out of memory for channel '%s'", name);
+            return FS_ERR_NOMEM;
         }
         memcpy(dst, img->planes[c], px * sizeof *dst);
     }
+    if (take)
+        img->channel_count = 0;
     return FS_OK;
 }
 
@@ -241,45 +265,79 @@ static bool join_attrs(exr_image *out, const exr_image *img, const exr_image *df
     return true;
 }
 
-fs_status exr_image_join_views(exr_image *out, const exr_image *const *images,
-                               const char *const *views, int count)
+/* Every view's attributes and the multiView list into out. False when they do not fit. */
+static bool join_all_attrs(exr_image *out, const exr_image *const *images,
+                           const char *const *views, int count)
+{
+    bool ok = true;
+    for (int a = 0; ok && a < images[0]->attr_count; a++)
+        ok = put_attr(out, &images[0]->attrs[a], images[0]->attrs[a].name);
+    ok = ok && out->attr_count < EXR_MAX_ATTRS &&
+         exr_image_set_string_vector(out, MULTI_VIEW, views, count);
+    for (int k = 1; ok && k < count; k++)
+        ok = join_attrs(out, images[k], images[0], views[k]);
+    return ok;
+}
+
+/* exr_image_join_views and exr_image_join_views_move: `take` moves the planes. */
+static fs_status join_views(exr_image *out, exr_image *const *images, const char *const *views,
+                            int count, bool take)
 {
     FS_ASSERT(out && images && views);
     memset(out, 0, sizeof *out);
+    const exr_image *const *cimages = (const exr_image *const *)images;
     const char *why = check_views(views, count);
     for (int k = 0; !why && k < count; k++)
         why = check_view_image(images[k], images[0], views, count);
+    if (!why)
+        why = check_channels(cimages, views, count);
     if (!why && !exr_image_init(out, images[0]->width, images[0]->height))
         why = "bad image size";
+    /* Attributes first: past this point nothing but memory can fail, and a move cannot. */
+    if (!why && !join_all_attrs(out, cimages, views, count))
+        why = "more than EXR_MAX_ATTRS attributes, or a '<view>.<name>' longer than 63 characters";
     if (why) {
         log_error("EXR views: cannot join views: %s", why);
+        exr_image_free(out);
         return FS_ERR_INTERNAL;
     }
     fs_status st = FS_OK;
     for (int k = 0; k < count && st == FS_OK; k++)
-        st = join_channels(out, images[k], views[k], k == 0);
-    bool attrs_ok = st == FS_OK;
-    for (int a = 0; attrs_ok && a < images[0]->attr_count; a++)
-        attrs_ok = put_attr(out, &images[0]->attrs[a], images[0]->attrs[a].name);
-    attrs_ok = attrs_ok && out->attr_count < EXR_MAX_ATTRS &&
-               exr_image_set_string_vector(out, MULTI_VIEW, views, count);
-    for (int k = 1; attrs_ok && k < count; k++)
-        attrs_ok = join_attrs(out, images[k], images[0], views[k]);
-    if (st == FS_OK && !attrs_ok) {
-        log_error("EXR views: more than EXR_MAX_ATTRS (%d) attributes, or a '<view>.<name>' "
-                  "longer than %zu characters", EXR_MAX_ATTRS, sizeof out->attrs[0].name - 1);
-        st = FS_ERR_INTERNAL;
-    }
-    if (st != FS_OK)
+        st = join_channels(out, images[k], views[k], k == 0, take);
+    if (st != FS_OK) {
         exr_image_free(out);
-    return st;
+        return st;
+    }
+    for (int k = 0; take && k < count; k++)
+        exr_image_free(images[k]); /* attributes only now: the planes are out's */
+    return FS_OK;
 }
+
+fs_status exr_image_join_views(exr_image *out, const exr_image *const *images,
+                               const char *const *views, int count)
+{
+    /* Not written through: with take == false join_views only reads the images. */
+    return join_views(out, (exr_image *const *)images, views, count, false);
+}
+
+fs_status exr_image_join_views_move(exr_image *out, exr_image *const *images,
+                                    const char *const *views, int count)
+{
+    return join_views(out, images, views, count, true);
+}
+
+static const char *const k_eyes[2] = {"left", "right"};
 
 fs_status exr_image_join_eyes(exr_image *out, const exr_image *left, const exr_image *right)
 {
     const exr_image *images[2] = {left, right};
-    static const char *const eyes[2] = {"left", "right"};
-    return exr_image_join_views(out, images, eyes, 2);
+    return exr_image_join_views(out, images, k_eyes, 2);
+}
+
+fs_status exr_image_join_eyes_move(exr_image *out, exr_image *left, exr_image *right)
+{
+    exr_image *images[2] = {left, right};
+    return exr_image_join_views_move(out, images, k_eyes, 2);
 }
 
 // >>extract

