@@ -51,9 +51,10 @@ static const hmd_preset *preset_find(const char *name)
 
 /* >>field of view */
 
+/* 0 - x, not -x: a zero angle stays +0, so that a mirrored eye equals the same eye written out. */
 hmd_fov hmd_fov_mirror(hmd_fov f)
 {
-    return (hmd_fov){-f.right, -f.left, f.up, f.down};
+    return (hmd_fov){0.0f - f.right, 0.0f - f.left, f.up, f.down};
 }
 
 bool hmd_fov_from_deg(const double deg[4], hmd_fov *out)
@@ -65,7 +66,7 @@ bool hmd_fov_from_deg(const double deg[4], hmd_fov *out)
         return false;
     float r[4];
     for (int i = 0; i < 4; i++)
-        r[i] = (float)(deg[i] * FS_PI / 180.0);
+        r[i] = (float)(deg[i] * FS_PI / 180.0) + 0.0f; /* -0 becomes +0: one zero, one desc */
     *out = (hmd_fov){r[0], r[1], r[2], r[3]};
     return out->left < out->right && out->down < out->up;
 }
