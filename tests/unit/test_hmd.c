@@ -258,7 +258,10 @@ TEST(text_form_round_trip)
                            "hmd:eyenavgs,fov-left=-50/40/40/-50", "hmd:eyenavgs,fov-right=-30/50/45/-55",
                            "hmd:quest-pro,fov-left=-50/40/40/-50,fov-right=-41/52/41/-52,ipd=58.3",
                            "hmd:custom,fov-left=-45/45/45/-45,width=2000,hz=90",
-                           "hmd:custom,fov-left=10/60/20/-5.5,fov-right=-60/-10/20/-5.5,height=1024,hz=60,ipd=70"};
+                           "hmd:custom,fov-left=10/60/20/-5.5,fov-right=-60/-10/20/-5.5,height=1024,hz=60,ipd=70",
+                           /* zero angles: a mirrored +0 equals a written 0 (fuzz_hmd) */
+                           "hmd:custom,fov-left=0/60/0/-5,fov-right=-60/0/0/-5,height=24,hz=7",
+                           "hmd:custom,fov-left=-0/60/-0/-5,height=24,hz=7"};
     for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++)
         check_round_trip(texts[i]);
     /* A preset formats as its name alone; a change as the preset and that change. */
