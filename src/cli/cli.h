@@ -11,6 +11,7 @@
 #include "fov/vrs_map.h"
 #include "gaze/gaze.h"
 #include "gaze/gaze_tracker.h"
+#include "hmd/hmd.h"
 #include "output/exr_write.h"
 #include "passes/plan.h"
 #include "reference/reference.h"
@@ -63,6 +64,9 @@ typedef struct run_desc {
     const char *out_dir;     /* --out, default out/<command> */
     const char *name;        /* --name: file prefix, default "frame" */
     int width, height;       /* --width/--height, 0 = the scene's display */
+    const char *display;     /* --display planar|hmd:PRESET[,KEY=VALUE...]; NULL = the scene's display */
+    display_kind display_kind; /* --display parsed: planar, or display_hmd (docs/hmd.md) */
+    hmd_desc display_hmd;
     alpha_mode alpha;        /* --alpha, DEFAULT = the scene's */
     int gpu;                 /* --gpu N, -1 = auto */
     bool verbose, quiet, gl_debug;

@@ -107,6 +107,23 @@ static bool set_vrs(const cli_option *o, run_desc *d, const char *v)
     return false;
 }
 
+/* --display: planar (the scene's planar display, whatever kind the scene gives) or an hmd, parsed
+ * once here (hmd.h). */
+static bool set_display(const cli_option *o, run_desc *d, const char *v)
+{
+    char err[320];
+    d->display = v;
+    if (!strcmp(v, "planar")) {
+        d->display_kind = DISPLAY_PLANAR;
+        return true;
+    }
+    d->display_kind = DISPLAY_HMD;
+    if (hmd_parse(v, &d->display_hmd, err, sizeof err))
+        return true;
+    log_error("%s: %s", o->name, err);
+    return false;
+}
+
 static bool set_samples(const cli_option *o, run_desc *d, const char *v)
 {
     if (!cli_parse_int(o->name, v, 2, 4096, &d->ref.samples))
@@ -317,6 +334,12 @@ const cli_option k_cli_options[] = {
     {"--width", ARG_INT, ON(CMD_DEMO), "W, --height H", "output size in pixels (default 640x360)", .flags = OPT_HELP_ONLY},
     {"--height", ARG_INT, CMDS_DRAWING, "H", NULL /* with --width */, FIELD(height), .lo = 16,
      .hi = MAX_DISPLAY_SIZE, .flags = OPT_RECORDED},
+    {"--display", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
+     "planar (the scene's size and field of view) or a head-mounted\n"
+     "display, hmd:PRESET[,KEY=VALUE...]: presets quest-pro, eyenavgs,\n"
+     "custom; keys width, height, ipd (mm), hz, fov-left, fov-right\n"
+     "(degrees L/R/U/D); only fovsim plan shows an hmd yet (docs/hmd.md)",
+     FIELD(display), .set = set_display, .flags = OPT_RECORDED},
     /* the alpha test */
     {"--alpha", ARG_CUSTOM, CMDS_DRAWING, "MODE", "alpha test for MASK materials: {modes}", FIELD(alpha),
      .set = set_alpha, .flags = OPT_RECORDED},

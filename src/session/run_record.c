@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 760, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 864, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 
@@ -58,6 +58,11 @@ static uint64_t scene_settings_hash(const scene *sc)
     h = hash_floats(h, lv, 12);
     h = hash_u64(hash_u64(h, (uint64_t)sc->display.width), (uint64_t)sc->display.height);
     h = hash_floats(h, &sc->display.hfov_deg, 1);
+    if (sc->display_kind == DISPLAY_HMD) { /* only then: planar scenes hash as before */
+        char disp[512];
+        hmd_format(&sc->hmd, disp, sizeof disp);
+        h = hash_str(h, disp);
+    }
     h = hash_u64(h, (uint64_t)sc->alpha_mode);
     float tv[3] = {sc->taa.blend, sc->taa.gamma, sc->taa.sparse};
     h = hash_floats(hash_u64(hash_u64(h, sc->taa.given), sc->taa.off), tv, 3);
@@ -161,6 +166,12 @@ fs_status run_record_describe_hashed(const run_desc *d, const session *s, const 
     else
         sb_printf(&t, "gaze: centre fixation\n");
     sb_printf(&t, "size: %dx%d\n", s->pl.width, s->pl.height);
+    if (d->display) { /* absent when not given: older folders stay valid */
+        char disp[512] = "planar";
+        if (d->display_kind == DISPLAY_HMD)
+            hmd_format(&d->display_hmd, disp, sizeof disp);
+        sb_printf(&t, "display: %s\n", disp);
+    }
     sb_printf(&t, "fps: %.9g\n", d->fps);
     sb_printf(&t, "compression: %s\n", k_compress[d->compression]);
     if (!is_ref) {

@@ -31,7 +31,11 @@ typedef struct session {
 void session_catch_sigint(void);
 bool session_interrupted(void);
 
+/* The scene of a run, loaded and checked; a command other than plan given an hmd display
+ * (--display or the scene's "display") refuses it here: one line, FS_ERR_USAGE (docs/hmd.md). */
 fs_status session_load_scene(const run_desc *d, scene *sc);
+/* The run's hmd: --display, else the scene's "display"; NULL for a planar display. */
+const hmd_desc *session_hmd(const run_desc *d, const scene *sc);
 /* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
 int session_frame_count(const run_desc *d, const scene *sc);
 /* How a run foveates: --foveation, else rings where --rings is given, else the scene's
