@@ -10,6 +10,7 @@
 #include "core/progress.h"
 #include "core/stats.h" /* stats_cmp_double, stats_quantile: the commands' summaries */
 #include "gaze/gaze.h"
+#include "gaze/pose_trace.h"
 #include "output/exr_write.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
@@ -25,6 +26,8 @@ typedef struct session {
     bool gaze_ended;    /* the "trace ends before the sequence" note was printed */
     gaze_tracker_desc tracker; /* the eye tracker between the true gaze and the renderer: the CLI's
                                   --gaze-* over the scene file's "gaze" (all 0: the true gaze) */
+    pose_trace head;    /* count > 0: a recording's head motion replaces the scene's camera path */
+    pose_place head_place; /* --head-place: the recording's world in the scene */
 } session;
 
 /* Ctrl-C sets a flag the frame loops check, so they stop between complete frames. */
