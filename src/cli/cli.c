@@ -270,6 +270,8 @@ fs_status cli_finish(run_desc *d)
                d->cmd == CMD_REFERENCE ? "the reference tests alpha stochastically" : "give the modes with --modes");
     if ((d->gaze_format != GAZE_FORMAT_AUTO || d->eye != GAZE_EYE_AUTO) && !d->gaze_path)
         REFUSE("--gaze-format and --eye describe a --gaze trace; give --gaze FILE");
+    if (d->head_place_set && (!d->head_path ? !d->gaze_path : !strcmp(d->head_path, "off")))
+        REFUSE("--head-place places a head recording: give --head FILE (or a --gaze recording with head poses)");
     if (d->gaze_latency_count > 1 && d->cmd != CMD_COMPARE && d->cmd != CMD_DEMO)
         REFUSE("--gaze-latency: a list of latencies is a latency study, which fovsim compare and demo run; fovsim %s "
                "takes one latency", c);

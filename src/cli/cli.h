@@ -11,6 +11,8 @@
 #include "fov/vrs_map.h"
 #include "gaze/gaze.h"
 #include "gaze/gaze_tracker.h"
+#include "gaze/pose_trace.h"
+#include "hmd/hmd.h"
 #include "output/exr_write.h"
 #include "passes/plan.h"
 #include "reference/reference.h"
@@ -63,6 +65,9 @@ typedef struct run_desc {
     const char *out_dir;     /* --out, default out/<command> */
     const char *name;        /* --name: file prefix, default "frame" */
     int width, height;       /* --width/--height, 0 = the scene's display */
+    const char *display;     /* --display planar|hmd:PRESET[,KEY=VALUE...]; NULL = the scene's display */
+    display_kind display_kind; /* --display parsed: planar, or display_hmd (docs/hmd.md) */
+    hmd_desc display_hmd;
     alpha_mode alpha;        /* --alpha, DEFAULT = the scene's */
     int gpu;                 /* --gpu N, -1 = auto */
     bool verbose, quiet, gl_debug;
@@ -80,6 +85,10 @@ typedef struct run_desc {
     int vrs_tile;            /* --vrs-tile 8|16|32; 0 = the scene's, else VRS_TILE_DEFAULT */
     const char *ring_lod;    /* --ring-lod off|simplify[:U1,...]; NULL = the scene's, else off */
     const char *gaze_path;   /* --gaze FILE; NULL = fixation at the display centre */
+    const char *head_path;   /* --head FILE|off: a recording's head motion replaces the scene's camera
+                                path; NULL = the --gaze recording's when it has one (EyeNavGS) */
+    pose_place head_place;   /* --head-place X,Y,Z[,YAW_DEG[,SCALE]]: the recording's world in the scene */
+    bool head_place_set;
     gaze_format gaze_format; /* --gaze-format, default detected from the content */
     gaze_eye eye;            /* --eye left|right|average, default auto */
     gaze_tracker_opts tracker; /* --gaze-latency, --gaze-rate, --gaze-noise, --gaze-seed, --gaze-loss

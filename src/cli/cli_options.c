@@ -107,6 +107,23 @@ static bool set_vrs(const cli_option *o, run_desc *d, const char *v)
     return false;
 }
 
+/* --display: planar (the scene's planar display, whatever kind the scene gives) or an hmd, parsed
+ * once here (hmd.h). */
+static bool set_display(const cli_option *o, run_desc *d, const char *v)
+{
+    char err[320];
+    d->display = v;
+    if (!strcmp(v, "planar")) {
+        d->display_kind = DISPLAY_PLANAR;
+        return true;
+    }
+    d->display_kind = DISPLAY_HMD;
+    if (hmd_parse(v, &d->display_hmd, err, sizeof err))
+        return true;
+    log_error("%s: %s", o->name, err);
+    return false;
+}
+
 static bool set_samples(const cli_option *o, run_desc *d, const char *v)
 {
     if (!cli_parse_int(o->name, v, 2, 4096, &d->ref.samples))
@@ -189,6 +206,32 @@ static bool set_foveation(const cli_option *o, run_desc *d, const char *v)
             break;
     }
     d->foveation = d->foveations[0];
+    return true;
+}
+
+/* --head-place X,Y,Z[,YAW_DEG[,SCALE]] (docs/hmd.md "Placement"). */
+static bool set_head_place(const cli_option *o, run_desc *d, const char *v)
+{
+    double x[5] = {0, 0, 0, 0, 1};
+    int n = 0;
+    bool ok = true;
+    for (const char *p = v; ok; n++) {
+        char *end;
+        double t = strtod(p, &end);
+        ok = n < 5 && end != p && isfinite(t) && fabs(t) <= 1e7 && (*end == ',' || *end == '\0');
+        if (ok)
+            x[n] = t;
+        if (!ok || *end == '\0')
+            break;
+        p = end + 1;
+    }
+    if (!ok || n < 2 || !(x[4] > 0)) { /* n: the index of the last value read */
+        log_error("%s: expected X,Y,Z[,YAW_DEG[,SCALE]] (scene units, degrees, scene units per metre > 0), got '%s'",
+                  o->name, v);
+        return false;
+    }
+    d->head_place = (pose_place){{x[0], x[1], x[2]}, x[3], x[4]};
+    d->head_place_set = true;
     return true;
 }
 
@@ -296,6 +339,7 @@ static const cli_choice k_format[] = {{"text", 0}, {"json", 1}, {NULL, 0}};
 #define ONLY_FVVDP "--export-fvvdp and --fvvdp are options of fovsim compare and demo"
 #define ONLY_VIEW "--script, --record and --split are options of fovsim view"
 #define ALL_BUT_VIEW (CMDS_DRAWING & ~ON(CMD_VIEW))
+#define HEAD_ONLY "--head and --head-place: a recording's head motion is replayed by render, compare, demo and bench --accuracy"
 #define CMDS_PROGRESS (ALL_BUT_VIEW & ~ON(CMD_PLAN)) /* those with a progress line */
 
 const cli_option k_cli_options[] = {
@@ -317,6 +361,12 @@ const cli_option k_cli_options[] = {
     {"--width", ARG_INT, ON(CMD_DEMO), "W, --height H", "output size in pixels (default 640x360)", .flags = OPT_HELP_ONLY},
     {"--height", ARG_INT, CMDS_DRAWING, "H", NULL /* with --width */, FIELD(height), .lo = 16,
      .hi = MAX_DISPLAY_SIZE, .flags = OPT_RECORDED},
+    {"--display", ARG_CUSTOM, CMDS_DRAWING, "SPEC",
+     "planar (the scene's size and field of view) or a head-mounted\n"
+     "display, hmd:PRESET[,KEY=VALUE...]: presets quest-pro, eyenavgs,\n"
+     "custom; keys width, height, ipd (mm), hz, fov-left, fov-right\n"
+     "(degrees L/R/U/D); only fovsim plan shows an hmd yet (docs/hmd.md)",
+     FIELD(display), .set = set_display, .flags = OPT_RECORDED},
     /* the alpha test */
     {"--alpha", ARG_CUSTOM, CMDS_DRAWING, "MODE", "alpha test for MASK materials: {modes}", FIELD(alpha),
      .set = set_alpha, .flags = OPT_RECORDED},
@@ -411,6 +461,14 @@ const cli_option k_cli_options[] = {
      "place the trace by angle (the recording's straight-ahead point at the\ndisplay centre, each sample at its visual "
      "angle; default) or by\nnormalized position (the recording's frame stretched onto the display)",
      FIELD(place.desc.map), .choices = k_gaze_map, GIVEN(place.map_set), .flags = OPT_RECORDED},
+    {"--head", ARG_STRING, CMDS_HEAD, "FILE|off",
+     "a VR recording's head motion replaces the scene's camera path (EyeNavGS\nCSV; default: the --gaze recording's "
+     "when it has head poses; off: the\nscene's camera) (docs/hmd.md)", FIELD(head_path), .flags = OPT_RECORDED,
+     .misuse = HEAD_ONLY},
+    {"--head-place", ARG_CUSTOM, CMDS_HEAD, "X,Y,Z[,YAW[,S]]",
+     "where the recording's world goes in the scene: its start position at\nX,Y,Z, turned YAW degrees about +y, S "
+     "scene units per metre (default:\nthe recording's start on the scene camera's, facing its way)",
+     FIELD(head_place), .set = set_head_place, GIVEN(head_place_set), .flags = OPT_RECORDED, .misuse = HEAD_ONLY},
     {"--gaze-screen", ARG_CUSTOM, CMDS_DRAWING, "S",
      "the recording's geometry, instead of the file's: W_MMxH_MM@DIST_MM (a\nscreen seen from DIST_MM, e.g. "
      "520x290@600) or HxVdeg (a camera's\nfield of view, e.g. 82x52deg) (docs/gaze-formats.md)",

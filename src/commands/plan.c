@@ -45,6 +45,33 @@ static void print_vrs(const run_desc *d, const scene *sc, const plan *pl)
     }
 }
 
+static double deg(float rad)
+{
+    return (double)rad * 180.0 / FS_PI;
+}
+
+/* An hmd display (docs/hmd.md): per eye its field of view, panel, principal point and pixels per
+ * degree there, and its place in the head. The passes above stay the planar display's until two
+ * eyes are drawn. */
+static void print_hmd(const hmd_desc *h)
+{
+    char text[512];
+    hmd_format(h, text, sizeof text);
+    printf("hmd        %s: %.9g Hz, IPD %.9g mm; drawing two eyes is not built yet, the passes above are the planar "
+           "display's (docs/hmd.md)\n", text, (double)h->refresh_hz, (double)h->ipd_mm);
+    for (int e = 0; e < 2; e++) {
+        const hmd_eye *y = &h->eye[e];
+        hmd_pinhole p = hmd_eye_pinhole(y);
+        float px, py;
+        hmd_ppd(y, &px, &py);
+        printf("  %-5s eye  fov left %+.2f right %+.2f up %+.2f down %+.2f deg (%.2f x %.2f), panel %d x %d, "
+               "principal point (%.1f, %.1f) px, %.2f x %.2f px/deg there, at x %+.1f mm\n",
+               e == HMD_LEFT ? "left" : "right", deg(y->fov.left), deg(y->fov.right), deg(y->fov.up),
+               deg(y->fov.down), deg(y->fov.right - y->fov.left), deg(y->fov.up - y->fov.down), y->width,
+               y->height, (double)p.cx, (double)p.cy, (double)px, (double)py, 1000.0 * (double)y->position.x);
+    }
+}
+
 fs_status cmd_plan(const run_desc *d)
 {
     scene sc;
@@ -57,6 +84,9 @@ fs_status cmd_plan(const run_desc *d)
         plan_print(&pl, &sc, stdout);
     if (st == FS_OK && session_foveation(d, &sc) == FOVEATION_VRS)
         print_vrs(d, &sc, &pl);
+    const hmd_desc *hmd = session_hmd(d, &sc);
+    if (st == FS_OK && hmd) /* absent for a planar display: plans print as before */
+        print_hmd(hmd);
     gaze_tracker_desc td = gaze_tracker_merge(&d->tracker, &sc.tracker);
     if (st == FS_OK && !gaze_tracker_is_ideal(&td)) { /* absent without one: plans print as before */
         char tr[160];

@@ -12,6 +12,30 @@ frame_record frame_record_make(const scene *sc, int index, float fps, int width,
     return frame_record_at(sc, index, t, prev, width, height);
 }
 
+/* What follows from the camera (fr's camera, hfov_deg and view): clip planes, projection, and
+ * the centre gaze with one full-resolution ring. */
+static void frame_record_project(frame_record *fr, const scene *sc, int width, int height)
+{
+    /* Clip planes: far just beyond the farthest scene corner, near as large as 24-bit depth
+     * precision wants without clipping foliage right in front of the camera. */
+    vec3 lo, hi;
+    scene_bounds(sc, &lo, &hi);
+    float far2 = 0.0f;
+    for (int c = 0; c < 8; c++) {
+        vec3 q = v3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+        vec3 d = v3_sub(q, fr->camera.position);
+        far2 = fmaxf(far2, v3_dot(d, d));
+    }
+    fr->zfar = sqrtf(far2) * 1.05f + 1.0f;
+    fr->znear = fmaxf(0.02f, fminf(0.1f, fr->zfar * 1e-4f));
+
+    fr->display = display_scaled(&sc->display, width, height, fr->hfov_deg);
+    fr->proj = frame_projection(&fr->display, fr->znear, fr->zfar);
+    fr->view_proj = m4_mul(fr->proj, fr->view);
+    fov_layout off = fov_layout_off();
+    frame_record_set_gaze(fr, &off, &fr->display, 0.5f, 0.5f);
+}
+
 frame_record frame_record_at(const scene *sc, int index, float time, float prev_time, int width, int height)
 {
     frame_record fr = {0};
@@ -20,26 +44,23 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
     fr.camera = camera_path_eval(&sc->camera, fr.time);
     fr.cut = prev_time >= 0.0f && camera_path_cut_between(&sc->camera, prev_time, fr.time);
     fr.hfov_deg = fr.camera.hfov_deg > 0.0f ? fr.camera.hfov_deg : sc->display.hfov_deg;
-
-    /* Clip planes: far just beyond the farthest scene corner, near as large as 24-bit depth
-     * precision wants without clipping foliage right in front of the camera. */
-    vec3 lo, hi;
-    scene_bounds(sc, &lo, &hi);
-    float far2 = 0.0f;
-    for (int c = 0; c < 8; c++) {
-        vec3 q = v3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-        vec3 d = v3_sub(q, fr.camera.position);
-        far2 = fmaxf(far2, v3_dot(d, d));
-    }
-    fr.zfar = sqrtf(far2) * 1.05f + 1.0f;
-    fr.znear = fmaxf(0.02f, fminf(0.1f, fr.zfar * 1e-4f));
-
     fr.view = m4_look_at(fr.camera.position, fr.camera.target, v3(0, 1, 0));
-    fr.display = display_scaled(&sc->display, width, height, fr.hfov_deg);
-    fr.proj = frame_projection(&fr.display, fr.znear, fr.zfar);
-    fr.view_proj = m4_mul(fr.proj, fr.view);
-    fov_layout off = fov_layout_off();
-    frame_record_set_gaze(&fr, &off, &fr.display, 0.5f, 0.5f);
+    frame_record_project(&fr, sc, width, height);
+    return fr;
+}
+
+frame_record frame_record_posed(const scene *sc, int index, float time, vec3 position, mat4 view, int width,
+                                int height)
+{
+    frame_record fr = {0};
+    fr.index = index;
+    fr.time = time;
+    /* the view's -z in the world: its rotation's third row, negated (m4_look_at's layout) */
+    vec3 forward = v3(-view.m[2], -view.m[6], -view.m[10]);
+    fr.camera = (camera_state){position, v3_add(position, forward), sc->display.hfov_deg};
+    fr.hfov_deg = sc->display.hfov_deg;
+    fr.view = view;
+    frame_record_project(&fr, sc, width, height);
     return fr;
 }
 

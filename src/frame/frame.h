@@ -48,6 +48,11 @@ frame_record frame_record_at(const scene *sc, int index, float time, float prev_
  * reference's supersampled one): hfov_deg, and the principal point scaled to that size. Every
  * pixel <-> angle computation about the frame takes its display from here. */
 display_desc frame_display(const frame_record *fr, int width, int height);
+/* Frame at an explicit time for a camera given by its position and view matrix (world -> view,
+ * m4_look_at's convention: a recorded head pose, pose_trace.h) instead of the scene's camera path:
+ * the display's field of view, no cut. Otherwise as frame_record_at. */
+frame_record frame_record_posed(const scene *sc, int index, float time, vec3 position, mat4 view, int width,
+                                int height);
 /* Sets the gaze (normalised, origin top-left; clamped to the display) and computes each ring's
  * footprint and cropped view-projection for layout `l` on display `d` (the frame's size). */
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy);

@@ -120,6 +120,45 @@ void exr_image_set_v2f(exr_image *img, const char *name, float x, float y)
     }
 }
 
+bool exr_image_set_string_vector(exr_image *img, const char *name, const char *const *values,
+                                 int count)
+{
+    FS_ASSERT(img && name && (values || count == 0));
+    char packed[sizeof img->attrs[0].s];
+    size_t used = 0;
+    bool fits = count >= 0 && count <= EXR_MAX_VECTOR_STRINGS;
+    for (int k = 0; fits && k < count; k++) {
+        size_t len = strlen(values[k]);
+        fits = len < sizeof packed - used;
+        if (fits) {
+            memcpy(packed + used, values[k], len + 1);
+            used += len + 1;
+        }
+    }
+    if (!fits) {
+        log_warn("EXR: attribute '%s': %d strings do not fit (at most %d, %zu bytes in all); not set",
+                 name, count, EXR_MAX_VECTOR_STRINGS, sizeof packed);
+        return false;
+    }
+    exr_attr *a = attr_slot(img, name, FS_EXR_ATTR_STRING_VECTOR);
+    if (!a)
+        return false;
+    memcpy(a->s, packed, used);
+    a->i = count;
+    return true;
+}
+
+const char *exr_attr_string_at(const exr_attr *a, int k)
+{
+    FS_ASSERT(a);
+    if (a->type != FS_EXR_ATTR_STRING_VECTOR || k < 0 || k >= a->i)
+        return NULL;
+    const char *p = a->s;
+    for (int j = 0; j < k; j++)
+        p += strlen(p) + 1;
+    return p;
+}
+
 bool exr_image_set_part_name(exr_image *img, const char *name)
 {
     FS_ASSERT(img && name);

@@ -2,7 +2,8 @@
  * exr_write.h).
  *
  * exr_image.c holds the exr_image in memory, exr_write.c the writer (and the stream behind every
- * Core context), exr_read.c the reader, exr_writer_thread.c the writer threads.
+ * Core context), exr_read.c the reader, exr_writer_thread.c the writer threads, exr_views.c the
+ * multi-view convention (two eyes in one file).
  */
 #ifndef FOVSIM_EXR_INTERNAL_H
 #define FOVSIM_EXR_INTERNAL_H

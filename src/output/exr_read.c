@@ -44,6 +44,36 @@ static int64_t stream_size(exr_const_context_t ctxt, void *ud)
     return fstat(s->fd, &st) == 0 ? (int64_t)st.st_size : -1;
 }
 
+/* A stringvector attribute (multiView), through exr_image_set_string_vector: false when it
+ * does not fit. Strings are copied into NUL-terminated buffers first: the Core's are counted,
+ * not terminated. */
+static bool copy_string_vector(exr_image *out, const exr_attribute_t *a)
+{
+    const exr_attr_string_vector_t *sv = a->stringvector;
+    int n = sv ? sv->n_strings : 0;
+    if (n < 0 || n > EXR_MAX_VECTOR_STRINGS || (n > 0 && !sv->strings) ||
+        out->attr_count >= EXR_MAX_ATTRS ||
+        strlen(a->name) >= sizeof out->attrs[0].name)
+        return false;
+    char buf[EXR_MAX_VECTOR_STRINGS][sizeof out->attrs[0].s];
+    const char *values[EXR_MAX_VECTOR_STRINGS];
+    size_t total = 0; /* checked here, so that the setter has no reason to warn as well */
+    for (int k = 0; k < n; k++) {
+        const exr_attr_string_t *str = &sv->strings[k];
+        int32_t len = str->length;
+        total += len < 0 ? 0 : (size_t)len + 1;
+        /* A NUL inside a string would split it in exr_attr's packed form. */
+        if (len < 0 || total > sizeof buf[k] || (len > 0 && !str->str) ||
+            (len > 0 && memchr(str->str, '\0', (size_t)len)))
+            return false;
+        if (len > 0)
+            memcpy(buf[k], str->str, (size_t)len);
+        buf[k][len] = '\0';
+        values[k] = buf[k];
+    }
+    return exr_image_set_string_vector(out, a->name, values, n);
+}
+
 static bool copy_attr(exr_image *out, const exr_attribute_t *a)
 {
     if (exr_is_reserved_attr(a->name))
@@ -53,6 +83,7 @@ static bool copy_attr(exr_image *out, const exr_attribute_t *a)
     case EXR_ATTR_INT:
     case EXR_ATTR_FLOAT:
     case EXR_ATTR_V2F: break;
+    case EXR_ATTR_STRING_VECTOR: return copy_string_vector(out, a);
     default: return true; /* other types are not part of exr_image */
     }
     if (out->attr_count >= EXR_MAX_ATTRS || strlen(a->name) >= sizeof out->attrs[0].name)
@@ -190,7 +221,8 @@ static exr_result_t read_part(exr_context_t ctxt, int part, exr_image *out, cons
                          sizeof out->part_name - 1);
             }
         } else if (rv == EXR_ERR_SUCCESS && a && !copy_attr(out, a))
-            log_warn("EXR: attribute '%s' not kept (name too long or EXR_MAX_ATTRS reached)",
+            log_warn("EXR: attribute '%s' not kept (name too long, EXR_MAX_ATTRS reached, or a "
+                     "string vector that does not fit)",
                      a->name);
     }
     if (rv != EXR_ERR_SUCCESS)

@@ -242,6 +242,16 @@ static bool needs_long_names(const exr_image *img)
     return false;
 }
 
+static exr_result_t set_string_vector(exr_context_t ctxt, int part, const exr_attr *at)
+{
+    const char *strings[EXR_MAX_VECTOR_STRINGS];
+    if (at->i < 0 || at->i > EXR_MAX_VECTOR_STRINGS)
+        return EXR_ERR_INVALID_ATTR;
+    for (int k = 0; k < at->i; k++)
+        strings[k] = exr_attr_string_at(at, k);
+    return exr_attr_set_string_vector(ctxt, part, at->name, at->i, strings);
+}
+
 /* Declares one part: windows, compression, channels and custom attributes. `display` is the
  * display window every part shares (see exr_write.h). */
 static exr_result_t declare_part(exr_context_t ctxt, const exr_image *img, exr_compression_t comp,
@@ -281,6 +291,7 @@ static exr_result_t declare_part(exr_context_t ctxt, const exr_image *img, exr_c
             rv = exr_attr_set_v2f(ctxt, part, at->name, &v);
             break;
         }
+        case FS_EXR_ATTR_STRING_VECTOR: rv = set_string_vector(ctxt, part, at); break;
         default: rv = EXR_ERR_INVALID_ATTR; break;
         }
     }

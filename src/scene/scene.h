@@ -29,6 +29,7 @@
 #include "fov/vrs_map.h"
 #include "gaze/gaze.h"
 #include "gaze/gaze_tracker.h"
+#include "hmd/hmd.h"
 #include "common/shared_defs.h" /* FS_ALPHA_MODES, the table of alpha modes */
 
 #ifdef __cplusplus
@@ -210,6 +211,8 @@ typedef struct scene {
     int instance_count;
     camera_path camera;
     display_desc display;
+    display_kind display_kind; /* "display": {"kind": ...}: planar (display above) or hmd (docs/hmd.md) */
+    hmd_desc hmd;              /* the hmd, valid when display_kind is DISPLAY_HMD */
     light_desc light;
     alpha_mode alpha_mode; /* the scene's default mode, DEFAULT = traditional unless the CLI says */
     scene_taa taa;         /* TAA settings from the scene file */

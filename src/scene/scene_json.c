@@ -82,11 +82,80 @@ static fs_status parse_camera(const jctx *c, const cJSON *arr)
 
 /* >>top level */
 
+/* "fov_left"/"fov_right": four angles in degrees [left, right, up, down], signed as OpenXR's XrFovf. */
+static fs_status parse_hmd_fov(const jctx *c, const cJSON *obj, const char *key, hmd_fov *out, bool *given)
+{
+    static const nrange r_angle = {-HMD_ANGLE_MAX_DEG, HMD_ANGLE_MAX_DEG, false, false, false, false};
+    char kp[JPATH_MAX], ip[JPATH_MAX], got[64];
+    const cJSON *arr = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!arr)
+        return FS_OK;
+    jkey_path(kp, sizeof kp, "display", key);
+    if (!cJSON_IsArray(arr) || cJSON_GetArraySize(arr) != 4)
+        return jfail(c, kp, "expected [left, right, up, down] in degrees, got %s", jgot(arr, got, sizeof got));
+    double deg[4];
+    for (int i = 0; i < 4; i++) {
+        fs_status s = jnum(c, cJSON_GetArrayItem(arr, i), jidx_path(ip, sizeof ip, kp, i), r_angle, &deg[i]);
+        if (s != FS_OK)
+            return s;
+    }
+    if (!hmd_fov_from_deg(deg, out))
+        return jfail(c, kp, "expected left < right and down < up (degrees, left and down negative)");
+    *given = true;
+    return FS_OK;
+}
+
+/* An hmd display (docs/hmd.md "The display"): a preset and the keys of --display hmd:... */
+static fs_status parse_hmd(const jctx *c, const cJSON *it)
+{
+    static const char *const keys[] = {"kind", "preset", "width", "height", "ipd", "hz", "fov_left",
+                                       "fov_right", "comment", NULL};
+    static const nrange r_ipd = {HMD_IPD_MIN_MM, HMD_IPD_MAX_MM, false, false, false, false};
+    static const nrange r_hz = {HMD_HZ_MIN, HMD_HZ_MAX, false, false, false, false};
+    hmd_keys k = {0};
+    const char *preset = NULL;
+    char err[320];
+    fs_status s = jkeys(c, it, "display", keys);
+    const cJSON *jp = cJSON_GetObjectItemCaseSensitive(it, "preset");
+    if (s == FS_OK && !jp)
+        return jfail(c, "display", "missing \"preset\" (an hmd display starts from one of: %s)", hmd_preset_list());
+    if (s == FS_OK)
+        s = jstring(c, jp, "display.preset", &preset);
+    if (s == FS_OK)
+        s = jopt_int(c, it, "display", "width", 16, MAX_DISPLAY_SIZE, &k.width);
+    if (s == FS_OK)
+        s = jopt_int(c, it, "display", "height", 16, MAX_DISPLAY_SIZE, &k.height);
+    if (s == FS_OK)
+        s = jopt_float(c, it, "display", "ipd", r_ipd, &k.ipd_mm);
+    if (s == FS_OK)
+        s = jopt_float(c, it, "display", "hz", r_hz, &k.refresh_hz);
+    if (s == FS_OK)
+        s = parse_hmd_fov(c, it, "fov_left", &k.fov[HMD_LEFT], &k.fov_given[HMD_LEFT]);
+    if (s == FS_OK)
+        s = parse_hmd_fov(c, it, "fov_right", &k.fov[HMD_RIGHT], &k.fov_given[HMD_RIGHT]);
+    if (s == FS_OK)
+        s = jopt_comment(c, it, "display");
+    if (s == FS_OK && !hmd_make(preset, &k, &c->sc->hmd, err, sizeof err))
+        return jfail(c, "display", "%s", err);
+    if (s == FS_OK)
+        c->sc->display_kind = DISPLAY_HMD;
+    return s;
+}
+
 static fs_status parse_display(const jctx *c, const cJSON *it)
 {
-    static const char *const keys[] = {"width", "height", "hfov", "comment", NULL};
+    static const char *const keys[] = {"kind", "width", "height", "hfov", "comment", NULL};
     display_desc *d = &c->sc->display;
-    fs_status s = jkeys(c, it, "display", keys);
+    const cJSON *kind = cJSON_IsObject(it) ? cJSON_GetObjectItemCaseSensitive(it, "kind") : NULL;
+    const char *k = "planar";
+    fs_status s = kind ? jstring(c, kind, "display.kind", &k) : FS_OK;
+    if (s != FS_OK)
+        return s;
+    if (!strcmp(k, "hmd"))
+        return parse_hmd(c, it);
+    if (strcmp(k, "planar") != 0)
+        return jfail(c, "display.kind", "expected \"planar\" or \"hmd\", got \"%s\"", k);
+    s = jkeys(c, it, "display", keys);
     if (s == FS_OK)
         s = jopt_int(c, it, "display", "width", 16, MAX_DISPLAY_SIZE, &d->width);
     if (s == FS_OK)

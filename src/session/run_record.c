@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 760, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 920, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 
@@ -58,6 +58,11 @@ static uint64_t scene_settings_hash(const scene *sc)
     h = hash_floats(h, lv, 12);
     h = hash_u64(hash_u64(h, (uint64_t)sc->display.width), (uint64_t)sc->display.height);
     h = hash_floats(h, &sc->display.hfov_deg, 1);
+    if (sc->display_kind == DISPLAY_HMD) { /* only then: planar scenes hash as before */
+        char disp[512];
+        hmd_format(&sc->hmd, disp, sizeof disp);
+        h = hash_str(h, disp);
+    }
     h = hash_u64(h, (uint64_t)sc->alpha_mode);
     float tv[3] = {sc->taa.blend, sc->taa.gamma, sc->taa.sparse};
     h = hash_floats(hash_u64(hash_u64(h, sc->taa.given), sc->taa.off), tv, 3);
@@ -114,6 +119,22 @@ static uint64_t gaze_hash(const gaze_trace *g)
     return hash_u64(h, (uint64_t)g->screen_h);
 }
 
+/* A head recording's poses (both eyes: time, position, orientations) and its scene settings. */
+static uint64_t head_hash(const pose_trace *t)
+{
+    uint64_t h = hash_u64(HASH_FNV_INIT, (uint64_t)t->count);
+    for (int e = 0; e < 2; e++)
+        for (int i = 0; i < t->count; i++) {
+            const pose_sample *s = &t->eye[e][i];
+            double v[11] = {s->t, s->pos.x, s->pos.y, s->pos.z, s->head.x, s->head.y, s->head.z, s->head.w,
+                            s->gaze.x, s->gaze.y, s->gaze.z};
+            h = hash_bytes(hash_bytes(h, v, sizeof v), &s->gaze.w, sizeof s->gaze.w);
+        }
+    double sc[8] = {t->scene.tilt.x, t->scene.tilt.y, t->scene.tilt.z, t->scene.tilt.w, t->scene.scale,
+                    t->scene.initial.x, t->scene.initial.y, t->scene.initial.z};
+    return hash_bytes(h, sc, sizeof sc);
+}
+
 static const char *or_default(const char *s)
 {
     return s ? s : "default";
@@ -161,6 +182,12 @@ fs_status run_record_describe_hashed(const run_desc *d, const session *s, const 
     else
         sb_printf(&t, "gaze: centre fixation\n");
     sb_printf(&t, "size: %dx%d\n", s->pl.width, s->pl.height);
+    if (d->display) { /* absent when not given: older folders stay valid */
+        char disp[512] = "planar";
+        if (d->display_kind == DISPLAY_HMD)
+            hmd_format(&d->display_hmd, disp, sizeof disp);
+        sb_printf(&t, "display: %s\n", disp);
+    }
     sb_printf(&t, "fps: %.9g\n", d->fps);
     sb_printf(&t, "compression: %s\n", k_compress[d->compression]);
     if (!is_ref) {
@@ -213,6 +240,11 @@ fs_status run_record_describe_hashed(const run_desc *d, const session *s, const 
         char scr[64];
         gaze_screen_format(&gp.screen, scr, sizeof scr);
         sb_printf(&t, "gaze map: %s, screen %s\n", gaze_map_name(gp.map), scr[0] ? scr : "from the file");
+    }
+    if (s->head.count > 0) { /* absent without one: folders written before stay valid */
+        const pose_place *hp = &s->head_place;
+        sb_printf(&t, "head: %s, content %016" PRIx64 ", place %.9g,%.9g,%.9g yaw %.9g scale %.9g\n", s->head.path,
+                  head_hash(&s->head), hp->pos.x, hp->pos.y, hp->pos.z, hp->yaw_deg, hp->scale);
     }
     if (d->compare.first_frame)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);

@@ -34,6 +34,23 @@ bool session_interrupted(void)
 }
 
 /* >>setup */
+const hmd_desc *session_hmd(const run_desc *d, const scene *sc)
+{
+    display_kind k = d->display ? d->display_kind : sc->display_kind;
+    return k != DISPLAY_HMD ? NULL : d->display ? &d->display_hmd : &sc->hmd;
+}
+
+/* Until two eyes are drawn, only plan shows an hmd display; every other command says so here,
+ * where they all load their scene. */
+static fs_status refuse_hmd(const run_desc *d, const scene *sc)
+{
+    if (d->cmd == CMD_PLAN || !session_hmd(d, sc))
+        return FS_OK;
+    log_error("%s: an hmd display is described but drawing two eyes is not built yet (docs/hmd.md)",
+              cli_command_name(d->cmd));
+    return FS_ERR_USAGE;
+}
+
 fs_status session_load_scene(const run_desc *d, scene *sc)
 {
     fs_status st = gltf_set_asset_root(d->asset_root);
@@ -43,6 +60,8 @@ fs_status session_load_scene(const run_desc *d, scene *sc)
     st = d->scene_path ? scene_load_file(d->scene_path, sc) : scene_load_builtin(d->builtin, sc);
     if (st == FS_OK)
         st = scene_validate(sc);
+    if (st == FS_OK)
+        st = refuse_hmd(d, sc);
     if (st != FS_OK)
         scene_free(sc);
     return st;
@@ -161,7 +180,68 @@ void session_end(session *s)
     renderer_destroy(s->r);
     gl_device_destroy();
     gaze_free(&s->gaze);
+    pose_free(&s->head);
     scene_free(&s->sc);
+}
+
+/* The runs whose frames come from session_frame (CMDS_HEAD in the CLI). */
+static bool replays_head(const run_desc *d)
+{
+    return d->cmd == CMD_RENDER || d->cmd == CMD_COMPARE || d->cmd == CMD_DEMO ||
+           (d->cmd == CMD_BENCH && d->bench.accuracy);
+}
+
+/* The head recording's mean eye position and head orientation at time t, placed by pl (NULL: the
+ * zero placement). */
+static void head_pose(const session *s, const pose_place *pl, double t, pose_v3 *pos, pose_quat *q)
+{
+    pose_state l = pose_at(&s->head, POSE_LEFT, t, NULL), r = pose_at(&s->head, POSE_RIGHT, t, NULL);
+    pose_v3 mid = {(l.pos.x + r.pos.x) * 0.5, (l.pos.y + r.pos.y) * 0.5, (l.pos.z + r.pos.z) * 0.5};
+    pose_to_scene(&s->head, pl, mid, l.head, pos, q);
+}
+
+/* Without --head-place: the recording's first pose on the scene camera's start, its heading (the
+ * horizontal part of where the head looks) along the camera's, 1 scene unit per metre. A turn by
+ * a about +y takes heading h = atan2(x, -z) to h - a. */
+static pose_place default_head_place(const session *s)
+{
+    pose_v3 p;
+    pose_quat q;
+    head_pose(s, NULL, 0.0, &p, &q);
+    pose_v3 f = pose_qrot(q, (pose_v3){0, 0, -1});
+    camera_state cam = camera_path_eval(&s->sc.camera, 0.0f);
+    vec3 cf = v3_sub(cam.target, cam.position);
+    pose_place pl = {{0, 0, 0}, (atan2(f.x, -f.z) - atan2(cf.x, -cf.z)) * (180.0 / FS_PI), 1.0};
+    head_pose(s, &pl, 0.0, &p, NULL);
+    pl.pos = (pose_v3){cam.position.x - p.x, cam.position.y - p.y, cam.position.z - p.z};
+    return pl;
+}
+
+/* --head FILE, else the --gaze recording's head poses (an EyeNavGS file), unless --head off: one
+ * line says which recording moves the camera (docs/hmd.md "Head replay"). */
+static fs_status session_load_head(const run_desc *d, session *s)
+{
+    const char *path = d->head_path;
+    if (path && !strcmp(path, "off"))
+        return FS_OK;
+    if (!path && (s->gaze.count == 0 || s->gaze.format != GAZE_FORMAT_EYENAV))
+        return FS_OK;
+    if (!replays_head(d)) { /* only a --gaze recording gets here: --head is refused elsewhere */
+        log_info("%s: its head motion is replayed by render, compare, demo and bench --accuracy; fovsim %s keeps "
+                 "the scene's camera", d->gaze_path, cli_command_name(d->cmd));
+        return FS_OK;
+    }
+    fs_status st = pose_load(path ? path : d->gaze_path, NULL, &s->head);
+    if (st != FS_OK)
+        return st;
+    s->head_place = d->head_place_set ? d->head_place : default_head_place(s);
+    const pose_place *hp = &s->head_place;
+    if (!d->quiet)
+        printf("head: %s's head motion replaces the scene's camera path (%d frames, %.2f s%s; placed at %.3g,%.3g,%.3g, "
+               "turned %.1f deg, %g units/m%s; --head off keeps the camera)\n", s->head.path, s->head.count,
+               s->head.duration, s->head.has_scene ? ", its scene settings undone" : "", hp->pos.x, hp->pos.y,
+               hp->pos.z, hp->yaw_deg, hp->scale, d->head_place_set ? "" : ": the scene camera's start");
+    return FS_OK;
 }
 
 /* Scene, plan, gaze trace, GL context and (with `with_renderer`) the renderer: everything that can
@@ -181,6 +261,8 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
         display_desc at = display_resized(&s->sc.display, s->pl.width, s->pl.height);
         gaze_place(&s->gaze, &pd, &at);
     }
+    if (st == FS_OK)
+        st = session_load_head(d, s);
     if (st == FS_OK)
         st = gl_device_create(&(gl_device_desc){.gpu_index = d->gpu, .gl_debug = d->gl_debug});
     if (st == FS_OK) {
@@ -239,9 +321,21 @@ void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, c
 }
 
 /* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
+/* The frame's camera from the head recording: between the two eyes (their mean position), looking
+ * along the head's orientation, placed into the scene (pose_trace.h). */
+static frame_record head_frame(const session *s, int index, float time)
+{
+    pose_v3 pos;
+    pose_quat q;
+    head_pose(s, &s->head_place, time, &pos, &q);
+    return frame_record_posed(&s->sc, index, time, v3((float)pos.x, (float)pos.y, (float)pos.z),
+                              pose_view_matrix(pos, q), s->pl.width, s->pl.height);
+}
+
 frame_record session_frame(session *s, int index, float time, float prev_time)
 {
-    frame_record fr = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
+    frame_record fr = s->head.count > 0 ? head_frame(s, index, time)
+                                        : frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
     display_desc dd = frame_display(&fr, s->pl.width, s->pl.height);
     set_frame_gaze(s, &fr, &s->pl.layout, &dd, time, true);
     return fr;

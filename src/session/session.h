@@ -10,6 +10,7 @@
 #include "core/progress.h"
 #include "core/stats.h" /* stats_cmp_double, stats_quantile: the commands' summaries */
 #include "gaze/gaze.h"
+#include "gaze/pose_trace.h"
 #include "output/exr_write.h"
 #include "passes/plan.h"
 #include "passes/renderer.h"
@@ -25,13 +26,19 @@ typedef struct session {
     bool gaze_ended;    /* the "trace ends before the sequence" note was printed */
     gaze_tracker_desc tracker; /* the eye tracker between the true gaze and the renderer: the CLI's
                                   --gaze-* over the scene file's "gaze" (all 0: the true gaze) */
+    pose_trace head;    /* count > 0: a recording's head motion replaces the scene's camera path */
+    pose_place head_place; /* --head-place: the recording's world in the scene */
 } session;
 
 /* Ctrl-C sets a flag the frame loops check, so they stop between complete frames. */
 void session_catch_sigint(void);
 bool session_interrupted(void);
 
+/* The scene of a run, loaded and checked; a command other than plan given an hmd display
+ * (--display or the scene's "display") refuses it here: one line, FS_ERR_USAGE (docs/hmd.md). */
 fs_status session_load_scene(const run_desc *d, scene *sc);
+/* The run's hmd: --display, else the scene's "display"; NULL for a planar display. */
+const hmd_desc *session_hmd(const run_desc *d, const scene *sc);
 /* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
 int session_frame_count(const run_desc *d, const scene *sc);
 /* How a run foveates: --foveation, else rings where --rings is given, else the scene's

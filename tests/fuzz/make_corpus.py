@@ -312,6 +312,8 @@ def main():
                 put("scene_json", d.split("/")[1] + "_" + f, read(d + "/" + f))
     put("scene_json", "tri_every_key.json", SCENE_TRI)
     put("scene_json", "minimal.json", "{" + A + "," + I + "}")
+    put("scene_json", "hmd_display.json", '{"display": {"kind": "hmd", "preset": "quest-pro", "width": 1440, '
+        '"ipd": 64, "fov_right": [-41, 52, 41, -52]},' + A + "," + I + "}")
     put("scene_json", "missing_gltf.json", '{"assets": [{"name": "f", "gltf": "no_such_file.gltf"}],' + I + "}")
 
     # gltf: selector byte 0 = written as .gltf, 1 = as .glb (fuzz_gltf.c)

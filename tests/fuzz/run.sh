@@ -2,7 +2,7 @@
 # Runs every fuzz target of build-fuzz/ (scripts/setup.sh --fuzz builds them; this builds nothing)
 # for SECONDS each (default 60), two at a time, each on a copy of its seed corpus and saved
 # regressions in a temporary folder: new corpus entries never land in the repository.
-#   tests/fuzz/run.sh [SECONDS] [TARGET...]     TARGET: scene_json gltf gaze rings ring_lod vrs check_merge cost_model (default: all)
+#   tests/fuzz/run.sh [SECONDS] [TARGET...]     TARGET: scene_json gltf gaze rings ring_lod vrs hmd check_merge cost_model (default: all)
 # Prints one line per target (executions, coverage, time). On a crash, sanitizer report, leak,
 # timeout (-timeout=10 s per input) or out-of-memory (-rss_limit_mb=2048) it copies the input that
 # did it to tests/fuzz/regressions/<target>/<sha1> (replayed from then on by the ctest
@@ -19,10 +19,10 @@ if ! [[ "$secs" =~ ^[0-9]+$ ]] || [ "$secs" -lt 1 ]; then
   echo "usage: tests/fuzz/run.sh [SECONDS] [TARGET...]" >&2
   exit 2
 fi
-all=(scene_json gltf gaze rings ring_lod vrs check_merge cost_model)
+all=(scene_json gltf gaze rings ring_lod vrs hmd check_merge cost_model)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
-declare -A max_len=([scene_json]=8192 [gltf]=8192 [gaze]=4096 [rings]=512 [ring_lod]=512 [vrs]=512 [check_merge]=4096 [cost_model]=8192)
+declare -A max_len=([scene_json]=8192 [gltf]=8192 [gaze]=4096 [rings]=512 [ring_lod]=512 [vrs]=512 [hmd]=512 [check_merge]=4096 [cost_model]=8192)
 for t in "${targets[@]}"; do
   if [ -z "${max_len[$t]:-}" ]; then
     echo "run.sh: unknown target '$t' (targets: ${all[*]})" >&2
