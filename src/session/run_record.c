@@ -241,10 +241,12 @@ fs_status run_record_describe_hashed(const run_desc *d, const session *s, const 
         gaze_screen_format(&gp.screen, scr, sizeof scr);
         sb_printf(&t, "gaze map: %s, screen %s\n", gaze_map_name(gp.map), scr[0] ? scr : "from the file");
     }
-    if (s->head.count > 0) { /* absent without one: folders written before stay valid */
-        const pose_place *hp = &s->head_place;
-        sb_printf(&t, "head: %s, content %016" PRIx64 ", place %.9g,%.9g,%.9g yaw %.9g scale %.9g\n", s->head.path,
-                  head_hash(&s->head), hp->pos.x, hp->pos.y, hp->pos.z, hp->yaw_deg, hp->scale);
+    if (s->head.count > 0 || d->head_path || d->head_place_set) { /* absent without: folders written before stay valid */
+        bool on = s->head.count > 0;
+        const pose_place *hp = on ? &s->head_place : &d->head_place;
+        sb_printf(&t, "head: %s, content %016" PRIx64 ", place %.9g,%.9g,%.9g yaw %.9g scale %.9g\n",
+                  on ? s->head.path : d->head_path ? d->head_path : "none", on ? head_hash(&s->head) : 0, hp->pos.x,
+                  hp->pos.y, hp->pos.z, hp->yaw_deg, hp->scale);
     }
     if (d->compare.first_frame)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);

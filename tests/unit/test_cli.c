@@ -180,7 +180,8 @@ static const char *other_value(const cli_option *o, const run_desc *def, char *b
                     {"--alpha-lod-max", "2"}, {"--taa-sparse", "0.5"}, {"--rings", "off"}, {"--samples", "8"},
                     {"--gaze-format", "csv"}, {"--gaze-latency", "50"}, {"--split", "traditional,hashed"},
                     {"--modes", "hashed"}, {"--gaze-screen", "520x290@600"}, {"--vrs", "10:1x1,*:4x4"},
-                    {"--foveation", "vrs"}, {"--display", "hmd:eyenavgs"}};
+                    {"--foveation", "vrs"}, {"--display", "hmd:eyenavgs"},
+                    {"--head-place", "1,2,3"}};
     const char *field = (const char *)def + o->field;
     switch (o->arg) {
     case ARG_FLAG: return NULL;
