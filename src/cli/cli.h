@@ -126,6 +126,8 @@ typedef struct run_desc {
     } taa;
     alpha_mode bench_modes[ALPHA_MODE_MAX]; /* bench, compare, demo: --modes a,b,c or all */
     int bench_mode_count;
+    int eye_run;             /* not an option: 1 or 2, the left or right eye's run of an hmd display
+                                (render and compare run one per eye, docs/hmd.md "Two eyes"); 0 otherwise */
     struct {                      /* fovsim bench */
         int warmup;               /* --warmup, default 5 (compare --first-frame: frames of history) */
         bool warmup_set;          /* --warmup was given (compare --first-frame: default all) */

@@ -4,6 +4,7 @@
 #include "commands/commands.h"
 #include "commands/compare_foveation.h"
 #include "commands/compare_grid.h"
+#include "commands/eyes.h"
 #include "commands/compare_saccade.h"
 
 #include <errno.h>
@@ -365,6 +366,7 @@ typedef struct compare_opts {
     bool count_shaded;
     fov_layout *measure;
     foveation_run *fstudy; /* what it measured is set here */
+    int *frames_out;       /* the run's frame count is set here (NULL: not wanted) */
 } compare_opts;
 
 /* One measured (or history-end) frame as every mode sees it. */
@@ -1027,6 +1029,8 @@ static fs_status compare_run(const run_desc *d, const compare_opts *co)
         st = saccade_study_begin(&c->ss, &c->s, d->fps);
     st = compare_open_outputs(c, st);
     st = compare_begin_frames(c, st);
+    if (co->frames_out)
+        *co->frames_out = c->frames;
     for (int i = c->warm; i < c->frames && st == FS_OK; i++) {
         if (session_interrupted()) {
             st = FS_ERR_INTERRUPTED;
@@ -1141,9 +1145,54 @@ static fs_status foveation_study(const run_desc *d, const compare_opts *co)
     return st == FS_OK ? foveation_study_write(out, &ml, runs, n) : st;
 }
 
+/* An hmd display: one compare run per eye into OUT/eye-left/ and OUT/eye-right/ (each complete and
+ * resumable, with its own reference, TAA history and metrics), then metrics.csv with an eye column,
+ * summary.json per eye and both, and the frames joined: part 0 both eyes' grids side by side, the
+ * layers part the eyes as a multi-view image (docs/hmd.md "Two eyes"). */
+static fs_status compare_eyes(const run_desc *d, const compare_opts *co)
+{
+    const char *out = d->out_dir ? d->out_dir : co->default_out;
+    int frames = 0;
+    fs_status st = FS_OK;
+    for (int e = 1; e <= 2 && st == FS_OK; e++) {
+        char sub[1200];
+        snprintf(sub, sizeof sub, "%s/eye-%s", out, e == 1 ? "left" : "right");
+        run_desc de = *d;
+        de.eye_run = e;
+        de.out_dir = sub;
+        printf("\n== %s eye: %s/\n", e == 1 ? "left" : "right", sub);
+        fflush(stdout);
+        compare_opts ce = *co;
+        ce.frames_out = &frames;
+        st = compare_run(&de, &ce);
+    }
+    if (st == FS_OK)
+        st = eyes_join_metrics(out);
+    if (st == FS_OK)
+        st = eyes_join_summary(out);
+    int first = d->compare.first_frame < frames ? d->compare.first_frame : frames;
+    if (st == FS_OK)
+        st = eyes_join_frames(out, d->name, first, frames, d->compression, 1);
+    if (st == FS_OK)
+        printf("both eyes: %s/metrics.csv (an eye column), summary.json (per eye and both), %s.####.exr (the grids "
+               "side by side; the layers part multi-view: left, right)\n", out, d->name);
+    return st;
+}
+
 fs_status cmd_compare(const run_desc *d)
 {
     compare_opts co = {.default_out = "out/compare"};
+    bool hmd = false;
+    fs_status st = d->eye_run ? FS_OK : session_display_is_hmd(d, &hmd);
+    if (st != FS_OK)
+        return st;
+    if (hmd && (d->foveation_count > 1 || d->gaze_latency_count > 1)) {
+        log_error("compare: an hmd display runs one compare per eye; a foveation or latency study of it is not "
+                  "built (give one foveation and one latency)");
+        return FS_ERR_USAGE;
+    }
+    if (hmd)
+        return compare_eyes(d, &co);
     if (d->foveation_count > 1)
         return foveation_study(d, &co);
     return d->gaze_latency_count > 1 ? latency_study(d, &co) : compare_run(d, &co);

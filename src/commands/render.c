@@ -13,6 +13,7 @@
 #include "passes/renderer.h"
 #include "session/session.h"
 #include "session/run_record.h"
+#include "commands/eyes.h"
 
 /* The frames a run must draw: from `start` (where the TAA history of the first missing frame
  * begins) to the last missing one; frames kept by --resume in between are drawn again without
@@ -36,7 +37,7 @@ static draw_range frames_to_draw(const run_folder *rf, const session *s, float f
     return (draw_range){start, last + 1, history};
 }
 
-fs_status cmd_render(const run_desc *d)
+static fs_status render_run(const run_desc *d, int *frames_out)
 {
     session s;
     fs_status st = session_begin(d, &s, true);
@@ -44,6 +45,7 @@ fs_status cmd_render(const run_desc *d)
         return st;
     const char *out = d->out_dir ? d->out_dir : "out/render";
     int frames = session_frame_count(d, &s.sc);
+    *frames_out = frames;
     run_folder rf = {0};
     /* a killed run's litter, another configuration's output, --resume (README "Output folders") */
     st = run_folder_open(&rf, out, d, &s, frames);
@@ -110,4 +112,40 @@ fs_status cmd_render(const run_desc *d)
     run_folder_close(&rf);
     session_end(&s);
     return st;
+}
+
+/* An hmd display: one run per eye into OUT/eye-left/ and OUT/eye-right/ (each a run folder of its
+ * own: its record, --resume), then each frame's eyes joined into OUT/NAME.####.exr, one multi-view
+ * EXR (docs/hmd.md "Two eyes"). */
+static fs_status render_eyes(const run_desc *d)
+{
+    const char *out = d->out_dir ? d->out_dir : "out/render";
+    int frames = 0;
+    fs_status st = FS_OK;
+    for (int e = 1; e <= 2 && st == FS_OK; e++) {
+        char sub[1200];
+        snprintf(sub, sizeof sub, "%s/eye-%s", out, e == 1 ? "left" : "right");
+        run_desc de = *d;
+        de.eye_run = e;
+        de.out_dir = sub;
+        if (!d->quiet)
+            printf("== %s eye: %s/\n", e == 1 ? "left" : "right", sub);
+        st = render_run(&de, &frames);
+    }
+    if (st == FS_OK)
+        st = eyes_join_frames(out, d->name, 0, frames, d->compression, 0);
+    if (st == FS_OK && !d->quiet)
+        printf("joined both eyes of %d frame%s into %s/%s.####.exr (multi-view: left, right)\n", frames,
+               frames == 1 ? "" : "s", out, d->name);
+    return st;
+}
+
+fs_status cmd_render(const run_desc *d)
+{
+    bool hmd = false;
+    fs_status st = d->eye_run ? FS_OK : session_display_is_hmd(d, &hmd);
+    if (st != FS_OK)
+        return st;
+    int frames;
+    return hmd ? render_eyes(d) : render_run(d, &frames);
 }

@@ -30,7 +30,7 @@
  * option's row says which (LP64 only: the size is the ABI's; a bool that fits into padding slips
  * through, so read the table when adding one). */
 #if defined(__x86_64__) || defined(__aarch64__)
-_Static_assert(sizeof(run_desc) == 920, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
+_Static_assert(sizeof(run_desc) == 928, "run_desc changed: give the new option its row in cli_options.c (OPT_RECORDED "
                                         "or not) and write the recorded ones below, then update this size");
 #endif
 
@@ -248,6 +248,8 @@ fs_status run_record_describe_hashed(const run_desc *d, const session *s, const 
                   on ? s->head.path : d->head_path ? d->head_path : "none", on ? head_hash(&s->head) : 0, hp->pos.x,
                   hp->pos.y, hp->pos.z, hp->yaw_deg, hp->scale);
     }
+    if (d->eye_run) /* an hmd display's eye (absent otherwise) */
+        sb_printf(&t, "eye: %s\n", d->eye_run == 1 ? "left" : "right");
     if (d->compare.first_frame)
         sb_printf(&t, "chunk: from frame %d, warm-up %d\n", d->compare.first_frame, d->bench.warmup_set ? d->bench.warmup : -1);
     /* Not recorded (no OPT_RECORDED in cli_options.c), because they change nothing a run writes:

@@ -40,15 +40,45 @@ const hmd_desc *session_hmd(const run_desc *d, const scene *sc)
     return k != DISPLAY_HMD ? NULL : d->display ? &d->display_hmd : &sc->hmd;
 }
 
-/* Until two eyes are drawn, only plan shows an hmd display; every other command says so here,
- * where they all load their scene. */
+/* render and compare draw an hmd display one eye at a time (d->eye_run); plan prints it; every other
+ * command says so here, where they all load their scene. */
 static fs_status refuse_hmd(const run_desc *d, const scene *sc)
 {
-    if (d->cmd == CMD_PLAN || !session_hmd(d, sc))
+    if (d->cmd == CMD_PLAN || d->eye_run > 0 || !session_hmd(d, sc))
         return FS_OK;
-    log_error("%s: an hmd display is described but drawing two eyes is not built yet (docs/hmd.md)",
-              cli_command_name(d->cmd));
+    log_error("%s: an hmd display is drawn by render and compare, one run per eye; fovsim %s draws one view "
+              "(docs/hmd.md)", cli_command_name(d->cmd), cli_command_name(d->cmd));
     return FS_ERR_USAGE;
+}
+
+/* An eye's run: the scene's display becomes the eye's, a square-pixel display with its principal
+ * point where the eye's view axis meets its panel (display_from_fov_angles). */
+static fs_status eye_display(const run_desc *d, scene *sc)
+{
+    const hmd_desc *h = session_hmd(d, sc);
+    if (d->eye_run == 0 || !h)
+        return FS_OK;
+    const hmd_eye *e = &h->eye[d->eye_run - 1];
+    display_fov_angles a = {e->fov.left, e->fov.right, e->fov.down, e->fov.up};
+    display_desc dd;
+    if (!display_from_fov_angles(&a, e->width, &dd)) {
+        log_error("%s eye: the field of view spans 180 degrees or more", d->eye_run == 1 ? "left" : "right");
+        return FS_ERR_USAGE;
+    }
+    sc->display = dd;
+    return FS_OK;
+}
+
+fs_status session_display_is_hmd(const run_desc *d, bool *hmd)
+{
+    scene sc;
+    run_desc dk = *d;
+    dk.eye_run = 1; /* not refused */
+    fs_status st = session_load_scene(&dk, &sc);
+    *hmd = st == FS_OK && session_hmd(d, &sc) != NULL;
+    if (st == FS_OK)
+        scene_free(&sc);
+    return st;
 }
 
 fs_status session_load_scene(const run_desc *d, scene *sc)
@@ -62,6 +92,8 @@ fs_status session_load_scene(const run_desc *d, scene *sc)
         st = scene_validate(sc);
     if (st == FS_OK)
         st = refuse_hmd(d, sc);
+    if (st == FS_OK)
+        st = eye_display(d, sc);
     if (st != FS_OK)
         scene_free(sc);
     return st;
@@ -244,6 +276,27 @@ static fs_status session_load_head(const run_desc *d, session *s)
     return FS_OK;
 }
 
+/* --gaze; in an eye's run of an hmd display, that eye's samples where the recording has both eyes
+ * (EyeNavGS, binocular EyeLink) and --eye does not choose: each eye its own gaze. A recording of
+ * one eye gives both eyes that eye's gaze. */
+static fs_status load_gaze(const run_desc *d, session *s)
+{
+    gaze_load_desc gd = {.format = d->gaze_format, .eye = d->eye};
+    fs_status st = gaze_load(d->gaze_path, &gd, &s->gaze);
+    if (st != FS_OK || s->eye == 0 || d->eye != GAZE_EYE_AUTO ||
+        (s->gaze.format != GAZE_FORMAT_EYENAV && s->gaze.format != GAZE_FORMAT_EYELINK))
+        return st;
+    gaze_trace one;
+    gd.eye = s->eye == 1 ? GAZE_EYE_LEFT : GAZE_EYE_RIGHT;
+    log_set_quiet_errors(true); /* a monocular EyeLink file lacks the other eye: it serves both */
+    if (gaze_load(d->gaze_path, &gd, &one) == FS_OK) {
+        gaze_free(&s->gaze);
+        s->gaze = one;
+    }
+    log_set_quiet_errors(false);
+    return FS_OK;
+}
+
 /* Scene, plan, gaze trace, GL context and (with `with_renderer`) the renderer: everything that can
  * reject bad input, before anything is written. */
 fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
@@ -254,8 +307,13 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
         return st;
     st = session_build_plan(d, &s->sc, &s->pl);
     s->tracker = gaze_tracker_merge(&d->tracker, &s->sc.tracker);
+    const hmd_desc *hmd = st == FS_OK && d->eye_run > 0 ? session_hmd(d, &s->sc) : NULL;
+    if (hmd) {
+        s->eye = d->eye_run;
+        s->eye_offset = hmd->eye[s->eye - 1].position;
+    }
     if (st == FS_OK && d->gaze_path)
-        st = gaze_load(d->gaze_path, &(gaze_load_desc){.format = d->gaze_format, .eye = d->eye}, &s->gaze);
+        st = load_gaze(d, s);
     if (st == FS_OK && d->gaze_path) { /* by angle on the display frames are drawn for (gaze.h) */
         gaze_place_desc pd = gaze_place_merge(&d->place, &s->sc.gaze_place);
         display_desc at = display_resized(&s->sc.display, s->pl.width, s->pl.height);
@@ -288,8 +346,10 @@ fs_status session_begin(const run_desc *d, session *s, bool with_renderer)
  * has ended. */
 static gaze_point true_gaze(session *s, float time, bool warn)
 {
-    if (s->gaze.count == 0)
-        return (gaze_point){0.5f, 0.5f, false};
+    if (s->gaze.count == 0) { /* straight ahead: the principal point (the centre of a planar display) */
+        const display_desc *d = &s->sc.display;
+        return (gaze_point){0.5f + d->ppx / (float)d->width, 0.5f + d->ppy / (float)d->height, false};
+    }
     bool beyond = false;
     gaze_point g = gaze_at(&s->gaze, time, &beyond);
     if (warn && beyond && !s->gaze_ended) {
@@ -327,14 +387,32 @@ static frame_record head_frame(const session *s, int index, float time)
 {
     pose_v3 pos;
     pose_quat q;
-    head_pose(s, &s->head_place, time, &pos, &q);
+    if (s->eye > 0) { /* an hmd eye: the recorded eye's own position, the head's orientation */
+        pose_state e = pose_at(&s->head, s->eye == 1 ? POSE_LEFT : POSE_RIGHT, time, NULL);
+        pose_to_scene(&s->head, &s->head_place, e.pos, e.head, &pos, &q);
+    } else {
+        head_pose(s, &s->head_place, time, &pos, &q);
+    }
     return frame_record_posed(&s->sc, index, time, v3((float)pos.x, (float)pos.y, (float)pos.z),
                               pose_view_matrix(pos, q), s->pl.width, s->pl.height);
+}
+
+/* An hmd eye on the scene's camera path: the camera is the head, the eye sits at its offset in the
+ * head frame (view_eye = T(-offset) view). */
+static frame_record eye_frame(const session *s, int index, float time, float prev_time)
+{
+    frame_record head = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
+    mat4 view = m4_mul(m4_translate(v3_scale(s->eye_offset, -1.0f)), head.view), inv;
+    vec3 pos = m4_invert(view, &inv) ? m4_point(inv, v3(0, 0, 0)) : head.camera.position;
+    frame_record fr = frame_record_posed(&s->sc, index, time, pos, view, s->pl.width, s->pl.height);
+    fr.cut = head.cut;
+    return fr;
 }
 
 frame_record session_frame(session *s, int index, float time, float prev_time)
 {
     frame_record fr = s->head.count > 0 ? head_frame(s, index, time)
+                      : s->eye > 0      ? eye_frame(s, index, time, prev_time)
                                         : frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
     display_desc dd = frame_display(&fr, s->pl.width, s->pl.height);
     set_frame_gaze(s, &fr, &s->pl.layout, &dd, time, true);

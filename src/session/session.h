@@ -28,6 +28,8 @@ typedef struct session {
                                   --gaze-* over the scene file's "gaze" (all 0: the true gaze) */
     pose_trace head;    /* count > 0: a recording's head motion replaces the scene's camera path */
     pose_place head_place; /* --head-place: the recording's world in the scene */
+    int eye;            /* an hmd display's eye this run draws: 1 left, 2 right (run_desc.eye_run); 0: planar */
+    vec3 eye_offset;    /* that eye's position in the head frame (metres; the scene camera path's runs) */
 } session;
 
 /* Ctrl-C sets a flag the frame loops check, so they stop between complete frames. */
@@ -38,6 +40,9 @@ bool session_interrupted(void);
  * (--display or the scene's "display") refuses it here: one line, FS_ERR_USAGE (docs/hmd.md). */
 fs_status session_load_scene(const run_desc *d, scene *sc);
 /* The run's hmd: --display, else the scene's "display"; NULL for a planar display. */
+/* Whether the run's display (--display, else the scene's) is an hmd: render and compare then run
+ * once per eye (d->eye_run). Loads the scene to see; FS_OK or the scene's error. */
+fs_status session_display_is_hmd(const run_desc *d, bool *hmd);
 const hmd_desc *session_hmd(const run_desc *d, const scene *sc);
 /* --frames, else the camera path at --fps (at least 1, at most MAX_FRAMES). */
 int session_frame_count(const run_desc *d, const scene *sc);
