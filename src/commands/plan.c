@@ -57,8 +57,8 @@ static void print_hmd(const hmd_desc *h)
 {
     char text[512];
     hmd_format(h, text, sizeof text);
-    printf("hmd        %s: %.9g Hz, IPD %.9g mm; drawing two eyes is not built yet, the passes above are the planar "
-           "display's (docs/hmd.md)\n", text, (double)h->refresh_hz, (double)h->ipd_mm);
+    printf("hmd        %s: %.9g Hz, IPD %.9g mm; render and compare draw each eye as a run of its own, the passes "
+           "above are the left eye's (docs/hmd.md \"Two eyes\")\n", text, (double)h->refresh_hz, (double)h->ipd_mm);
     for (int e = 0; e < 2; e++) {
         const hmd_eye *y = &h->eye[e];
         hmd_pinhole p = hmd_eye_pinhole(y);
@@ -72,10 +72,17 @@ static void print_hmd(const hmd_desc *h)
     }
 }
 
-fs_status cmd_plan(const run_desc *d)
+fs_status cmd_plan(const run_desc *d_in)
 {
+    bool hmd_display = false;
+    fs_status st = session_display_is_hmd(d_in, &hmd_display);
+    if (st != FS_OK)
+        return st;
+    run_desc dk = *d_in; /* an hmd display: the left eye's plan */
+    dk.eye_run = hmd_display ? 1 : 0;
+    const run_desc *d = &dk;
     scene sc;
-    fs_status st = session_load_scene(d, &sc);
+    st = session_load_scene(d, &sc);
     if (st != FS_OK)
         return st;
     plan pl;
