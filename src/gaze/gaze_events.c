@@ -57,10 +57,8 @@ typedef struct ray {
  * per-axis angles being frame_record's gaze_deg. The display is sanitised as fov_ring does. */
 static ray gaze_ray(const display_desc *d, double x, double y)
 {
-    double hfov = d->hfov_deg > 0.001f && d->hfov_deg < 179.999f ? d->hfov_deg : 90.0;
-    double w = d->width < 1 ? 1.0 : d->width, h = d->height < 1 ? 1.0 : d->height;
-    double f = 0.5 * w / tan(0.5 * hfov * DEG2RAD);
-    ray r = {(x * w - 0.5 * w) / f, (0.5 * h - y * h) / f, 1.0};
+    display_geom g = display_geom_of(d); /* from the principal point: straight ahead */
+    ray r = {(x * g.w - g.cx) / g.f, (g.cy - y * g.h) / g.f, 1.0};
     double n = sqrt(r.x * r.x + r.y * r.y + 1.0);
     return (ray){r.x / n, r.y / n, r.z / n};
 }

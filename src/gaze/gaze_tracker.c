@@ -81,16 +81,14 @@ double gaze_tracker_normal(uint32_t seed, long sample, int axis)
 
 void gaze_offset_deg(const display_desc *d, double dx_deg, double dy_deg, double *x, double *y)
 {
-    double w = d->width > 0 ? d->width : 1, h = d->height > 0 ? d->height : 1;
-    double hfov = d->hfov_deg > 0.001f && d->hfov_deg < 179.999f ? d->hfov_deg : 90.0;
-    double f = 0.5 * w / tan(0.5 * hfov * DEG2RAD);
+    display_geom g = display_geom_of(d); /* angles from the principal point */
     const double lim = 89.9 * DEG2RAD; /* a ray at 90 degrees meets the display plane nowhere */
-    double ax = atan((*x * w - 0.5 * w) / f) + dx_deg * DEG2RAD;
-    double ay = atan((0.5 * h - *y * h) / f) + dy_deg * DEG2RAD;
+    double ax = atan((*x * g.w - g.cx) / g.f) + dx_deg * DEG2RAD;
+    double ay = atan((g.cy - *y * g.h) / g.f) + dy_deg * DEG2RAD;
     ax = fmax(-lim, fmin(lim, ax));
     ay = fmax(-lim, fmin(lim, ay));
-    *x = (0.5 * w + f * tan(ax)) / w;
-    *y = (0.5 * h - f * tan(ay)) / h;
+    *x = (g.cx + g.f * tan(ax)) / g.w;
+    *y = (g.cy - g.f * tan(ay)) / g.h;
 }
 
 /* >>sampling */
