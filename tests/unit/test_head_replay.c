@@ -73,12 +73,15 @@ static size_t recording(char *buf, size_t cap)
 }
 
 static session s;
+static char g_text[16384];
+static size_t g_n;
 static const pose_place k_place = {{2.0, 0.5, -3.0}, 0.0, 1.0};
 
 static int setup(void)
 {
-    static char text[16384];
-    size_t n = recording(text, sizeof text);
+    g_n = recording(g_text, sizeof g_text);
+    const char *text = g_text;
+    size_t n = g_n;
     run_desc d = {.cmd = CMD_RENDER, .builtin = "forest", .width = 320, .height = 180};
     memset(&s, 0, sizeof s);
     if (session_load_scene(&d, &s.sc) != FS_OK || session_build_plan(&d, &s.sc, &s.pl) != FS_OK)
@@ -152,11 +155,62 @@ TEST(without_a_head_the_scene_camera)
     scene_free(&s.sc);
 }
 
+/* An hmd display's eye (session.eye 1, 2): the camera at the recorded eye's own position with the
+ * head's orientation, and the gaze of that eye at its pixel on the eye's off-centre display. */
+TEST(hmd_eyes_at_their_recorded_positions)
+{
+    CHECK(setup() == 0);
+    static const double fov[2][4] = {{-0.942, 0.698, -0.942, 0.733}, {-0.698, 0.942, -0.942, 0.733}}; /* L R D U */
+    double worst_view = 0, worst_px = 0;
+    for (int e = 0; e < 2; e++) {
+        display_desc dd;
+        CHECK(display_from_fov_angles(&(display_fov_angles){fov[e][0], fov[e][1], fov[e][2], fov[e][3]}, 200, &dd));
+        s.sc.display = dd;
+        s.pl.width = dd.width;
+        s.pl.height = dd.height;
+        s.pl.ppx = dd.ppx;
+        s.pl.ppy = dd.ppy;
+        s.eye = e + 1;
+        gaze_free(&s.gaze); /* that eye's samples, placed on that eye's display (as session_begin) */
+        CHECK(gaze_parse(g_text, (long)g_n, "rec.csv", &(gaze_load_desc){.eye = e ? GAZE_EYE_RIGHT : GAZE_EYE_LEFT},
+                         &s.gaze) == FS_OK);
+        gaze_place(&s.gaze, &(gaze_place_desc){0}, &dd);
+        for (int i = 0; i < NF; i++) {
+            frame_record fr = session_frame(&s, i, 0.040f * (float)i, -1.0f);
+            double r[9];
+            head_matrix(i, r);
+            pose_v3 p = eye_pos(i, e);
+            double c[3] = {k_place.pos.x + p.x, k_place.pos.y + p.y, k_place.pos.z + p.z};
+            for (int row = 0; row < 3; row++) {
+                double t = 0;
+                for (int col = 0; col < 3; col++) {
+                    worst_view = fmax(worst_view, fabs(fr.view.m[col * 4 + row] - r[col * 3 + row]));
+                    t -= r[col * 3 + row] * c[col];
+                }
+                worst_view = fmax(worst_view, fabs(fr.view.m[12 + row] - t));
+            }
+            /* the eye's pinhole from its angles: f = W / (tan R - tan L), the principal point at
+             * f (-tan L) from the left edge and f tan U ... from the top, rounding shared */
+            double f = 200.0 / (tan(fov[e][1]) - tan(fov[e][0]));
+            double cx = -f * tan(fov[e][0]), cy = 0.5 * dd.height + 0.5 * f * (tan(fov[e][3]) + tan(fov[e][2]));
+            double x = cx + f * tan(eye_yaw(i)), y = cy - f * tan(eye_pitch(i)) / cos(eye_yaw(i));
+            worst_px = fmax(worst_px, fmax(fabs(fr.true_gaze_px[0] - x), fabs(fr.true_gaze_px[1] - y)));
+        }
+    }
+    printf("  hmd eyes: view matrices worst %.2e, gaze pixels worst %.2e px\n", worst_view, worst_px);
+    CHECK(worst_view < 1e-5);
+    CHECK(worst_px < 1e-2);
+    gaze_free(&s.gaze);
+    pose_free(&s.head);
+    scene_free(&s.sc);
+}
+
 int main(void)
 {
     log_set_quiet_errors(false);
     RUN(camera_is_the_recorded_head);
     RUN(gaze_lands_at_the_eye_in_head_angle);
     RUN(without_a_head_the_scene_camera);
+    RUN(hmd_eyes_at_their_recorded_positions);
     return test_summary();
 }
