@@ -75,6 +75,24 @@ PY
 check "near card (0.5 m): each eye's card where its pinhole puts it, disparity f*ipd/z within 1 px" $PY "$T/where.py" "$T/near" 0.5 near
 check "far card (1000 m): each eye's card at its principal point's column, within 1 px (no disparity)" $PY "$T/where.py" "$T/far" 1000 far
 
+# ---- a binocular EyeLink recording feeds each eye its own samples: each eye's gaze angle is the one a
+# planar display shows with --eye left / --eye right (both placed by visual angle)
+B="$SRC/../shared/gaze/eyelink_asc_eyelinker/bino500.asc"
+if [ -f "$B" ]; then
+  "$BIN" render forest --display hmd:eyenavgs,width=96 --gaze "$B" --frames 3 --out "$T/bino" >/dev/null 2>&1
+  for e in left right; do
+    "$BIN" render forest --gaze "$B" --eye $e --frames 3 --width 96 --height 96 --out "$T/bino_$e" >/dev/null 2>&1
+  done
+  deg() { oiiotool --info -v "$1" | sed -n 's/.*fovsim:gaze_deg: //p' | head -1; }
+  check "binocular EyeLink: each eye's gaze is that eye's samples (left differs from right)" $PY -c "
+import sys
+a = [[float(v) for v in s.split(',')] for s in sys.argv[1:]]  # hmd left, planar left, hmd right, planar right
+assert all(abs(x - y) < 1e-3 for x, y in zip(a[0], a[1])) and all(abs(x - y) < 1e-3 for x, y in zip(a[2], a[3])), a
+assert max(abs(x - y) for x, y in zip(a[0], a[2])) > 0.1, a
+" "$(deg "$T/bino/eye-left/frame.0002.exr")" "$(deg "$T/bino_left/frame.0002.exr")" \
+    "$(deg "$T/bino/eye-right/frame.0002.exr")" "$(deg "$T/bino_right/frame.0002.exr")"
+fi
+
 # ---- compare: both eyes, metrics per eye, summary per eye and both
 "$BIN" compare forest --display "hmd:eyenavgs,width=96" --frames 2 --supersample 1 --out "$T/cmp" >"$T/cmp.txt" 2>&1
 check "compare on an hmd display exits 0" test $? -eq 0
