@@ -1156,12 +1156,7 @@ static fs_status compare_eyes(const run_desc *d, const compare_opts *co)
     fs_status st = FS_OK;
     for (int e = 1; e <= 2 && st == FS_OK; e++) {
         char sub[1200];
-        snprintf(sub, sizeof sub, "%s/eye-%s", out, e == 1 ? "left" : "right");
-        run_desc de = *d;
-        de.eye_run = e;
-        de.out_dir = sub;
-        printf("\n== %s eye: %s/\n", e == 1 ? "left" : "right", sub);
-        fflush(stdout);
+        run_desc de = eyes_run_desc(d, out, e, sub, sizeof sub);
         compare_opts ce = *co;
         ce.frames_out = &frames;
         st = compare_run(&de, &ce);

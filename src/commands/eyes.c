@@ -14,6 +14,19 @@
 
 static const char *const k_eye_dirs[2] = {"eye-left", "eye-right"};
 
+run_desc eyes_run_desc(const run_desc *d, const char *out, int e, char *sub, size_t cap)
+{
+    snprintf(sub, cap, "%s/%s", out, k_eye_dirs[e - 1]);
+    run_desc de = *d;
+    de.eye_run = e;
+    de.out_dir = sub;
+    if (!d->quiet) {
+        printf("\n== %s eye: %s/\n", e == 1 ? "left" : "right", sub);
+        fflush(stdout);
+    }
+    return de;
+}
+
 /* Part `part` of eye e's frame i. */
 static fs_status read_eye(const char *out, const char *name, int e, int i, int part, exr_image *img)
 {

@@ -6,7 +6,12 @@
 #ifndef FOVSIM_EYES_H
 #define FOVSIM_EYES_H
 
+#include "cli/cli.h"
 #include "output/exr_write.h"
+
+/* Eye e's run (1 left, 2 right) of d: eye_run set, out_dir OUT/eye-left or OUT/eye-right (in sub, cap
+ * bytes), and a line saying so unless quiet. */
+run_desc eyes_run_desc(const run_desc *d, const char *out, int e, char *sub, size_t cap);
 
 /* Each frame's eyes from `first` to frames - 1, OUT/eye-left/NAME.####.exr and OUT/eye-right/..., joined into
  * OUT/NAME.####.exr: one multi-view EXR (views left, the default, and right; exr_write.h), written

@@ -124,12 +124,7 @@ static fs_status render_eyes(const run_desc *d)
     fs_status st = FS_OK;
     for (int e = 1; e <= 2 && st == FS_OK; e++) {
         char sub[1200];
-        snprintf(sub, sizeof sub, "%s/eye-%s", out, e == 1 ? "left" : "right");
-        run_desc de = *d;
-        de.eye_run = e;
-        de.out_dir = sub;
-        if (!d->quiet)
-            printf("== %s eye: %s/\n", e == 1 ? "left" : "right", sub);
+        run_desc de = eyes_run_desc(d, out, e, sub, sizeof sub);
         st = render_run(&de, &frames);
     }
     if (st == FS_OK)

@@ -94,6 +94,29 @@ static int setup(void)
     return 0;
 }
 
+static void teardown(void)
+{
+    gaze_free(&s.gaze);
+    pose_free(&s.head);
+    scene_free(&s.sc);
+}
+
+/* The largest difference between view and [R^T | -R^T c] (column-major; r row-major). */
+static double view_error(const mat4 *view, const double r[9], const double c[3])
+{
+    double worst = 0;
+    for (int row = 0; row < 3; row++) {
+        double t = 0;
+        for (int col = 0; col < 3; col++) {
+            double want = r[col * 3 + row]; /* R^T */
+            worst = fmax(worst, fabs(view->m[col * 4 + row] - want));
+            t -= want * c[col];
+        }
+        worst = fmax(worst, fabs(view->m[12 + row] - t));
+    }
+    return worst;
+}
+
 TEST(camera_is_the_recorded_head)
 {
     CHECK(setup() == 0);
@@ -106,23 +129,12 @@ TEST(camera_is_the_recorded_head)
         c[0] = k_place.pos.x + (l.x + rr.x) / 2; /* the camera between the eyes, placed */
         c[1] = k_place.pos.y + (l.y + rr.y) / 2;
         c[2] = k_place.pos.z + (l.z + rr.z) / 2;
-        /* view = [R^T | -R^T c], column-major */
-        for (int row = 0; row < 3; row++) {
-            double t = 0;
-            for (int col = 0; col < 3; col++) {
-                double want = r[col * 3 + row]; /* R^T */
-                worst = fmax(worst, fabs(fr.view.m[col * 4 + row] - want));
-                t -= want * c[col];
-            }
-            worst = fmax(worst, fabs(fr.view.m[12 + row] - t));
-        }
+        worst = fmax(worst, view_error(&fr.view, r, c));
         CHECK(fabs(fr.camera.position.x - c[0]) < 1e-5 && fabs(fr.camera.position.z - c[2]) < 1e-5);
     }
     printf("  view matrices: worst difference %.2e\n", worst);
     CHECK(worst < 1e-5);
-    gaze_free(&s.gaze);
-    pose_free(&s.head);
-    scene_free(&s.sc);
+    teardown();
 }
 
 TEST(gaze_lands_at_the_eye_in_head_angle)
@@ -137,9 +149,7 @@ TEST(gaze_lands_at_the_eye_in_head_angle)
     }
     printf("  gaze pixels: worst difference %.2e px\n", worst);
     CHECK(worst < 1e-3);
-    gaze_free(&s.gaze);
-    pose_free(&s.head);
-    scene_free(&s.sc);
+    teardown();
 }
 
 TEST(without_a_head_the_scene_camera)
@@ -181,14 +191,7 @@ TEST(hmd_eyes_at_their_recorded_positions)
             head_matrix(i, r);
             pose_v3 p = eye_pos(i, e);
             double c[3] = {k_place.pos.x + p.x, k_place.pos.y + p.y, k_place.pos.z + p.z};
-            for (int row = 0; row < 3; row++) {
-                double t = 0;
-                for (int col = 0; col < 3; col++) {
-                    worst_view = fmax(worst_view, fabs(fr.view.m[col * 4 + row] - r[col * 3 + row]));
-                    t -= r[col * 3 + row] * c[col];
-                }
-                worst_view = fmax(worst_view, fabs(fr.view.m[12 + row] - t));
-            }
+            worst_view = fmax(worst_view, view_error(&fr.view, r, c));
             /* the eye's pinhole from its angles: f = W / (tan R - tan L), the principal point at
              * f (-tan L) from the left edge and f tan U ... from the top, rounding shared */
             double f = 200.0 / (tan(fov[e][1]) - tan(fov[e][0]));
@@ -200,9 +203,7 @@ TEST(hmd_eyes_at_their_recorded_positions)
     printf("  hmd eyes: view matrices worst %.2e, gaze pixels worst %.2e px\n", worst_view, worst_px);
     CHECK(worst_view < 1e-5);
     CHECK(worst_px < 1e-2);
-    gaze_free(&s.gaze);
-    pose_free(&s.head);
-    scene_free(&s.sc);
+    teardown();
 }
 
 int main(void)
