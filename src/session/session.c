@@ -11,7 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "common/shared_defs.h"
+#include "core/file_read.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "gl/gl_device.h"
@@ -69,16 +72,25 @@ static fs_status eye_display(const run_desc *d, scene *sc)
     return FS_OK;
 }
 
+/* Only a scene file's "display" object can say hmd: read that much of it (not the scene, whose
+ * loading would warn twice); anything wrong with the file is the real load's to report. */
 fs_status session_display_is_hmd(const run_desc *d, bool *hmd)
 {
-    scene sc;
-    run_desc dk = *d;
-    dk.eye_run = 1; /* not refused */
-    fs_status st = session_load_scene(&dk, &sc);
-    *hmd = st == FS_OK && session_hmd(d, &sc) != NULL;
-    if (st == FS_OK)
-        scene_free(&sc);
-    return st;
+    *hmd = d->display ? d->display_kind == DISPLAY_HMD : false;
+    size_t n = d->scene_path ? strlen(d->scene_path) : 0;
+    if (d->display || n < 5 || strcmp(d->scene_path + n - 5, ".json") != 0)
+        return FS_OK;
+    char *text = NULL;
+    size_t size;
+    log_set_quiet_errors(true);
+    fs_status st = file_read_all(d->scene_path, (size_t)1 << 26, "a scene file", FS_ERR_IO, &text, &size);
+    log_set_quiet_errors(false);
+    cJSON *root = st == FS_OK ? cJSON_Parse(text) : NULL;
+    const cJSON *kind = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(root, "display"), "kind");
+    *hmd = cJSON_IsString(kind) && !strcmp(kind->valuestring, "hmd");
+    cJSON_Delete(root);
+    free(text);
+    return FS_OK;
 }
 
 fs_status session_load_scene(const run_desc *d, scene *sc)
