@@ -149,3 +149,12 @@ void frame_record_shift(frame_record *fr, const display_desc *d, float dx, float
     for (int i = 0; i < fr->ring_count; i++)
         fr->ring_view_proj[i] = m4_mul(fov_ring_crop(d, &fr->ring_rect[i]), fr->view_proj);
 }
+
+frame_record frame_record_eye(const scene *sc, const frame_record *head, vec3 offset, int width, int height)
+{
+    mat4 view = m4_mul(m4_translate(v3_scale(offset, -1.0f)), head->view), inv;
+    vec3 pos = m4_invert(view, &inv) ? m4_point(inv, v3(0, 0, 0)) : head->camera.position;
+    frame_record fr = frame_record_posed(sc, head->index, head->time, pos, view, width, height);
+    fr.cut = head->cut;
+    return fr;
+}

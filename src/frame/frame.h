@@ -53,6 +53,9 @@ display_desc frame_display(const frame_record *fr, int width, int height);
  * the display's field of view, no cut. Otherwise as frame_record_at. */
 frame_record frame_record_posed(const scene *sc, int index, float time, vec3 position, mat4 view, int width,
                                 int height);
+/* An eye of a head camera: the frame `head` (the scene's camera path is the head) seen from `offset`
+ * (metres, the head frame: +x right, +y up, -z forward), view_eye = T(-offset) view; its cut kept. */
+frame_record frame_record_eye(const scene *sc, const frame_record *head, vec3 offset, int width, int height);
 /* Sets the gaze (normalised, origin top-left; clamped to the display) and computes each ring's
  * footprint and cropped view-projection for layout `l` on display `d` (the frame's size). */
 void frame_record_set_gaze(frame_record *fr, const fov_layout *l, const display_desc *d, float gx, float gy);

@@ -289,8 +289,8 @@ void gl_window_present(gl_window *w, const gl_window_source *src, int count, int
     for (int i = 0; i < count; i++) {
         int dx0 = r.x + (int)lround((double)src[i].x0 * r.w / disp_w);
         int dx1 = r.x + (int)lround((double)src[i].x1 * r.w / disp_w);
-        glBlitNamedFramebuffer(src[i].framebuffer, 0, src[i].x0, 0, src[i].x1, disp_h, dx0, y0, dx1, y0 + r.h,
-                               GL_COLOR_BUFFER_BIT, filter);
+        glBlitNamedFramebuffer(src[i].framebuffer, 0, src[i].x0 - src[i].shift, 0, src[i].x1 - src[i].shift, disp_h,
+                               dx0, y0, dx1, y0 + r.h, GL_COLOR_BUFFER_BIT, filter);
     }
     glDisable(GL_FRAMEBUFFER_SRGB);
     /* Where one source ends and the next begins (split screen), a 1-pixel grey line. */

@@ -74,6 +74,7 @@ bool gl_window_is_srgb(const gl_window *w);
 typedef struct gl_window_source {
     unsigned framebuffer; /* GL framebuffer name, colour attachment 0 read */
     int x0, x1;           /* display columns */
+    int shift;            /* the framebuffer's column of display column x is x - shift (0: the same) */
 } gl_window_source;
 
 /* Clears the back buffer and blits the sources (each disp_w x disp_h) into it, scaled to fit the

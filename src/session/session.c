@@ -47,7 +47,7 @@ const hmd_desc *session_hmd(const run_desc *d, const scene *sc)
  * command says so here, where they all load their scene. */
 static fs_status refuse_hmd(const run_desc *d, const scene *sc)
 {
-    if (d->cmd == CMD_PLAN || d->eye_run > 0 || !session_hmd(d, sc))
+    if (d->cmd == CMD_PLAN || d->cmd == CMD_VIEW || d->eye_run > 0 || !session_hmd(d, sc))
         return FS_OK;
     log_error("%s: an hmd display is drawn by render and compare, one run per eye; fovsim %s draws one view "
               "(docs/hmd.md)", cli_command_name(d->cmd), cli_command_name(d->cmd));
@@ -414,11 +414,7 @@ static frame_record head_frame(const session *s, int index, float time)
 static frame_record eye_frame(const session *s, int index, float time, float prev_time)
 {
     frame_record head = frame_record_at(&s->sc, index, time, prev_time, s->pl.width, s->pl.height);
-    mat4 view = m4_mul(m4_translate(v3_scale(s->eye_offset, -1.0f)), head.view), inv;
-    vec3 pos = m4_invert(view, &inv) ? m4_point(inv, v3(0, 0, 0)) : head.camera.position;
-    frame_record fr = frame_record_posed(&s->sc, index, time, pos, view, s->pl.width, s->pl.height);
-    fr.cut = head.cut;
-    return fr;
+    return frame_record_eye(&s->sc, &head, s->eye_offset, s->pl.width, s->pl.height);
 }
 
 frame_record session_frame(session *s, int index, float time, float prev_time)

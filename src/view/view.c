@@ -65,8 +65,12 @@ typedef struct viewer {
     plan_options base;        /* the run's plan options (as render builds them) */
     fov_layout layouts[LAYOUT_COUNT];
     bool layout_dup[LAYOUT_COUNT]; /* same rings as LAYOUT_RUN: skipped by L */
-    int width, height;
+    int width, height;        /* of one view (an hmd's eye: the window shows both, 2 width wide) */
     float fps;
+    bool hmd;                 /* an hmd display: side 0 the left eye, side 1 the right (no split) */
+    display_desc eye_disp[2]; /* each eye's display (display_from_fov_angles) */
+    vec3 eye_offset[2];       /* each eye's position in the head frame, metres */
+    float eye_gx[2], eye_gy[2]; /* the gaze direction's point on each eye's display, normalised */
     gl_window *win;
     view_settings set;
     bool rebuild;
@@ -179,7 +183,7 @@ static fs_status resolve_layouts(viewer *v)
 static fs_status build_side(viewer *v, int side)
 {
     plan_options po = v->base;
-    po.alpha_mode = v->set.mode[side];
+    po.alpha_mode = v->set.mode[v->hmd ? 0 : side]; /* an hmd's eyes: one mode */
     po.taa = v->set.taa;
     po.overlay = v->set.overlay;
     po.layout = v->layouts[v->set.layout];
@@ -190,6 +194,8 @@ static fs_status build_side(viewer *v, int side)
                                                                   : (ring_lod_spec){.kind = RING_LOD_SCHEDULE};
     for (int i = 0; i < po.layout.count; i++)
         po.layout.rings[i].mip_bias += v->set.mip_bias;
+    if (v->hmd) /* each eye's plan on its own display */
+        v->sc.display = v->eye_disp[side];
     fs_status st = plan_build(&v->sc, &po, &v->pl[side]);
     renderer_destroy(v->r[side]);
     v->r[side] = NULL;
@@ -204,7 +210,7 @@ static fs_status rebuild(viewer *v)
     fs_status st = build_side(v, 0);
     if (st == FS_OK && v->set.mode[0] == ALPHA_MODE_DEFAULT)
         v->set.mode[0] = v->pl[0].global_mode; /* so A cycles on from what is shown */
-    if (st == FS_OK && v->set.split)
+    if (st == FS_OK && (v->set.split || v->hmd))
         st = build_side(v, 1);
     else if (!v->set.split) {
         renderer_destroy(v->r[1]);
@@ -238,6 +244,8 @@ static void apply_action(viewer *v, view_action a)
         s->mode[1] = next_mode(s->mode[1], s->mode[0]);
         break;
     case VIEW_ACT_SPLIT:
+        if (v->hmd) /* the two halves are the eyes */
+            return;
         s->split = !s->split;
         if (s->split && (s->mode[1] == ALPHA_MODE_DEFAULT || s->mode[1] == s->mode[0]))
             s->mode[1] = s->mode[0] == ALPHA_MODE_HASHED ? ALPHA_MODE_TRADITIONAL : ALPHA_MODE_HASHED;
@@ -338,6 +346,14 @@ static fs_status capture(viewer *v, const frame_record *fr)
                  v->frozen ? ", camera frozen" : "", v->paused ? ", paused" : "");
         exr_image_set_string(&img, "fovsim:view", what);
     }
+    if (st == FS_OK && v->hmd) { /* both eyes: one multi-view image (left the default view) */
+        exr_image joined = {0};
+        st = renderer_read(v->r[1], &right);
+        if (st == FS_OK)
+            st = exr_image_join_eyes_move(&joined, &img, &right);
+        if (st == FS_OK)
+            exr_image_move(&img, &joined);
+    }
     if (st == FS_OK && v->set.split) {
         st = renderer_read(v->r[1], &right);
         const char *mode = alpha_mode_name(v->pl[1].global_mode);
@@ -407,6 +423,29 @@ static void update_title(viewer *v)
 
 /* The gaze of this frame: the replayed trace at the scene time, else the cursor (held where it
  * leaves the image). */
+/* The width of the image the window shows: both eyes side by side for an hmd. */
+static int shown_width(const viewer *v)
+{
+    return v->hmd ? 2 * v->width : v->width;
+}
+
+/* An hmd's gaze: the direction through (px, py) of eye k's display, then where that direction
+ * meets each eye's display (eye_gx, eye_gy, normalised): both eyes look the same way. */
+static void hmd_gaze(viewer *v, int k, double px, double py)
+{
+    double dir[3];
+    display_geom g = display_geom_of(&v->eye_disp[k]);
+    display_ray(&g, px, py, dir);
+    for (int e = 0; e < 2; e++) {
+        display_geom ge = display_geom_of(&v->eye_disp[e]);
+        double x, y;
+        if (display_pixel(&ge, dir, &x, &y)) {
+            v->eye_gx[e] = (float)(x / ge.w);
+            v->eye_gy[e] = (float)(y / ge.h);
+        }
+    }
+}
+
 static void update_gaze(viewer *v, bool use_mouse)
 {
     if (v->gaze.count > 0) {
@@ -426,10 +465,23 @@ static void update_gaze(viewer *v, bool use_mouse)
     double x, y;
     float nx, ny;
     v->gaze_valid = gl_window_cursor(v->win, &x, &y) &&
-                    gl_window_to_display(v->win, x, y, v->width, v->height, &nx, &ny);
+                    gl_window_to_display(v->win, x, y, shown_width(v), v->height, &nx, &ny);
     if (v->gaze_valid) {
         v->gx = nx;
         v->gy = ny;
+    }
+}
+
+/* The gaze of eye e's frame: a replayed trace is placed on the left eye's display; the mouse lies on
+ * either eye's half of the window; each eye then looks the same way (hmd_gaze). */
+static void eye_gaze(viewer *v)
+{
+    if (v->gaze.count > 0)
+        hmd_gaze(v, 0, v->gx * v->width, v->gy * v->height);
+    else {
+        double px = v->gx * 2.0 * v->width, py = v->gy * v->height;
+        int k = px >= v->width;
+        hmd_gaze(v, k, px - k * v->width, py);
     }
 }
 
@@ -446,7 +498,7 @@ static void apply_script(viewer *v)
             v->gaze_valid = true;
             break;
         case VIEW_EV_MOVE_PX:
-            v->gaze_valid = gl_window_to_display(v->win, e->x, e->y, v->width, v->height, &nx, &ny);
+            v->gaze_valid = gl_window_to_display(v->win, e->x, e->y, shown_width(v), v->height, &nx, &ny);
             if (v->gaze_valid) {
                 v->gx = nx;
                 v->gy = ny;
@@ -471,6 +523,27 @@ static void sleep_s(double s)
 
 /* One frame: input, gaze, draw, present, capture, record. *running becomes false when the viewer
  * ends (Esc, the script's quit). */
+/* The frame record of view side `side` (an hmd: eye `side`, at its offset on its own display, with
+ * its point of the gaze direction; else the one view). */
+static frame_record view_frame(viewer *v, int side, float cam_t)
+{
+    if (v->hmd)
+        v->sc.display = v->eye_disp[side];
+    frame_record fr = frame_record_at(&v->sc, v->drawn, cam_t, v->prev_cam_time, v->width, v->height);
+    if (v->hmd)
+        fr = frame_record_eye(&v->sc, &fr, v->eye_offset[side], v->width, v->height);
+    if (v->reset_history)
+        fr.cut = true; /* the renderer drops TAA history across a cut */
+    display_desc dd = frame_display(&fr, v->width, v->height);
+    frame_record_set_gaze(&fr, &v->pl[side].layout, &dd, v->hmd ? v->eye_gx[side] : v->gx,
+                          v->hmd ? v->eye_gy[side] : v->gy);
+    if (v->gaze.count > 0 && !v->hmd) /* captures name both */
+        frame_record_set_true_gaze(&fr, &dd, v->true_gx, v->true_gy);
+    if (v->full_res)
+        frame_record_set_full_res(&fr, &dd);
+    return fr;
+}
+
 static fs_status frame(viewer *v, bool *running)
 {
     double t0 = time_now();
@@ -501,32 +574,32 @@ static fs_status frame(viewer *v, bool *running)
         return st;
 
     float cam_t = v->frozen ? v->frozen_time : (float)v->tick / v->fps;
-    frame_record fr = frame_record_at(&v->sc, v->drawn, cam_t, v->prev_cam_time, v->width, v->height);
-    if (v->reset_history)
-        fr.cut = true; /* the renderer drops TAA history across a cut */
+    if (v->hmd)
+        eye_gaze(v);
+    frame_record fr[2];
+    for (int s = 0; s < (v->hmd ? 2 : 1); s++)
+        fr[s] = view_frame(v, s, cam_t);
+    if (!v->hmd)
+        fr[1] = fr[0]; /* a split shows the same frame in another mode */
     v->reset_history = false;
-    display_desc dd = frame_display(&fr, v->width, v->height);
-    frame_record_set_gaze(&fr, &v->pl[0].layout, &dd, v->gx, v->gy);
-    if (v->gaze.count > 0) /* captures name both */
-        frame_record_set_true_gaze(&fr, &dd, v->true_gx, v->true_gy);
-    if (v->full_res)
-        frame_record_set_full_res(&fr, &dd);
     v->prev_cam_time = cam_t;
 
-    int sides = v->set.split ? 2 : 1;
+    int sides = v->set.split || v->hmd ? 2 : 1;
     for (int s = 0; s < sides && st == FS_OK; s++)
-        st = renderer_draw(v->r[s], &fr);
+        st = renderer_draw(v->r[s], &fr[s]);
     if (st != FS_OK)
         return st;
-    gl_window_source src[2] = {{renderer_output_framebuffer(v->r[0]), 0, v->width}};
-    if (sides == 2) {
+    gl_window_source src[2] = {{renderer_output_framebuffer(v->r[0]), 0, v->width, 0}};
+    if (v->hmd) /* the eyes side by side, each whole */
+        src[1] = (gl_window_source){renderer_output_framebuffer(v->r[1]), v->width, 2 * v->width, v->width};
+    else if (sides == 2) {
         src[0].x1 = v->width / 2;
-        src[1] = (gl_window_source){renderer_output_framebuffer(v->r[1]), v->width / 2, v->width};
+        src[1] = (gl_window_source){renderer_output_framebuffer(v->r[1]), v->width / 2, v->width, 0};
     }
-    gl_window_present(v->win, src, sides, v->width, v->height);
+    gl_window_present(v->win, src, sides, shown_width(v), v->height);
     if (v->capture_now) {
         v->capture_now = false;
-        fs_status cst = capture(v, &fr);
+        fs_status cst = capture(v, &fr[0]);
         if (cst != FS_OK && v->io_status == FS_OK)
             v->io_status = cst;
     }
@@ -562,9 +635,36 @@ static fs_status frame(viewer *v, bool *running)
 }
 
 /* >>run */
+/* An hmd display: each eye's display (its angles at its panel width) and position; the plan is the
+ * left eye's (the right mirrors it). */
+static fs_status setup_hmd(viewer *v, const run_desc *d)
+{
+    const hmd_desc *h = session_hmd(d, &v->sc);
+    if (!h)
+        return FS_OK;
+    if (d->view.split[0] != ALPHA_MODE_DEFAULT) {
+        log_error("view: --split and an hmd display: the window's halves are the eyes");
+        return FS_ERR_USAGE;
+    }
+    v->hmd = true;
+    for (int e = 0; e < 2; e++) {
+        const hmd_eye *y = &h->eye[e];
+        display_fov_angles a = {y->fov.left, y->fov.right, y->fov.down, y->fov.up};
+        if (!display_from_fov_angles(&a, y->width, &v->eye_disp[e])) {
+            log_error("view: the %s eye's field of view spans 180 degrees or more", e ? "right" : "left");
+            return FS_ERR_USAGE;
+        }
+        v->eye_offset[e] = y->position;
+    }
+    v->sc.display = v->eye_disp[0];
+    return FS_OK;
+}
+
 static fs_status setup(viewer *v, const run_desc *d)
 {
     fs_status st = session_load_scene(d, &v->sc);
+    if (st == FS_OK)
+        st = setup_hmd(v, d);
     if (st != FS_OK)
         return st;
     /* The viewer runs for an unknown number of frames: TAA is on unless asked off (as render for
@@ -579,6 +679,8 @@ static fs_status setup(viewer *v, const run_desc *d)
         return st;
     v->width = probe.width;
     v->height = probe.height;
+    for (int e = 0; e < 2 && v->hmd; e++) /* --width/--height: each eye at that size */
+        v->eye_disp[e] = display_resized(&v->eye_disp[e], probe.width, probe.height);
     v->fps = d->fps;
     v->set.mode[0] = d->view.split[0] ? d->view.split[0] : d->alpha;
     v->set.mode[1] = d->view.split[1];
@@ -616,7 +718,7 @@ fs_status view_run(const run_desc *d)
     v->d = d;
     fs_status st = setup(v, d);
     if (st == FS_OK) {
-        v->win = gl_window_create(&(gl_window_desc){.width = v->width, .height = v->height, .title = "fovsim view",
+        v->win = gl_window_create(&(gl_window_desc){.width = shown_width(v), .height = v->height, .title = "fovsim view",
                                                     .gl_debug = d->gl_debug},
                                   &st);
     }

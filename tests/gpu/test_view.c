@@ -269,6 +269,38 @@ TEST(viewer_matches_render_and_follows_the_gaze)
     exr_image_free(&seven);
 }
 
+/* An hmd display: the window shows both eyes side by side, and the capture (a multi-view EXR) holds
+ * each eye as render draws it (docs/hmd.md "Two eyes"). */
+TEST(hmd_view_shows_both_eyes)
+{
+    const char *log = p("hmd.log");
+    write_file(p("hmd.txt"), "frame 0\nmove 0.5 0.5\ncapture\nquit\n");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, XVFB " '%s' view --builtin fence --display hmd:eyenavgs,width=64 --rings off --taa off "
+             "--record '%s' --script '%s' --quiet", g_bin, p("hmd/s.csv"), p("hmd.txt"));
+    int rc = sh(cmd, log);
+    CHECK(rc == 0);
+    snprintf(cmd, sizeof cmd, "'%s' render --builtin fence --display hmd:eyenavgs,width=64 --rings off --taa off "
+             "--frames 1 --out '%s' --quiet", g_bin, p("hmd/render"));
+    CHECK(sh(cmd, log) == 0);
+    exr_image cap, ren, win;
+    if (rc != 0 || !read_exr(p("hmd/s.capture.0000.exr"), &cap)) {
+        dump(log);
+        return;
+    }
+    if (read_exr(p("hmd/render/frame.0000.exr"), &ren) && read_exr(p("hmd/s.window.0000.exr"), &win)) {
+        double dl = max_diff(&cap, "", &ren, ""), dr = max_diff(&cap, "right.", &ren, "right.");
+        double eyes = max_diff(&ren, "", &ren, "right.");
+        fprintf(stderr, "hmd view: left eye vs render %g, right eye vs render %g (the eyes differ by %g); window %dx%d\n",
+                dl, dr, eyes, win.width, win.height);
+        CHECK(dl <= 1e-3 && dr <= 1e-3 && eyes > 0.1);
+        CHECK(win.width == 2 * ren.width && win.height == ren.height);
+        exr_image_free(&ren);
+        exr_image_free(&win);
+    }
+    exr_image_free(&cap);
+}
+
 TEST(split_screen_shows_two_modes)
 {
     const char *log = p("split.log");
@@ -419,6 +451,7 @@ int main(void)
     }
     RUN(viewer_matches_render_and_follows_the_gaze);
     RUN(split_screen_shows_two_modes);
+    RUN(hmd_view_shows_both_eyes);
     RUN(resized_window_letterboxes_and_maps_the_cursor);
     RUN(killed_mid_recording_leaves_a_valid_trace);
     RUN(bad_input_fails_with_one_line);
