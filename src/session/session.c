@@ -49,7 +49,7 @@ static fs_status refuse_hmd(const run_desc *d, const scene *sc)
 {
     if (d->cmd == CMD_PLAN || d->cmd == CMD_VIEW || d->eye_run > 0 || !session_hmd(d, sc))
         return FS_OK;
-    log_error("%s: an hmd display is drawn by render and compare, one run per eye; fovsim %s draws one view "
+    log_error("%s: an hmd display is drawn by render and compare (one run per eye) and view; fovsim %s draws one view "
               "(docs/hmd.md)", cli_command_name(d->cmd), cli_command_name(d->cmd));
     return FS_ERR_USAGE;
 }

@@ -61,7 +61,7 @@ check "--display planar plans what no --display plans" cmp -s "$T/planar.txt" "$
 for c in reference bench; do
   expect_exit "$c --display hmd:eyenavgs: exit 2, one line" 2 "$BIN" $c fence --display hmd:eyenavgs --out "$T/out_$c" --quiet
   check "$c: the line says render and compare draw it" \
-    grep -qxF "fovsim: error: $c: an hmd display is drawn by render and compare, one run per eye; fovsim $c draws one view (docs/hmd.md)" "$T/err.txt"
+    grep -qxF "fovsim: error: $c: an hmd display is drawn by render and compare (one run per eye) and view; fovsim $c draws one view (docs/hmd.md)" "$T/err.txt"
   check "$c wrote nothing" test ! -e "$T/out_$c"
 done
 expect_exit "demo refuses an hmd display" 2 "$BIN" demo --display hmd:eyenavgs --out "$T/out_demo" --quiet
