@@ -431,7 +431,7 @@ typedef struct band_setup {
 
 static band_setup band_setup_make(int w, int h, float gx, float gy)
 {
-    band_setup b = {.d = {w, h, 90.0f}, .gx = gx, .gy = gy};
+    band_setup b = {.d = {w, h, 90.0f, 0.0f, 0.0f}, .gx = gx, .gy = gy};
     char err[160];
     CHECK(fov_layout_parse("8:1:0,20:1/2:0,*:1/4:0", &b.d, &b.l, err, sizeof err) == FS_OK);
     for (int i = 0; i < b.l.count; i++)
