@@ -146,20 +146,33 @@ static bool set_gaze_format(const cli_option *o, run_desc *d, const char *v)
 
 /* --gaze-latency MS, or for compare and demo a list MS,MS,... (a latency study: every latency drawn
  * into a folder of its own, latency.csv across them; docs/latency.md). The first is the tracker's. */
+/* The comma-separated item at *p into item (cap bytes), *p moved past it and its comma; false for
+ * an empty item or one too long. *more: another item follows. */
+static bool list_item(const char **p, char *item, size_t cap, bool *more)
+{
+    size_t n = strcspn(*p, ",");
+    bool ok = n > 0 && n < cap;
+    if (ok) {
+        memcpy(item, *p, n);
+        item[n] = '\0';
+    }
+    *more = (*p)[n] == ',';
+    *p += n + *more;
+    return ok;
+}
+
 static bool set_gaze_latency(const cli_option *o, run_desc *d, const char *v)
 {
     d->gaze_latency_count = 0;
-    for (const char *p = v;; p++) {
-        size_t n = strcspn(p, ",");
+    bool more = true;
+    for (const char *p = v; more;) {
         char item[64];
         float ms;
-        if (n == 0 || n >= sizeof item || d->gaze_latency_count == MAX_GAZE_LATENCIES) {
+        if (!list_item(&p, item, sizeof item, &more) || d->gaze_latency_count == MAX_GAZE_LATENCIES) {
             log_error("%s: expected a latency in ms or up to %d of them separated by commas, got '%s'", o->name,
                       MAX_GAZE_LATENCIES, v);
             return false;
         }
-        memcpy(item, p, n);
-        item[n] = '\0';
         if (!cli_parse_float_in(o->name, item, 0.0f, true, (float)GAZE_TRACKER_MAX_LATENCY_MS, &ms, NULL))
             return false;
         for (int i = 0; i < d->gaze_latency_count; i++)
@@ -168,9 +181,6 @@ static bool set_gaze_latency(const cli_option *o, run_desc *d, const char *v)
                 return false;
             }
         d->gaze_latencies[d->gaze_latency_count++] = ms;
-        p += n;
-        if (!*p)
-            break;
     }
     d->tracker.desc.latency_ms = d->gaze_latencies[0];
     d->tracker.latency_set = true;
@@ -182,15 +192,11 @@ static bool set_gaze_latency(const cli_option *o, run_desc *d, const char *v)
 static bool set_foveation(const cli_option *o, run_desc *d, const char *v)
 {
     d->foveation_count = 0;
-    for (const char *p = v;; p++) {
-        size_t n = strcspn(p, ",");
+    bool more = true;
+    for (const char *p = v; more;) {
         char item[16];
         foveation_kind k = FOVEATION_UNSET;
-        if (n > 0 && n < sizeof item) {
-            memcpy(item, p, n);
-            item[n] = '\0';
-        }
-        if (n == 0 || n >= sizeof item || !foveation_kind_parse(item, &k) || k == FOVEATION_UNSET) {
+        if (!list_item(&p, item, sizeof item, &more) || !foveation_kind_parse(item, &k) || k == FOVEATION_UNSET) {
             log_error("%s: expected rings, vrs or off, or for compare a list of them separated by commas, got '%s'",
                       o->name, v);
             return false;
@@ -201,9 +207,6 @@ static bool set_foveation(const cli_option *o, run_desc *d, const char *v)
                 return false;
             }
         d->foveations[d->foveation_count++] = k;
-        p += n;
-        if (!*p)
-            break;
     }
     d->foveation = d->foveations[0];
     return true;

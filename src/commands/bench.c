@@ -121,10 +121,7 @@ static void bench_frame(session *s, bench_config *c, int k, float t, int n)
         return;
     renderer_stats cs = rs; /* covered fragments unknown (-1) unless counted */
     if (!c->stages_only) { /* the counting variant, in a frame of its own: the timed frame has no counter */
-        renderer_set_counting(c->r, true);
-        renderer_draw(c->r, &fr);
-        cs = renderer_last_stats(c->r);
-        renderer_set_counting(c->r, false);
+        (void)renderer_draw_counting(c->r, &fr, &cs);
         memcpy(c->names.pass_geometry, cs.pass_geometry, sizeof cs.pass_geometry);
         for (int i = 0; i < MAX_FOV_RINGS; i++)
             for (int p = 0; p < PLAN_MAX_PASSES; p++)

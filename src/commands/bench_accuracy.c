@@ -421,10 +421,7 @@ static fs_status acc_run_config(acc_run *a, acc_frame *f, int c)
     st = renderer_read(mr->r, &mr->img);
     renderer_stats cs = {0}; /* covered fragments: the counting variant, once the frame is read back */
     if (st == FS_OK) {
-        renderer_set_counting(mr->r, true);
-        st = renderer_draw(mr->r, &fr);
-        cs = renderer_last_stats(mr->r);
-        renderer_set_counting(mr->r, false);
+        st = renderer_draw_counting(mr->r, &fr, &cs);
         renderer_stats_take_shaded(&rs, &cs); /* VRS: what a GPU would shade, not llvmpipe's count */
     }
     const double counts[ACC_COUNTS] = {pd.cpu_ms, (double)pd.minor_faults, (double)rs.vs_invocations,

@@ -782,10 +782,8 @@ static fs_status compare_join(cmp_run *c)
  * invocations"), not llvmpipe's emulation's. */
 static fs_status count_shading(renderer *r, const frame_record *fr, renderer_stats *rs, long long *shaded)
 {
-    renderer_set_counting(r, true);
-    fs_status st = renderer_draw(r, fr);
-    renderer_stats cs = renderer_last_stats(r);
-    renderer_set_counting(r, false);
+    renderer_stats cs;
+    fs_status st = renderer_draw_counting(r, fr, &cs);
     if (st == FS_OK) {
         renderer_stats_take_shaded(rs, &cs);
         *shaded = cs.shaded;

@@ -61,7 +61,9 @@ static fs_status side_by_side(const exr_image *l, const exr_image *r, exr_image 
     return FS_OK;
 }
 
-/* Frame i joined: img[0], img[1] the eyes' images (part 0), grid the side-by-side one; freed here. */
+/* Frame i's eyes joined into joined[0] (img[0], img[1]: scratch for the eyes' images): part `part`
+ * as one multi-view image; for compare (part > 0) part 0 holds the eyes' grids side by side and the
+ * multi-view layers follow as joined[0]'s second part. */
 static fs_status join_frame(const char *out, const char *name, int i, int part, exr_image *img, exr_image *joined)
 {
     fs_status st = FS_OK;
@@ -73,7 +75,7 @@ static fs_status join_frame(const char *out, const char *name, int i, int part, 
         exr_image *layers = joined + 1;
         *layers = *joined;
         memset(joined, 0, sizeof *joined);
-        exr_image_set_part_name(layers, img[0].part_name[0] ? img[0].part_name : "layers");
+        exr_image_set_part_name(layers, "layers"); /* compare's name for it (the join names no part) */
         for (int e = 0; e < 2 && st == FS_OK; e++) {
             exr_image_free(&img[e]);
             st = read_eye(out, name, e, i, 0, &img[e]);
@@ -157,9 +159,10 @@ static double num(const cJSON *o, const char *key)
     return cJSON_IsNumber(v) ? v->valuedouble : -1.0;
 }
 
-/* Mode m's ring k of both eyes: coverage as the ratio of the summed coverage (as over frames),
- * FLIP, RMSE and temporal error the mean of the eyes' (each eye the same frames and pixels). */
-static void both_ring(sbuf *b, const cJSON *rl, const cJSON *rr, bool comma)
+/* A ring of both eyes into b: coverage as the ratio of the summed coverage (as over frames), FLIP,
+ * RMSE and temporal error the mean of the eyes' (each eye the same frames and pixels). Returns the
+ * coverage ratio, -1 without reference coverage. */
+static double both_ring(sbuf *b, const cJSON *rl, const cJSON *rr, bool comma)
 {
     double ref = num(rl, "ref_coverage_px") + num(rr, "ref_coverage_px");
     double cov = ref > 0 ? (num(rl, "coverage_px") + num(rr, "coverage_px")) / ref : -1.0;
@@ -167,10 +170,7 @@ static void both_ring(sbuf *b, const cJSON *rl, const cJSON *rr, bool comma)
                  "\"temporal_error\": %.6f}", comma ? "," : "", (int)num(rl, "ring"), cov,
               (num(rl, "flip") + num(rr, "flip")) / 2, (num(rl, "rmse") + num(rr, "rmse")) / 2,
               (num(rl, "temporal_error") + num(rr, "temporal_error")) / 2);
-    if (cov < 0)
-        printf(" %9s", "n/a");
-    else
-        printf(" %9.3f", cov);
+    return cov;
 }
 
 fs_status eyes_join_summary(const char *out)
@@ -202,7 +202,11 @@ fs_status eyes_join_summary(const char *out)
             {
                 if (!rr)
                     break;
-                both_ring(&b, rl, rr, !rfirst);
+                double cov = both_ring(&b, rl, rr, !rfirst);
+                if (cov < 0)
+                    printf(" %9s", "n/a");
+                else
+                    printf(" %9.3f", cov);
                 if (num(rl, "ring") < 0)
                     printf("   FLIP %.4f", (num(rl, "flip") + num(rr, "flip")) / 2);
                 rfirst = false;

@@ -229,3 +229,9 @@ void hmd_ppd(const hmd_eye *e, float *ppd_x, float *ppd_y)
     *ppd_x = (float)(p.fx * FS_PI / 180.0);
     *ppd_y = (float)(p.fy * FS_PI / 180.0);
 }
+
+bool hmd_eye_display(const hmd_eye *e, display_desc *out)
+{
+    display_fov_angles a = {e->fov.left, e->fov.right, e->fov.down, e->fov.up};
+    return display_from_fov_angles(&a, e->width, out);
+}

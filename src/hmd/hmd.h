@@ -13,6 +13,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "core/display.h"
 #include "core/fmath.h"
 #include "core/status.h"
 
@@ -96,6 +97,10 @@ bool hmd_dir_to_pixel(const hmd_eye *e, vec3 d, float *px, float *py);
 vec3 hmd_pixel_to_dir(const hmd_eye *e, float px, float py);
 /* The visual angle in degrees between the ray through (px, py) and the eye-space gaze direction. */
 float hmd_pixel_angle_deg(const hmd_eye *e, float px, float py, vec3 gaze);
+/* The eye as fovsim's display (core/display.h): a square-pixel pinhole of its panel's width with its
+ * principal point off the centre (display_from_fov_angles). False when its field of view cannot be
+ * one (180 degrees or more). */
+bool hmd_eye_display(const hmd_eye *e, display_desc *out);
 /* Pixels per degree at the principal point, horizontally and vertically. */
 void hmd_ppd(const hmd_eye *e, float *ppd_x, float *ppd_y);
 

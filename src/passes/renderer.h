@@ -102,6 +102,9 @@ void renderer_set_pass_sync(renderer *r, bool on);
  * state (history, previous frame) as it was, so it may be drawn between two frames of a sequence
  * (after reading the first back: it overwrites the targets). */
 void renderer_set_counting(renderer *r, bool on);
+/* A counting frame of fr in one call: drawn with the counting variant on, its statistics into
+ * *counted, the variant off again. The draw's status. */
+fs_status renderer_draw_counting(renderer *r, const frame_record *fr, renderer_stats *counted);
 /* A VRS frame's (counted->vrs) fragment-shader invocations are what a GPU would shade: each scene
  * stage's pipeline statistic in *timed (on llvmpipe: every pixel of the blocks the emulation
  * shades, twice drawn) becomes the counting frame's pass_shaded, and `fragments` their sum with

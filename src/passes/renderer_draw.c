@@ -643,6 +643,15 @@ void renderer_set_counting(renderer *r, bool on)
     r->counting = on && r->count_buf != 0;
 }
 
+fs_status renderer_draw_counting(renderer *r, const frame_record *fr, renderer_stats *counted)
+{
+    renderer_set_counting(r, true);
+    fs_status st = renderer_draw(r, fr);
+    *counted = renderer_last_stats(r);
+    renderer_set_counting(r, false);
+    return st;
+}
+
 void renderer_finish(renderer *r)
 {
     (void)r;

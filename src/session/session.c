@@ -54,17 +54,14 @@ static fs_status refuse_hmd(const run_desc *d, const scene *sc)
     return FS_ERR_USAGE;
 }
 
-/* An eye's run: the scene's display becomes the eye's, a square-pixel display with its principal
- * point where the eye's view axis meets its panel (display_from_fov_angles). */
+/* An eye's run: the scene's display becomes the eye's (hmd_eye_display). */
 static fs_status eye_display(const run_desc *d, scene *sc)
 {
     const hmd_desc *h = session_hmd(d, sc);
     if (d->eye_run == 0 || !h)
         return FS_OK;
-    const hmd_eye *e = &h->eye[d->eye_run - 1];
-    display_fov_angles a = {e->fov.left, e->fov.right, e->fov.down, e->fov.up};
     display_desc dd;
-    if (!display_from_fov_angles(&a, e->width, &dd)) {
+    if (!hmd_eye_display(&h->eye[d->eye_run - 1], &dd)) {
         log_error("%s eye: the field of view spans 180 degrees or more", d->eye_run == 1 ? "left" : "right");
         return FS_ERR_USAGE;
     }
@@ -392,7 +389,6 @@ void session_set_frame_gaze(session *s, frame_record *fr, const fov_layout *l, c
     set_frame_gaze(s, fr, l, d, time, false);
 }
 
-/* Frame `index` with its gaze (from the trace, or the centre) and ring footprints. */
 /* The frame's camera from the head recording: between the two eyes (their mean position), looking
  * along the head's orientation, placed into the scene (pose_trace.h). */
 static frame_record head_frame(const session *s, int index, float time)
@@ -417,6 +413,7 @@ static frame_record eye_frame(const session *s, int index, float time, float pre
     return frame_record_eye(&s->sc, &head, s->eye_offset, s->pl.width, s->pl.height);
 }
 
+/* Frame `index` with its gaze (from the trace, or straight ahead) and ring footprints. */
 frame_record session_frame(session *s, int index, float time, float prev_time)
 {
     frame_record fr = s->head.count > 0 ? head_frame(s, index, time)

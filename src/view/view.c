@@ -68,7 +68,7 @@ typedef struct viewer {
     int width, height;        /* of one view (an hmd's eye: the window shows both, 2 width wide) */
     float fps;
     bool hmd;                 /* an hmd display: side 0 the left eye, side 1 the right (no split) */
-    display_desc eye_disp[2]; /* each eye's display (display_from_fov_angles) */
+    display_desc eye_disp[2]; /* each eye's display (hmd_eye_display) */
     vec3 eye_offset[2];       /* each eye's position in the head frame, metres */
     float eye_gx[2], eye_gy[2]; /* the gaze direction's point on each eye's display, normalised */
     gl_window *win;
@@ -472,7 +472,7 @@ static void update_gaze(viewer *v, bool use_mouse)
     }
 }
 
-/* The gaze of eye e's frame: a replayed trace is placed on the left eye's display; the mouse lies on
+/* Both eyes' gaze of the frame: a replayed trace is placed on the left eye's display; the mouse lies on
  * either eye's half of the window; each eye then looks the same way (hmd_gaze). */
 static void eye_gaze(viewer *v)
 {
@@ -648,13 +648,11 @@ static fs_status setup_hmd(viewer *v, const run_desc *d)
     }
     v->hmd = true;
     for (int e = 0; e < 2; e++) {
-        const hmd_eye *y = &h->eye[e];
-        display_fov_angles a = {y->fov.left, y->fov.right, y->fov.down, y->fov.up};
-        if (!display_from_fov_angles(&a, y->width, &v->eye_disp[e])) {
+        if (!hmd_eye_display(&h->eye[e], &v->eye_disp[e])) {
             log_error("view: the %s eye's field of view spans 180 degrees or more", e ? "right" : "left");
             return FS_ERR_USAGE;
         }
-        v->eye_offset[e] = y->position;
+        v->eye_offset[e] = h->eye[e].position;
     }
     v->sc.display = v->eye_disp[0];
     return FS_OK;
